@@ -1,0 +1,303 @@
+//! Bindings by name: a pass declares once what it binds, `check_bindings` compares that with
+//! the shader's reflection, and dispatches name their resources.
+
+use ash::vk;
+
+use crate::error::{DeviceError, Result};
+use crate::shader::{BindingKind, BlockLayout, Member, ReflectedBinding, ShaderInfo};
+use crate::{Buffer, Image};
+
+/// The Rust side of a struct shared with a shader (see [`rust_layout!`](crate::rust_layout)).
+#[derive(Clone, Copy, Debug)]
+pub struct RustLayout {
+    pub size: u32,
+    pub members: &'static [Member],
+}
+
+/// How the data behind a buffer binding is checked.
+#[derive(Clone, Copy, Debug)]
+pub enum Contents {
+    /// Not a buffer, or a buffer whose layout is not checked (plain `uint[]` words).
+    Unchecked,
+    /// A block of fixed size with named members.
+    Block(RustLayout),
+    /// A block holding only a runtime-sized array of this element.
+    Array(RustLayout),
+}
+
+/// One resource a pass binds, declared once on the Rust side.
+#[derive(Clone, Copy, Debug)]
+pub struct BindingDecl {
+    pub name: &'static str,
+    pub kind: BindingKind,
+    pub contents: Contents,
+}
+
+impl BindingDecl {
+    pub const fn uniform(name: &'static str, layout: RustLayout) -> Self {
+        Self {
+            name,
+            kind: BindingKind::UniformBuffer,
+            contents: Contents::Block(layout),
+        }
+    }
+    pub const fn storage_array(name: &'static str, element: RustLayout) -> Self {
+        Self {
+            name,
+            kind: BindingKind::StorageBuffer,
+            contents: Contents::Array(element),
+        }
+    }
+    pub const fn storage_words(name: &'static str) -> Self {
+        Self {
+            name,
+            kind: BindingKind::StorageBuffer,
+            contents: Contents::Unchecked,
+        }
+    }
+    pub const fn storage_image(name: &'static str) -> Self {
+        Self {
+            name,
+            kind: BindingKind::StorageImage,
+            contents: Contents::Unchecked,
+        }
+    }
+    pub const fn acceleration_structure(name: &'static str) -> Self {
+        Self {
+            name,
+            kind: BindingKind::AccelerationStructure,
+            contents: Contents::Unchecked,
+        }
+    }
+}
+
+/// A resource given to a dispatch or draw, by the name its pass declared.
+#[derive(Clone, Copy)]
+pub enum Bound<'a> {
+    Buffer(&'a Buffer),
+    Image(&'a Image),
+    Accel(vk::AccelerationStructureKHR),
+}
+
+/// Matches a pass's declarations against a shader's reflection. Returns, for each declaration,
+/// the binding number the shader gave it (set 0 only: the renderer uses one set per pass).
+pub fn check_bindings(shader: &ShaderInfo, pass: &str, decls: &[BindingDecl]) -> Result<Vec<u32>> {
+    let err = |binding: &str, problem: String| DeviceError::Binding {
+        shader: shader.name,
+        binding: binding.to_string(),
+        pass: pass.to_string(),
+        problem,
+    };
+    let reflected: &[ReflectedBinding] = shader
+        .reflection
+        .map_err(|why| err("*", format!("no reflection: {why}")))?;
+    for r in reflected {
+        if r.set != 0 {
+            return Err(err(
+                r.name,
+                format!("uses descriptor set {}; passes use set 0 only", r.set),
+            ));
+        }
+        if !decls.iter().any(|d| d.name == r.name) {
+            return Err(err(
+                r.name,
+                "used by the shader but not declared by the pass".into(),
+            ));
+        }
+    }
+    let mut numbers = Vec::with_capacity(decls.len());
+    for d in decls {
+        let r = reflected
+            .iter()
+            .find(|r| r.name == d.name)
+            .ok_or_else(|| err(d.name, "declared by the pass but not in the shader".into()))?;
+        if r.kind != d.kind {
+            return Err(err(
+                d.name,
+                format!(
+                    "the pass declares {:?}, the shader has {:?}",
+                    d.kind, r.kind
+                ),
+            ));
+        }
+        check_contents(d, r.layout).map_err(|p| err(d.name, p))?;
+        numbers.push(r.binding);
+    }
+    Ok(numbers)
+}
+
+fn check_contents(
+    decl: &BindingDecl,
+    layout: Option<BlockLayout>,
+) -> std::result::Result<(), String> {
+    let (rust, shader_size, shader_members, what) = match (decl.contents, layout) {
+        (Contents::Unchecked, _) => return Ok(()),
+        (_, None) => return Err("the shader side has no block layout".into()),
+        (Contents::Block(rust), Some(l)) => {
+            if l.array_stride.is_some() {
+                return Err(
+                    "the shader block ends in a runtime array; declare it with storage_array"
+                        .into(),
+                );
+            }
+            (rust, l.size, l.members, "block")
+        }
+        (Contents::Array(rust), Some(l)) => {
+            let stride = l
+                .array_stride
+                .ok_or("the shader block has no runtime array")?;
+            if l.size != 0 {
+                return Err(format!(
+                    "the shader block has {} bytes before its array; Rust declares none",
+                    l.size
+                ));
+            }
+            (rust, stride, l.element_members, "array element")
+        }
+    };
+    if rust.size != shader_size {
+        return Err(format!(
+            "{what} size: Rust {} bytes, shader {} bytes",
+            rust.size, shader_size
+        ));
+    }
+    if shader_members.is_empty() && rust.members.is_empty() {
+        return Ok(());
+    }
+    for m in rust.members {
+        match shader_members.iter().find(|s| s.name == m.name) {
+            None => return Err(format!("{what} member {} is not in the shader", m.name)),
+            Some(s) if s.offset != m.offset => {
+                return Err(format!(
+                    "{what} member {}: Rust offset {}, shader offset {}",
+                    m.name, m.offset, s.offset
+                ))
+            }
+            Some(_) => {}
+        }
+    }
+    if let Some(s) = shader_members
+        .iter()
+        .find(|s| !rust.members.iter().any(|m| m.name == s.name))
+    {
+        return Err(format!(
+            "{what} member {} is in the shader but not in the Rust struct",
+            s.name
+        ));
+    }
+    Ok(())
+}
+
+impl BindingKind {
+    pub(crate) fn descriptor_type(self) -> vk::DescriptorType {
+        match self {
+            BindingKind::UniformBuffer => vk::DescriptorType::UNIFORM_BUFFER,
+            BindingKind::StorageBuffer => vk::DescriptorType::STORAGE_BUFFER,
+            BindingKind::StorageImage => vk::DescriptorType::STORAGE_IMAGE,
+            BindingKind::SampledImage => vk::DescriptorType::SAMPLED_IMAGE,
+            BindingKind::Sampler => vk::DescriptorType::SAMPLER,
+            BindingKind::CombinedImageSampler => vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
+            BindingKind::AccelerationStructure => vk::DescriptorType::ACCELERATION_STRUCTURE_KHR,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::shader::ShaderStage;
+
+    #[repr(C)]
+    struct Frame {
+        a: [f32; 4],
+        b: u32,
+        c: u32,
+        _pad: [u32; 2],
+    }
+
+    const MEMBERS: &[Member] = &[
+        Member {
+            name: "a",
+            offset: 0,
+        },
+        Member {
+            name: "b",
+            offset: 16,
+        },
+        Member {
+            name: "c",
+            offset: 20,
+        },
+        Member {
+            name: "_pad",
+            offset: 24,
+        },
+    ];
+    const REFLECTED: &[ReflectedBinding] = &[ReflectedBinding {
+        name: "frame",
+        set: 0,
+        binding: 3,
+        kind: BindingKind::UniformBuffer,
+        layout: Some(BlockLayout {
+            size: 32,
+            members: MEMBERS,
+            array_stride: None,
+            element_members: &[],
+        }),
+    }];
+    const SHADER: ShaderInfo = ShaderInfo {
+        name: "t.comp",
+        stage: ShaderStage::Compute,
+        spirv: &[],
+        workgroup_size: [8, 8, 1],
+        reflection: Ok(REFLECTED),
+    };
+
+    #[test]
+    fn matching_declaration_gives_the_shader_binding_number() {
+        let decl = [BindingDecl::uniform(
+            "frame",
+            crate::rust_layout!(Frame { a, b, c, _pad }),
+        )];
+        assert_eq!(check_bindings(&SHADER, "p", &decl).unwrap(), vec![3]);
+    }
+
+    #[test]
+    fn mismatches_name_shader_binding_and_pass() {
+        let wrong_kind = [BindingDecl::storage_words("frame")];
+        let e = check_bindings(&SHADER, "direct", &wrong_kind)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("t.comp") && e.contains("\"frame\"") && e.contains("direct"),
+            "{e}"
+        );
+        let missing = [
+            BindingDecl::uniform("frame", crate::rust_layout!(Frame { a, b, c, _pad })),
+            BindingDecl::storage_words("extra"),
+        ];
+        assert!(check_bindings(&SHADER, "p", &missing)
+            .unwrap_err()
+            .to_string()
+            .contains("not in the shader"));
+        assert!(check_bindings(&SHADER, "p", &[])
+            .unwrap_err()
+            .to_string()
+            .contains("not declared by the pass"));
+        #[repr(C)]
+        struct Shifted {
+            b: u32,
+            a: [f32; 4],
+            c: u32,
+            _pad: [u32; 2],
+        }
+        let shifted = [BindingDecl::uniform(
+            "frame",
+            crate::rust_layout!(Shifted { a, b, c, _pad }),
+        )];
+        let e = check_bindings(&SHADER, "p", &shifted)
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("offset"), "{e}");
+    }
+}

@@ -1,0 +1,329 @@
+//! [`Cmd`]: a command buffer being recorded, with the few commands the renderer records.
+//! Barriers are recorded only by the pass graph (`barriers`), never by pass code.
+
+use ash::vk;
+
+use crate::bind::Bound;
+use crate::error::{DeviceError, Result};
+use crate::pipeline::{ComputePipeline, GraphicsPipeline, Layout};
+use crate::{Buffer, Gpu, Image, TimestampPool};
+
+pub struct Cmd<'a> {
+    pub(crate) gpu: &'a Gpu,
+    pub(crate) raw: vk::CommandBuffer,
+}
+
+impl<'a> Cmd<'a> {
+    pub fn gpu(&self) -> &'a Gpu {
+        self.gpu
+    }
+
+    fn device(&self) -> &ash::Device {
+        self.gpu.device()
+    }
+
+    /// Pushes the descriptors of `layout`, each resource found by its declared name.
+    fn push_bindings(
+        &self,
+        bind_point: vk::PipelineBindPoint,
+        layout: &Layout,
+        bound: &[(&str, Bound<'_>)],
+    ) -> Result<()> {
+        let problem = |binding: &str, problem: &str| DeviceError::Binding {
+            shader: "-",
+            binding: binding.into(),
+            pass: layout.pass.clone(),
+            problem: problem.into(),
+        };
+        if let Some((name, _)) = bound
+            .iter()
+            .find(|(n, _)| !layout.bindings.iter().any(|(d, _)| d.name == *n))
+        {
+            return Err(problem(
+                name,
+                "bound at record time but not declared by the pass",
+            ));
+        }
+        let mut buffer_infos = Vec::new();
+        let mut image_infos = Vec::new();
+        let mut accels = Vec::new();
+        for (decl, _) in &layout.bindings {
+            let resource = bound
+                .iter()
+                .find(|(n, _)| *n == decl.name)
+                .map(|(_, r)| *r)
+                .ok_or_else(|| problem(decl.name, "declared but not bound"))?;
+            match resource {
+                Bound::Buffer(b) => buffer_infos.push(
+                    vk::DescriptorBufferInfo::default()
+                        .buffer(b.raw())
+                        .range(vk::WHOLE_SIZE),
+                ),
+                Bound::Image(i) => image_infos.push(
+                    vk::DescriptorImageInfo::default()
+                        .image_view(i.view())
+                        .image_layout(vk::ImageLayout::GENERAL),
+                ),
+                Bound::Accel(a) => accels.push(a),
+            }
+        }
+        let mut accel_writes: Vec<_> = accels
+            .iter()
+            .map(|a| {
+                vk::WriteDescriptorSetAccelerationStructureKHR::default()
+                    .acceleration_structures(std::slice::from_ref(a))
+            })
+            .collect();
+        let (mut bi, mut ii, mut ai) = (0, 0, 0);
+        let mut writes = Vec::with_capacity(layout.bindings.len());
+        let mut accel_iter = accel_writes.iter_mut();
+        for (decl, number) in &layout.bindings {
+            let resource = bound
+                .iter()
+                .find(|(n, _)| *n == decl.name)
+                .map(|(_, r)| *r)
+                .expect("checked above");
+            let write = vk::WriteDescriptorSet::default()
+                .dst_binding(*number)
+                .descriptor_type(decl.kind.descriptor_type());
+            let write = match resource {
+                Bound::Buffer(_) => {
+                    bi += 1;
+                    write.buffer_info(std::slice::from_ref(&buffer_infos[bi - 1]))
+                }
+                Bound::Image(_) => {
+                    ii += 1;
+                    write.image_info(std::slice::from_ref(&image_infos[ii - 1]))
+                }
+                Bound::Accel(_) => {
+                    ai += 1;
+                    // ash 0.38 does not derive the count from a pushed-next struct.
+                    write
+                        .descriptor_count(1)
+                        .push_next(accel_iter.next().expect("one per accel"))
+                }
+            };
+            writes.push(write);
+        }
+        let _ = ai;
+        // SAFETY: the layout was created with the push-descriptor flag; every write targets a
+        // binding of it with the declared type, and the infos outlive the call.
+        unsafe {
+            self.gpu.shared.push_descriptor.cmd_push_descriptor_set(
+                self.raw,
+                bind_point,
+                layout.pipeline_layout,
+                0,
+                &writes,
+            )
+        };
+        Ok(())
+    }
+
+    /// Dispatches `pipeline` over `threads` invocations (rounded up to whole workgroups).
+    pub fn dispatch(
+        &mut self,
+        pipeline: &ComputePipeline,
+        bound: &[(&str, Bound<'_>)],
+        threads: [u32; 3],
+    ) -> Result<()> {
+        let wg = pipeline.workgroup_size;
+        let groups = [0, 1, 2].map(|i| threads[i].div_ceil(wg[i].max(1)));
+        if groups.contains(&0) {
+            return Ok(());
+        }
+        // SAFETY: recording state; pipeline from this device.
+        unsafe {
+            self.device().cmd_bind_pipeline(
+                self.raw,
+                vk::PipelineBindPoint::COMPUTE,
+                pipeline.raw(),
+            )
+        };
+        self.push_bindings(vk::PipelineBindPoint::COMPUTE, &pipeline.layout, bound)?;
+        // SAFETY: pipeline and descriptors bound above.
+        unsafe {
+            self.device()
+                .cmd_dispatch(self.raw, groups[0], groups[1], groups[2])
+        };
+        Ok(())
+    }
+
+    /// Draws `vertex_count` vertices of `vertices` into `colors` (+ `depth`), clearing them first.
+    pub fn draw(
+        &mut self,
+        pipeline: &GraphicsPipeline,
+        bound: &[(&str, Bound<'_>)],
+        colors: &[(&Image, [f32; 4])],
+        depth: Option<&Image>,
+        vertices: &Buffer,
+        vertex_count: u32,
+    ) -> Result<()> {
+        let extent = colors
+            .first()
+            .map(|(i, _)| i.extent())
+            .or(depth.map(|d| d.extent()))
+            .expect("a draw needs a target");
+        let color_attachments: Vec<_> = colors
+            .iter()
+            .map(|(image, clear)| {
+                vk::RenderingAttachmentInfo::default()
+                    .image_view(image.view())
+                    .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
+                    .load_op(vk::AttachmentLoadOp::CLEAR)
+                    .store_op(vk::AttachmentStoreOp::STORE)
+                    .clear_value(vk::ClearValue {
+                        color: vk::ClearColorValue { float32: *clear },
+                    })
+            })
+            .collect();
+        let depth_attachment = depth.map(|d| {
+            vk::RenderingAttachmentInfo::default()
+                .image_view(d.view())
+                .image_layout(vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL)
+                .load_op(vk::AttachmentLoadOp::CLEAR)
+                .store_op(vk::AttachmentStoreOp::STORE)
+                .clear_value(vk::ClearValue {
+                    depth_stencil: vk::ClearDepthStencilValue {
+                        depth: 1.0,
+                        stencil: 0,
+                    },
+                })
+        });
+        let area = vk::Rect2D {
+            offset: vk::Offset2D::default(),
+            extent,
+        };
+        let mut info = vk::RenderingInfo::default()
+            .render_area(area)
+            .layer_count(1)
+            .color_attachments(&color_attachments);
+        if let Some(d) = &depth_attachment {
+            info = info.depth_attachment(d);
+        }
+        // Flip Y so that +Y is up in clip space, like the rest of the renderer's maths.
+        let viewport = vk::Viewport {
+            x: 0.0,
+            y: extent.height as f32,
+            width: extent.width as f32,
+            height: -(extent.height as f32),
+            min_depth: 0.0,
+            max_depth: 1.0,
+        };
+        let device = self.device();
+        // SAFETY: recording state outside any rendering; attachments are in the layouts the
+        // pass graph transitioned them to; pipeline formats match the attachments.
+        unsafe {
+            device.cmd_begin_rendering(self.raw, &info);
+            device.cmd_bind_pipeline(self.raw, vk::PipelineBindPoint::GRAPHICS, pipeline.raw());
+            device.cmd_set_viewport(self.raw, 0, &[viewport]);
+            device.cmd_set_scissor(self.raw, 0, &[area]);
+            device.cmd_bind_vertex_buffers(self.raw, 0, &[vertices.raw()], &[0]);
+        }
+        let pushed = self.push_bindings(vk::PipelineBindPoint::GRAPHICS, &pipeline.layout, bound);
+        // SAFETY: inside the rendering begun above; always ended, even on a binding error.
+        unsafe {
+            if pushed.is_ok() {
+                device.cmd_draw(self.raw, vertex_count, 1, 0, 0);
+            }
+            device.cmd_end_rendering(self.raw);
+        }
+        pushed
+    }
+
+    pub fn copy_buffer(&mut self, src: &Buffer, dst: &Buffer, size: u64) {
+        let region = vk::BufferCopy {
+            src_offset: 0,
+            dst_offset: 0,
+            size,
+        };
+        // SAFETY: both buffers have the transfer usages and hold `size` bytes.
+        unsafe {
+            self.device()
+                .cmd_copy_buffer(self.raw, src.raw(), dst.raw(), &[region])
+        };
+    }
+
+    /// Copies an image (in TRANSFER_SRC_OPTIMAL) tightly packed into `dst` at `offset`.
+    pub fn copy_image_to_buffer(&mut self, src: &Image, dst: &Buffer, offset: u64) {
+        let e = src.extent();
+        let region = vk::BufferImageCopy::default()
+            .buffer_offset(offset)
+            .image_subresource(
+                vk::ImageSubresourceLayers::default()
+                    .aspect_mask(src.aspect())
+                    .layer_count(1),
+            )
+            .image_extent(vk::Extent3D {
+                width: e.width,
+                height: e.height,
+                depth: 1,
+            });
+        // SAFETY: the graph put `src` in TRANSFER_SRC_OPTIMAL; `dst` is large enough (caller).
+        unsafe {
+            self.device().cmd_copy_image_to_buffer(
+                self.raw,
+                src.raw(),
+                vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+                dst.raw(),
+                &[region],
+            )
+        };
+    }
+
+    pub fn fill_buffer(&mut self, dst: &Buffer, offset: u64, size: u64, value: u32) {
+        // SAFETY: offset and size are multiples of 4 within the buffer (caller).
+        unsafe {
+            self.device()
+                .cmd_fill_buffer(self.raw, dst.raw(), offset, size, value)
+        };
+    }
+
+    /// Records one pipeline barrier. Only the pass graph calls this.
+    pub fn barriers(
+        &mut self,
+        buffers: &[vk::BufferMemoryBarrier2<'_>],
+        images: &[vk::ImageMemoryBarrier2<'_>],
+    ) {
+        if buffers.is_empty() && images.is_empty() {
+            return;
+        }
+        let info = vk::DependencyInfo::default()
+            .buffer_memory_barriers(buffers)
+            .image_memory_barriers(images);
+        // SAFETY: synchronization2 is enabled; the barriers name live resources.
+        unsafe { self.device().cmd_pipeline_barrier2(self.raw, &info) };
+    }
+
+    pub fn begin_label(&mut self, name: &str) {
+        if let Some(du) = &self.gpu.shared.debug_utils {
+            let name = std::ffi::CString::new(name).unwrap_or_default();
+            // SAFETY: debug utils is enabled; the label outlives the call.
+            unsafe {
+                du.cmd_begin_debug_utils_label(
+                    self.raw,
+                    &vk::DebugUtilsLabelEXT::default().label_name(&name),
+                )
+            };
+        }
+    }
+
+    pub fn end_label(&mut self) {
+        if let Some(du) = &self.gpu.shared.debug_utils {
+            // SAFETY: matches a begin_label in the same command buffer.
+            unsafe { du.cmd_end_debug_utils_label(self.raw) };
+        }
+    }
+
+    pub fn write_timestamp(&mut self, pool: &TimestampPool, index: u32) {
+        // SAFETY: the index is below the pool's capacity (TimestampPool checks) and was reset.
+        unsafe {
+            self.device().cmd_write_timestamp2(
+                self.raw,
+                vk::PipelineStageFlags2::ALL_COMMANDS,
+                pool.raw(),
+                index,
+            )
+        };
+    }
+}

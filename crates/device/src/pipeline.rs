@@ -1,0 +1,340 @@
+//! Compute and graphics pipelines from embedded SPIR-V, each with one push-descriptor set
+//! whose bindings were checked against reflection.
+
+use std::sync::Arc;
+
+use ash::vk;
+
+use crate::bind::{check_bindings, BindingDecl};
+use crate::error::{Result, VkContext};
+use crate::gpu::{Gpu, Shared};
+use crate::shader::{ShaderInfo, ShaderStage};
+
+/// The descriptor-set layout and pipeline layout a pass's bindings produce.
+pub(crate) struct Layout {
+    shared: Arc<Shared>,
+    pub set_layout: vk::DescriptorSetLayout,
+    pub pipeline_layout: vk::PipelineLayout,
+    /// (declaration, binding number), in declaration order.
+    pub bindings: Vec<(BindingDecl, u32)>,
+    pub pass: String,
+}
+
+impl Layout {
+    fn new(
+        gpu: &Gpu,
+        pass: &str,
+        decls: &[BindingDecl],
+        numbers: Vec<u32>,
+        stages: vk::ShaderStageFlags,
+    ) -> Result<Layout> {
+        let device = gpu.device();
+        let vk_bindings: Vec<_> = decls
+            .iter()
+            .zip(&numbers)
+            .map(|(d, &n)| {
+                vk::DescriptorSetLayoutBinding::default()
+                    .binding(n)
+                    .descriptor_type(d.kind.descriptor_type())
+                    .descriptor_count(1)
+                    .stage_flags(stages)
+            })
+            .collect();
+        let info = vk::DescriptorSetLayoutCreateInfo::default()
+            .flags(vk::DescriptorSetLayoutCreateFlags::PUSH_DESCRIPTOR_KHR)
+            .bindings(&vk_bindings);
+        // SAFETY: valid device and create info.
+        let set_layout = unsafe { device.create_descriptor_set_layout(&info, None) }
+            .vk("vkCreateDescriptorSetLayout")?;
+        let set_layouts = [set_layout];
+        let info = vk::PipelineLayoutCreateInfo::default().set_layouts(&set_layouts);
+        // SAFETY: valid device and create info.
+        let pipeline_layout =
+            unsafe { device.create_pipeline_layout(&info, None) }.vk("vkCreatePipelineLayout")?;
+        gpu.set_name(pipeline_layout, pass);
+        Ok(Layout {
+            shared: gpu.shared.clone(),
+            set_layout,
+            pipeline_layout,
+            bindings: decls.iter().copied().zip(numbers).collect(),
+            pass: pass.to_string(),
+        })
+    }
+}
+
+impl Drop for Layout {
+    fn drop(&mut self) {
+        // SAFETY: pipelines using the layout are destroyed first (field order in their owners).
+        unsafe {
+            self.shared
+                .device
+                .destroy_pipeline_layout(self.pipeline_layout, None);
+            self.shared
+                .device
+                .destroy_descriptor_set_layout(self.set_layout, None);
+        }
+    }
+}
+
+fn shader_module(gpu: &Gpu, shader: &ShaderInfo) -> Result<vk::ShaderModule> {
+    let info = vk::ShaderModuleCreateInfo::default().code(shader.spirv);
+    // SAFETY: the SPIR-V was produced by glslang at build time.
+    let module =
+        unsafe { gpu.device().create_shader_module(&info, None) }.vk("vkCreateShaderModule")?;
+    gpu.set_name(module, shader.name);
+    Ok(module)
+}
+
+pub struct ComputePipeline {
+    raw: vk::Pipeline,
+    pub(crate) layout: Layout,
+    pub(crate) workgroup_size: [u32; 3],
+}
+
+impl ComputePipeline {
+    /// Builds the pipeline of pass `pass` from `shader`. `reflect_as` names the module whose
+    /// reflection stands for this one (a ray-query module is checked through its compute-BVH
+    /// twin); `None` means the shader itself.
+    pub fn new(
+        gpu: &Gpu,
+        pass: &str,
+        shader: &ShaderInfo,
+        reflect_as: Option<&ShaderInfo>,
+        decls: &[BindingDecl],
+    ) -> Result<Self> {
+        assert_eq!(
+            shader.stage,
+            ShaderStage::Compute,
+            "{} is not a compute shader",
+            shader.name
+        );
+        let numbers = check_bindings(reflect_as.unwrap_or(shader), pass, decls)?;
+        let layout = Layout::new(gpu, pass, decls, numbers, vk::ShaderStageFlags::COMPUTE)?;
+        let module = shader_module(gpu, shader)?;
+        let stage = vk::PipelineShaderStageCreateInfo::default()
+            .stage(vk::ShaderStageFlags::COMPUTE)
+            .module(module)
+            .name(c"main");
+        let info = vk::ComputePipelineCreateInfo::default()
+            .stage(stage)
+            .layout(layout.pipeline_layout);
+        // SAFETY: module and layout are valid; the module is destroyed after creation.
+        let result = unsafe {
+            gpu.device()
+                .create_compute_pipelines(vk::PipelineCache::null(), &[info], None)
+        };
+        // SAFETY: the module is no longer needed once the pipeline exists (or failed).
+        unsafe { gpu.device().destroy_shader_module(module, None) };
+        let raw = result.map_err(|(_, e)| e).vk("vkCreateComputePipelines")?[0];
+        gpu.set_name(raw, pass);
+        Ok(ComputePipeline {
+            raw,
+            layout,
+            workgroup_size: shader.workgroup_size,
+        })
+    }
+
+    pub(crate) fn raw(&self) -> vk::Pipeline {
+        self.raw
+    }
+    pub fn workgroup_size(&self) -> [u32; 3] {
+        self.workgroup_size
+    }
+}
+
+impl Drop for ComputePipeline {
+    fn drop(&mut self) {
+        // SAFETY: no pending work uses the pipeline (submissions are waited for).
+        unsafe { self.layout.shared.device.destroy_pipeline(self.raw, None) };
+    }
+}
+
+/// Vertex input of a graphics pipeline: one interleaved buffer.
+#[derive(Clone, Debug)]
+pub struct VertexLayout {
+    pub stride: u32,
+    /// (location, format, offset)
+    pub attributes: Vec<(u32, vk::Format, u32)>,
+}
+
+#[derive(Clone, Copy, Debug)]
+pub struct ColorTarget {
+    pub format: vk::Format,
+}
+
+/// What a graphics pass draws into and how.
+#[derive(Clone, Debug)]
+pub struct GraphicsDesc<'a> {
+    pub vertex: &'a ShaderInfo,
+    pub fragment: &'a ShaderInfo,
+    pub vertex_layout: VertexLayout,
+    pub colors: Vec<ColorTarget>,
+    pub depth: Option<vk::Format>,
+    /// Every surface is two-sided in leakless scenes, so the default is no culling.
+    pub cull: vk::CullModeFlags,
+}
+
+pub struct GraphicsPipeline {
+    raw: vk::Pipeline,
+    pub(crate) layout: Layout,
+}
+
+impl GraphicsPipeline {
+    pub fn new(
+        gpu: &Gpu,
+        pass: &str,
+        desc: &GraphicsDesc<'_>,
+        decls: &[BindingDecl],
+    ) -> Result<Self> {
+        // Each declaration must be found in the stage(s) that use it; a binding may appear in
+        // both stages, so check per stage the subset that stage reflects.
+        let numbers = merged_numbers(desc, pass, decls)?;
+        let layout = Layout::new(
+            gpu,
+            pass,
+            decls,
+            numbers,
+            vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT,
+        )?;
+        let vs = shader_module(gpu, desc.vertex)?;
+        let fs = shader_module(gpu, desc.fragment)?;
+        let stages = [
+            vk::PipelineShaderStageCreateInfo::default()
+                .stage(vk::ShaderStageFlags::VERTEX)
+                .module(vs)
+                .name(c"main"),
+            vk::PipelineShaderStageCreateInfo::default()
+                .stage(vk::ShaderStageFlags::FRAGMENT)
+                .module(fs)
+                .name(c"main"),
+        ];
+        let vb = [vk::VertexInputBindingDescription::default()
+            .binding(0)
+            .stride(desc.vertex_layout.stride)
+            .input_rate(vk::VertexInputRate::VERTEX)];
+        let attrs: Vec<_> = desc
+            .vertex_layout
+            .attributes
+            .iter()
+            .map(|&(location, format, offset)| {
+                vk::VertexInputAttributeDescription::default()
+                    .location(location)
+                    .binding(0)
+                    .format(format)
+                    .offset(offset)
+            })
+            .collect();
+        let vertex_input = vk::PipelineVertexInputStateCreateInfo::default()
+            .vertex_binding_descriptions(&vb)
+            .vertex_attribute_descriptions(&attrs);
+        let assembly = vk::PipelineInputAssemblyStateCreateInfo::default()
+            .topology(vk::PrimitiveTopology::TRIANGLE_LIST);
+        let viewport = vk::PipelineViewportStateCreateInfo::default()
+            .viewport_count(1)
+            .scissor_count(1);
+        let raster = vk::PipelineRasterizationStateCreateInfo::default()
+            .polygon_mode(vk::PolygonMode::FILL)
+            .cull_mode(desc.cull)
+            .front_face(vk::FrontFace::COUNTER_CLOCKWISE)
+            .line_width(1.0);
+        let multisample = vk::PipelineMultisampleStateCreateInfo::default()
+            .rasterization_samples(vk::SampleCountFlags::TYPE_1);
+        let depth = vk::PipelineDepthStencilStateCreateInfo::default()
+            .depth_test_enable(desc.depth.is_some())
+            .depth_write_enable(desc.depth.is_some())
+            .depth_compare_op(vk::CompareOp::LESS);
+        let blend_attachments: Vec<_> = desc
+            .colors
+            .iter()
+            .map(|_| {
+                vk::PipelineColorBlendAttachmentState::default()
+                    .color_write_mask(vk::ColorComponentFlags::RGBA)
+            })
+            .collect();
+        let blend =
+            vk::PipelineColorBlendStateCreateInfo::default().attachments(&blend_attachments);
+        let dynamic_states = [vk::DynamicState::VIEWPORT, vk::DynamicState::SCISSOR];
+        let dynamic = vk::PipelineDynamicStateCreateInfo::default().dynamic_states(&dynamic_states);
+        let color_formats: Vec<_> = desc.colors.iter().map(|c| c.format).collect();
+        let mut rendering = vk::PipelineRenderingCreateInfo::default()
+            .color_attachment_formats(&color_formats)
+            .depth_attachment_format(desc.depth.unwrap_or(vk::Format::UNDEFINED));
+        let info = vk::GraphicsPipelineCreateInfo::default()
+            .stages(&stages)
+            .vertex_input_state(&vertex_input)
+            .input_assembly_state(&assembly)
+            .viewport_state(&viewport)
+            .rasterization_state(&raster)
+            .multisample_state(&multisample)
+            .depth_stencil_state(&depth)
+            .color_blend_state(&blend)
+            .dynamic_state(&dynamic)
+            .layout(layout.pipeline_layout)
+            .push_next(&mut rendering);
+        // SAFETY: all state structs outlive the call; modules are destroyed after creation.
+        let result = unsafe {
+            gpu.device()
+                .create_graphics_pipelines(vk::PipelineCache::null(), &[info], None)
+        };
+        // SAFETY: the modules are no longer needed.
+        unsafe {
+            gpu.device().destroy_shader_module(vs, None);
+            gpu.device().destroy_shader_module(fs, None);
+        }
+        let raw = result.map_err(|(_, e)| e).vk("vkCreateGraphicsPipelines")?[0];
+        gpu.set_name(raw, pass);
+        Ok(GraphicsPipeline { raw, layout })
+    }
+
+    pub(crate) fn raw(&self) -> vk::Pipeline {
+        self.raw
+    }
+}
+
+/// Binding numbers for a graphics pass: every declaration must be bound in at least one stage
+/// with one number, and every binding of either stage must be declared.
+fn merged_numbers(desc: &GraphicsDesc<'_>, pass: &str, decls: &[BindingDecl]) -> Result<Vec<u32>> {
+    let mut numbers = vec![None; decls.len()];
+    for shader in [desc.vertex, desc.fragment] {
+        let reflected = shader.reflection.unwrap_or(&[]);
+        let used: Vec<BindingDecl> = decls
+            .iter()
+            .copied()
+            .filter(|d| reflected.iter().any(|r| r.name == d.name))
+            .collect();
+        let found = check_bindings(shader, pass, &used)?;
+        for (d, n) in used.iter().zip(found) {
+            let i = decls.iter().position(|x| x.name == d.name).expect("subset");
+            match numbers[i] {
+                Some(prev) if prev != n => {
+                    return Err(crate::DeviceError::Binding {
+                        shader: shader.name,
+                        binding: d.name.into(),
+                        pass: pass.into(),
+                        problem: format!("binding {n} here, {prev} in the other stage"),
+                    })
+                }
+                _ => numbers[i] = Some(n),
+            }
+        }
+    }
+    decls
+        .iter()
+        .zip(numbers)
+        .map(|(d, n)| {
+            n.ok_or_else(|| crate::DeviceError::Binding {
+                shader: desc.fragment.name,
+                binding: d.name.into(),
+                pass: pass.into(),
+                problem: "declared by the pass but in neither stage".into(),
+            })
+        })
+        .collect()
+}
+
+impl Drop for GraphicsPipeline {
+    fn drop(&mut self) {
+        // SAFETY: no pending work uses the pipeline.
+        unsafe { self.layout.shared.device.destroy_pipeline(self.raw, None) };
+    }
+}

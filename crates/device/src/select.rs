@@ -1,0 +1,212 @@
+//! Physical-device selection: what each device offers, why a device is rejected, and which
+//! one is used (a discrete GPU first; `LEAKLESS_DEVICE` picks by index or name).
+
+use std::ffi::CStr;
+
+use ash::{khr, vk};
+
+use crate::error::{DeviceError, Result, VkContext};
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
+pub enum DeviceType {
+    Discrete,
+    Integrated,
+    Virtual,
+    Cpu,
+    Other,
+}
+
+impl DeviceType {
+    fn from_vk(t: vk::PhysicalDeviceType) -> Self {
+        match t {
+            vk::PhysicalDeviceType::DISCRETE_GPU => Self::Discrete,
+            vk::PhysicalDeviceType::INTEGRATED_GPU => Self::Integrated,
+            vk::PhysicalDeviceType::VIRTUAL_GPU => Self::Virtual,
+            vk::PhysicalDeviceType::CPU => Self::Cpu,
+            _ => Self::Other,
+        }
+    }
+}
+
+/// What one physical device is and offers, as `leakless info` prints it.
+#[derive(Clone, Debug)]
+pub struct DeviceReport {
+    pub index: usize,
+    pub name: String,
+    pub device_type: DeviceType,
+    pub driver: String,
+    pub api_version: (u32, u32, u32),
+    /// `VK_KHR_ray_query` with the `rayQuery` feature.
+    pub ray_query: bool,
+    /// `VK_KHR_acceleration_structure` (+ deferred host operations, buffer device address).
+    pub acceleration_structure: bool,
+    pub push_descriptor: bool,
+    pub timestamp_period_ns: f32,
+    pub subgroup_size: u32,
+    /// Why the device cannot be used, if it cannot.
+    pub rejected: Option<String>,
+    pub(crate) physical: vk::PhysicalDevice,
+    pub(crate) queue_family: u32,
+}
+
+pub(crate) const RAY_EXTENSIONS: [&CStr; 3] = [
+    khr::acceleration_structure::NAME,
+    khr::ray_query::NAME,
+    khr::deferred_host_operations::NAME,
+];
+
+pub(crate) fn enumerate(instance: &ash::Instance) -> Result<Vec<DeviceReport>> {
+    // SAFETY: queries on a valid instance.
+    let physicals =
+        unsafe { instance.enumerate_physical_devices() }.vk("vkEnumeratePhysicalDevices")?;
+    physicals
+        .iter()
+        .enumerate()
+        .map(|(index, &pd)| describe(instance, index, pd))
+        .collect()
+}
+
+fn describe(
+    instance: &ash::Instance,
+    index: usize,
+    pd: vk::PhysicalDevice,
+) -> Result<DeviceReport> {
+    let mut driver = vk::PhysicalDeviceDriverProperties::default();
+    let mut subgroup = vk::PhysicalDeviceSubgroupProperties::default();
+    let mut props2 = vk::PhysicalDeviceProperties2::default()
+        .push_next(&mut driver)
+        .push_next(&mut subgroup);
+    // SAFETY: valid physical device; the chained structs outlive the call.
+    unsafe { instance.get_physical_device_properties2(pd, &mut props2) };
+    let props = props2.properties;
+    let name = props
+        .device_name_as_c_str()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let driver_name = format!(
+        "{} {}",
+        driver
+            .driver_name_as_c_str()
+            .map(|s| s.to_string_lossy().into_owned())
+            .unwrap_or_default(),
+        driver
+            .driver_info_as_c_str()
+            .map(|s| s.to_string_lossy().into_owned())
+            .unwrap_or_default()
+    );
+    let v = props.api_version;
+    let api_version = (
+        vk::api_version_major(v),
+        vk::api_version_minor(v),
+        vk::api_version_patch(v),
+    );
+
+    // SAFETY: valid physical device.
+    let exts = unsafe { instance.enumerate_device_extension_properties(pd) }
+        .vk("vkEnumerateDeviceExtensionProperties")?;
+    let has = |n: &CStr| exts.iter().any(|e| e.extension_name_as_c_str() == Ok(n));
+
+    let mut f12 = vk::PhysicalDeviceVulkan12Features::default();
+    let mut f13 = vk::PhysicalDeviceVulkan13Features::default();
+    let mut fas = vk::PhysicalDeviceAccelerationStructureFeaturesKHR::default();
+    let mut frq = vk::PhysicalDeviceRayQueryFeaturesKHR::default();
+    let ray_exts = RAY_EXTENSIONS.iter().all(|n| has(n));
+    let mut features2 = vk::PhysicalDeviceFeatures2::default()
+        .push_next(&mut f12)
+        .push_next(&mut f13);
+    if ray_exts {
+        features2 = features2.push_next(&mut fas).push_next(&mut frq);
+    }
+    // SAFETY: valid physical device; the chained structs outlive the call.
+    unsafe { instance.get_physical_device_features2(pd, &mut features2) };
+    let base = features2.features;
+
+    // SAFETY: valid physical device.
+    let families = unsafe { instance.get_physical_device_queue_family_properties(pd) };
+    let wanted = vk::QueueFlags::GRAPHICS | vk::QueueFlags::COMPUTE;
+    let queue_family = families
+        .iter()
+        .position(|f| f.queue_flags.contains(wanted) && f.timestamp_valid_bits > 0);
+
+    let acceleration_structure =
+        ray_exts && fas.acceleration_structure == vk::TRUE && f12.buffer_device_address == vk::TRUE;
+    let ray_query = acceleration_structure && frq.ray_query == vk::TRUE;
+
+    let mut missing = Vec::new();
+    if api_version < (1, 3, 0) {
+        missing.push(format!("Vulkan {}.{} < 1.3", api_version.0, api_version.1));
+    }
+    if f13.dynamic_rendering != vk::TRUE {
+        missing.push("dynamicRendering".into());
+    }
+    if f13.synchronization2 != vk::TRUE {
+        missing.push("synchronization2".into());
+    }
+    if f12.host_query_reset != vk::TRUE {
+        missing.push("hostQueryReset".into());
+    }
+    if base.shader_storage_image_write_without_format != vk::TRUE {
+        missing.push("shaderStorageImageWriteWithoutFormat".into());
+    }
+    if !has(khr::push_descriptor::NAME) {
+        missing.push("VK_KHR_push_descriptor".into());
+    }
+    if queue_family.is_none() {
+        missing.push("a graphics+compute queue with timestamps".into());
+    }
+    let rejected = (!missing.is_empty()).then(|| format!("lacks {}", missing.join(", ")));
+
+    Ok(DeviceReport {
+        index,
+        name,
+        device_type: DeviceType::from_vk(props.device_type),
+        driver: driver_name.trim().to_string(),
+        api_version,
+        ray_query,
+        acceleration_structure,
+        push_descriptor: has(khr::push_descriptor::NAME),
+        timestamp_period_ns: props.limits.timestamp_period,
+        subgroup_size: subgroup.subgroup_size,
+        rejected,
+        physical: pd,
+        queue_family: queue_family.unwrap_or(0) as u32,
+    })
+}
+
+/// Picks the device to use: `LEAKLESS_DEVICE` (an index, or a case-insensitive part of the
+/// name) if set, else the usable device of the most capable type.
+pub(crate) fn choose(reports: &[DeviceReport]) -> Result<&DeviceReport> {
+    let usable: Vec<&DeviceReport> = reports.iter().filter(|r| r.rejected.is_none()).collect();
+    if usable.is_empty() {
+        let why: Vec<String> = reports
+            .iter()
+            .map(|r| format!("{} ({})", r.name, r.rejected.as_deref().unwrap_or("?")))
+            .collect();
+        return Err(DeviceError::NoDevice(if why.is_empty() {
+            "the Vulkan loader sees no device (install mesa-vulkan-drivers: tools/install-deps)"
+                .into()
+        } else {
+            format!("rejected: {}", why.join("; "))
+        }));
+    }
+    if let Ok(wanted) = std::env::var("LEAKLESS_DEVICE") {
+        let found = match wanted.parse::<usize>() {
+            Ok(i) => usable.iter().find(|r| r.index == i),
+            Err(_) => usable
+                .iter()
+                .find(|r| r.name.to_lowercase().contains(&wanted.to_lowercase())),
+        };
+        return found.copied().ok_or_else(|| DeviceError::DeviceNotFound {
+            wanted,
+            usable: usable
+                .iter()
+                .map(|r| format!("{}: {}", r.index, r.name))
+                .collect::<Vec<_>>()
+                .join(", "),
+        });
+    }
+    Ok(usable
+        .into_iter()
+        .min_by_key(|r| (r.device_type, r.index))
+        .expect("non-empty"))
+}

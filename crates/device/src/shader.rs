@@ -1,0 +1,73 @@
+//! Shader modules embedded at build time, with what reflection found in them, and the check
+//! of a pass's declared bindings against that reflection.
+//!
+//! `build.rs` (root package) compiles `shaders-glsl/` with glslang, reflects each module with
+//! naga and generates one `ShaderInfo` static per module. A pass declares, once, what it binds
+//! by name (`BindingDecl`); `check_bindings` compares both sides so that a renamed, retyped or
+//! resized resource fails with a message naming shader, binding and pass.
+
+/// Pipeline stage a module is compiled for.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ShaderStage {
+    Vertex,
+    Fragment,
+    Compute,
+}
+
+/// Descriptor kinds the renderer uses.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum BindingKind {
+    UniformBuffer,
+    StorageBuffer,
+    StorageImage,
+    SampledImage,
+    Sampler,
+    CombinedImageSampler,
+    AccelerationStructure,
+}
+
+/// A member of a block or struct: name, byte offset.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Member {
+    pub name: &'static str,
+    pub offset: u32,
+}
+
+/// The layout of the data behind a buffer binding as the shader sees it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct BlockLayout {
+    /// Size of the fixed part of the block in bytes (without a trailing runtime array).
+    pub size: u32,
+    /// Members of the block, in declaration order.
+    pub members: &'static [Member],
+    /// Stride of the element of a trailing runtime array, if the block ends with one.
+    pub array_stride: Option<u32>,
+    /// Layout of that array element when it is a struct.
+    pub element_members: &'static [Member],
+}
+
+/// One resource binding found by reflection.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct ReflectedBinding {
+    /// The variable's instance name in GLSL (`uniform Frame { .. } frame;` → `frame`).
+    pub name: &'static str,
+    pub set: u32,
+    pub binding: u32,
+    pub kind: BindingKind,
+    /// Block layout for uniform and storage buffers.
+    pub layout: Option<BlockLayout>,
+}
+
+/// A compiled shader module.
+#[derive(Clone, Copy, Debug)]
+pub struct ShaderInfo {
+    /// File name in `shaders-glsl/`, with the variant suffix for tracing shaders.
+    pub name: &'static str,
+    pub stage: ShaderStage,
+    pub spirv: &'static [u32],
+    /// Workgroup size for compute shaders, `[1, 1, 1]` otherwise.
+    pub workgroup_size: [u32; 3],
+    /// What reflection found, or why it could not run (naga's SPIR-V front end rejects
+    /// ray-query modules; their compute-BVH twins are reflected instead).
+    pub reflection: Result<&'static [ReflectedBinding], &'static str>,
+}
