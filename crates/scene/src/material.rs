@@ -1,0 +1,176 @@
+//! Lambertian albedo: `baseColorFactor` × `baseColorTexture`, plus `MASK` cut-outs.
+//!
+//! The renderer is diffuse-only (DESIGN.md §1), so a glTF material reduces to its
+//! base colour. Textures are decoded to RGBA8 once, here, so the GPU side only
+//! uploads bytes; they stay sRGB-encoded so an `*_SRGB` image format decodes them
+//! in the sampler.
+
+use std::collections::HashMap;
+use std::path::Path;
+
+use glam::Vec4;
+use gltf::json;
+use json::validation::Checked;
+
+use crate::accessor::Data;
+use crate::uri;
+
+/// A diffuse material.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Material {
+    pub name: String,
+    /// Linear RGBA `baseColorFactor` (albedo = factor × texture; alpha only matters
+    /// for `alpha_cutoff`).
+    pub base_color: Vec4,
+    /// Index into [`crate::Scene::textures`] of the base colour texture (texcoord
+    /// set 0).
+    pub texture: Option<u32>,
+    /// `Some(cutoff)` only for `alphaMode: MASK` (glTF default 0.5): a surface point
+    /// whose alpha is below it does not exist (no hit, no shadow, no photon).
+    pub alpha_cutoff: Option<f32>,
+}
+
+impl Material {
+    /// The stand-in for primitives without a material: white 0.8, a common
+    /// renderer default that keeps energy well below 1 per bounce.
+    pub fn default_white() -> Material {
+        Material {
+            name: "default".into(),
+            base_color: Vec4::new(0.8, 0.8, 0.8, 1.0),
+            texture: None,
+            alpha_cutoff: None,
+        }
+    }
+}
+
+/// A decoded base colour image.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Texture {
+    pub width: u32,
+    pub height: u32,
+    /// Row-major from the top-left texel (glTF UV (0,0)); RGBA8 as stored in the
+    /// file: sRGB-encoded colour, linear alpha.
+    pub texels: Vec<[u8; 4]>,
+}
+
+impl Texture {
+    /// The texels as bytes, ready for an `R8G8B8A8_SRGB` upload.
+    pub fn bytes(&self) -> &[u8] {
+        bytemuck::cast_slice(&self.texels)
+    }
+}
+
+/// Why a base colour image could not be used.
+pub(crate) struct ImageError {
+    pub index: usize,
+    pub message: String,
+}
+
+/// What [`load`] returns.
+pub(crate) struct Loaded {
+    /// In file order, so primitive material indices stay valid.
+    pub materials: Vec<Material>,
+    pub textures: Vec<Texture>,
+    pub warnings: Vec<String>,
+}
+
+/// The document's materials and the textures they reference.
+pub(crate) fn load(root: &json::Root, data: &Data, base: &Path) -> Result<Loaded, ImageError> {
+    let mut materials = Vec::with_capacity(root.materials.len());
+    let mut textures = Vec::new();
+    let mut by_image: HashMap<usize, u32> = HashMap::new();
+    let mut blend = Vec::new();
+    for (i, m) in root.materials.iter().enumerate() {
+        let name = m.name.clone().unwrap_or_else(|| format!("material {i}"));
+        let pbr = &m.pbr_metallic_roughness;
+        let mut texture = None;
+        // Other texcoord sets are not loaded; the ignored-features line says so.
+        if let Some(info) = pbr.base_color_texture.as_ref().filter(|t| t.tex_coord == 0) {
+            let image = root
+                .textures
+                .get(info.index.value())
+                .map(|t| t.source.value())
+                // Unreachable after validation; kept so that no index is trusted.
+                .ok_or_else(|| ImageError {
+                    index: info.index.value(),
+                    message: format!("material '{name}' references a missing texture"),
+                })?;
+            let slot = match by_image.get(&image) {
+                Some(&slot) => slot,
+                None => {
+                    textures.push(decode(root, data, base, image)?);
+                    let slot = (textures.len() - 1) as u32;
+                    by_image.insert(image, slot);
+                    slot
+                }
+            };
+            texture = Some(slot);
+        }
+        let alpha_cutoff = match m.alpha_mode {
+            Checked::Valid(json::material::AlphaMode::Mask) => {
+                Some(m.alpha_cutoff.as_ref().map_or(0.5, |c| c.0))
+            }
+            Checked::Valid(json::material::AlphaMode::Blend) => {
+                blend.push(format!("'{name}'"));
+                None
+            }
+            _ => None,
+        };
+        materials.push(Material {
+            name,
+            base_color: Vec4::from(pbr.base_color_factor.0),
+            texture,
+            alpha_cutoff,
+        });
+    }
+    let mut warnings = Vec::new();
+    if !blend.is_empty() {
+        warnings.push(format!(
+            "alphaMode BLEND is rendered opaque: material{} {}",
+            if blend.len() > 1 { "s" } else { "" },
+            blend.join(", ")
+        ));
+    }
+    Ok(Loaded {
+        materials,
+        textures,
+        warnings,
+    })
+}
+
+/// Decodes image `index` (PNG or JPEG from a buffer view, a data URI or a file).
+fn decode(
+    root: &json::Root,
+    data: &Data,
+    base: &Path,
+    index: usize,
+) -> Result<Texture, ImageError> {
+    let err = |message: String| ImageError { index, message };
+    let image = root
+        .images
+        .get(index)
+        .ok_or_else(|| err("does not exist".into()))?;
+    let owned;
+    let bytes: &[u8] = match (&image.buffer_view, &image.uri) {
+        (Some(view), _) => data.view_bytes(view.value()).map_err(err)?,
+        (None, Some(u)) => {
+            owned = uri::read_uri(u, base).map_err(|e| err(e.to_string()))?;
+            &owned
+        }
+        (None, None) => return Err(err("has neither a bufferView nor a uri".into())),
+    };
+    let decoded = image::load_from_memory(bytes)
+        .map_err(|e| err(format!("cannot decode (glTF allows PNG and JPEG): {e}")))?
+        .to_rgba8();
+    let (width, height) = decoded.dimensions();
+    let texels = decoded
+        .into_raw()
+        .chunks_exact(4)
+        .map(|c| [c[0], c[1], c[2], c[3]])
+        .collect();
+    Ok(Texture {
+        width,
+        height,
+        texels,
+    })
+}
