@@ -1,0 +1,404 @@
+//! Compiles every `.vert` / `.frag` / `.comp` in `shaders-glsl/` to SPIR-V with glslang,
+//! reflects each module with naga and writes `$OUT_DIR/shaders.rs` (included by
+//! `src/shaders.rs`): one `ShaderInfo` static per module plus `ALL`.
+//!
+//! Includes are expanded here rather than through glslang's include callback: we need the
+//! include graph anyway (a module that reaches `trace.glsl` is compiled twice), and emitting
+//! `#line <n> <string-index>` around each included file lets us map glslang's
+//! `ERROR: <index>:<line>:` messages back to `shaders-glsl/<file>:<line>`.
+
+use std::collections::{HashMap, HashSet};
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+use std::{env, fs};
+
+use glslang::error::GlslangError;
+use glslang::{Compiler, CompilerOptions, ShaderInput, ShaderMessage, ShaderSource};
+use glslang::{ShaderStage as Stage, SourceLanguage, SpirvVersion, Target, VulkanVersion};
+use naga::{AddressSpace, ArraySize, Handle, ImageClass, Module, Type, TypeInner};
+
+const DIR: &str = "shaders-glsl";
+
+/// SPIR-V 1.3 for everything naga must reflect: from 1.4 on glslang copies structs between
+/// layouts with `OpCopyLogical` and (1.6) turns `discard` into `OpTerminateInvocation`, and
+/// naga's SPIR-V front end parses neither. Ray queries need >= 1.4 and naga rejects those
+/// modules anyway, so the `:rayquery` variants get 1.6. Vulkan 1.3 accepts both.
+const SPIRV: SpirvVersion = SpirvVersion::SPIRV1_3;
+const RAY_QUERY_SPIRV: SpirvVersion = SpirvVersion::SPIRV1_6;
+
+/// A module that includes `trace.glsl` is compiled once per trace backend:
+/// (name suffix, define, SPIR-V version).
+const TRACE_VARIANTS: [(&str, &str, SpirvVersion); 2] = [
+    ("rayquery", "TRACE_RAYQUERY", RAY_QUERY_SPIRV),
+    ("compute", "TRACE_COMPUTE", SPIRV),
+];
+
+fn main() {
+    println!("cargo:rerun-if-changed=build.rs");
+    println!("cargo:rerun-if-changed={DIR}");
+    let out_dir = PathBuf::from(env::var_os("OUT_DIR").unwrap());
+    let mut files: Vec<PathBuf> = fs::read_dir(DIR)
+        .unwrap_or_else(|e| panic!("cannot read {DIR}/: {e}"))
+        .map(|entry| entry.unwrap().path())
+        .collect();
+    files.sort();
+
+    let compiler = Compiler::acquire().expect("cannot initialise glslang");
+    let (mut code, mut all, mut errors) = (String::from(HEADER), Vec::new(), Vec::new());
+    for path in &files {
+        println!("cargo:rerun-if-changed={}", path.display());
+        let file = path.file_name().unwrap().to_string_lossy().into_owned();
+        let stage = match path.extension().and_then(|e| e.to_str()) {
+            Some("vert") => Stage::Vertex,
+            Some("frag") => Stage::Fragment,
+            Some("comp") => Stage::Compute,
+            _ => continue, // `.glsl` files are include-only
+        };
+        // Expanded once without defines only to learn whether the module traces.
+        let Ok(src) = expand(&file, None).map_err(|e| errors.push(e)) else {
+            continue;
+        };
+        let variants = if src.files.iter().any(|f| f == "trace.glsl") {
+            let variant = |(suffix, def, v)| (format!("{file}:{suffix}"), Some(def), v);
+            TRACE_VARIANTS.map(variant).to_vec()
+        } else {
+            vec![(file.clone(), None, SPIRV)]
+        };
+        for (name, define, version) in variants {
+            let ident = name.to_uppercase().replace(['.', ':', '-'], "_");
+            match build_module(compiler, stage, &file, &name, define, version) {
+                Ok((spirv, info)) => {
+                    let bytes: Vec<u8> = spirv.iter().flat_map(|w| w.to_ne_bytes()).collect();
+                    fs::write(out_dir.join(format!("{ident}.spv")), &bytes).unwrap();
+                    emit_static(&mut code, &ident, &name, stage, bytes.len(), &info);
+                    all.push(format!("&{ident}"));
+                }
+                Err(e) => errors.push(e),
+            }
+        }
+    }
+    if !errors.is_empty() {
+        panic!("shader build failed:\n{}", errors.join("\n"));
+    }
+    let all = all.join(", ");
+    writeln!(
+        code,
+        "\n/// Every module above.\npub static ALL: &[&ShaderInfo] = &[{all}];"
+    )
+    .unwrap();
+    fs::write(out_dir.join("shaders.rs"), code).unwrap();
+}
+
+/// A module's source after include expansion: `files[i]` is the file of `#line` string `i`.
+#[derive(Default)]
+struct Expanded {
+    text: String,
+    files: Vec<String>,
+    stack: Vec<String>,
+    once: HashSet<String>,
+}
+
+/// Expands `#include "x.glsl"` (relative to shaders-glsl/, nested, `#pragma once` honoured,
+/// `#ifndef` guards left to the preprocessor) and inserts `#define <define> 1` after `#version`.
+/// Includes are expanded regardless of surrounding `#if`s, so a conditionally included file
+/// must still exist.
+fn expand(file: &str, define: Option<&str>) -> Result<Expanded, String> {
+    let mut out = Expanded::default();
+    out.include(file, define)?;
+    Ok(out)
+}
+
+impl Expanded {
+    fn include(&mut self, file: &str, define: Option<&str>) -> Result<(), String> {
+        let src = fs::read_to_string(Path::new(DIR).join(file))
+            .map_err(|e| format!("{DIR}/{file}: cannot read: {e}"))?;
+        if src.lines().any(|l| l.trim() == "#pragma once") && !self.once.insert(file.into()) {
+            return Ok(()); // already included in this module
+        }
+        if self.stack.iter().any(|f| f == file) {
+            let chain = self.stack.join(" -> ");
+            return Err(format!(
+                "{DIR}/{file}: include cycle {chain} -> {file}; use #pragma once"
+            ));
+        }
+        self.stack.push(file.into());
+        let (index, top) = (self.files.len(), self.stack.len() == 1);
+        self.files.push(file.into());
+        if !top {
+            // `#line` may not precede `#version`, so the top-level file relies on the default
+            // (string 0, line 1) until its `#version` line.
+            writeln!(self.text, "#line 1 {index}").unwrap();
+        }
+        let mut saw_version = false;
+        for (lineno, line) in (1..).zip(src.lines()) {
+            let t = line.trim();
+            if let Some(rest) = t.strip_prefix("#include") {
+                let name = rest.trim().trim_matches('"'); // `#include "x.glsl"`
+                self.include(name, None)
+                    .map_err(|e| format!("{e}\n  included from {DIR}/{file}:{lineno}"))?;
+                writeln!(self.text, "#line {} {index}", lineno + 1).unwrap();
+            } else if t == "#pragma once" {
+                self.text.push('\n'); // keeps line numbers; glslang would warn about the pragma
+            } else {
+                writeln!(self.text, "{line}").unwrap();
+                if top && !saw_version && t.starts_with("#version") {
+                    saw_version = true;
+                    if let Some(d) = define {
+                        writeln!(self.text, "#define {d} 1\n#line {} 0", lineno + 1).unwrap();
+                    }
+                }
+            }
+        }
+        if top && !saw_version {
+            return Err(format!("{DIR}/{file}:1: must start with #version 460"));
+        }
+        self.stack.pop();
+        Ok(())
+    }
+}
+
+fn build_module(
+    compiler: &Compiler,
+    stage: Stage,
+    file: &str,
+    name: &str,
+    define: Option<&str>,
+    spirv_version: SpirvVersion,
+) -> Result<(Vec<u32>, Info), String> {
+    let src = expand(file, define)?;
+    let source = ShaderSource::from(src.text.as_str());
+    let options = CompilerOptions {
+        source_language: SourceLanguage::GLSL,
+        target: Target::Vulkan {
+            version: VulkanVersion::Vulkan1_3,
+            spirv_version,
+        },
+        version_profile: None, // taken from the `#version` line
+        messages: ShaderMessage::DEFAULT | ShaderMessage::VULKAN_RULES | ShaderMessage::SPV_RULES,
+    };
+    let no_defines = None::<&[(&str, Option<&str>)]>; // ours are in the expanded text
+    let input = ShaderInput::new(&source, stage, &options, no_defines, None)
+        .map_err(|e| format!("{DIR}/{file}:1: {e} (compiling {name})"))?;
+    let fail = |e: GlslangError| match map_log(&e.to_string(), &src.files, name) {
+        log if log.is_empty() => format!("{DIR}/{file}: {e} (compiling {name})"),
+        log => log,
+    };
+    let shader = compiler.create_shader(input).map_err(fail)?;
+    for warning in map_log(&shader.get_log(), &src.files, name).lines() {
+        println!("cargo:warning={warning}");
+    }
+    // glslang's default SPIR-V options keep OpName / OpMemberName, which reflection needs.
+    let spirv = shader.compile().map_err(fail)?;
+    let info = reflect(&spirv, stage, file)?;
+    if let (Err(e), false) = (&info.1, define == Some("TRACE_RAYQUERY")) {
+        println!("cargo:warning={name}: bindings not reflected, so not checked: {e}");
+    }
+    Ok((spirv, info))
+}
+
+/// Rewrites glslang's `ERROR: <string>:<line>: msg` lines to `shaders-glsl/<file>:<line>: msg`
+/// and drops the rest of its log (summaries, the empty debug log).
+fn map_log(log: &str, files: &[String], name: &str) -> String {
+    let mut out = Vec::new();
+    for line in log.lines().map(str::trim) {
+        let Some((severity @ ("ERROR" | "WARNING"), rest)) = line.split_once(": ") else {
+            continue;
+        };
+        if rest.ends_with("No code generated.") || rest.ends_with("compilation terminated") {
+            continue;
+        }
+        let locate = || {
+            let (string, rest) = rest.split_once(':')?;
+            let (lineno, msg) = rest.split_once(':')?;
+            let file = files.get(string.parse::<usize>().ok()?)?;
+            let line: u32 = lineno.parse().ok()?;
+            Some(format!("{DIR}/{file}:{line}:{msg}"))
+        };
+        let severity = severity.to_lowercase();
+        out.push(match locate() {
+            Some(at) => format!("{at} ({severity} compiling {name})"),
+            None => format!("{name}: {severity}: {rest}"),
+        });
+    }
+    out.join("\n")
+}
+
+/// What reflection found for one module: workgroup size and either the bindings, as Rust
+/// `ReflectedBinding` literals, or why naga could not parse the module.
+type Info = ([u32; 3], Result<Vec<String>, String>);
+
+fn reflect(spirv: &[u32], stage: Stage, file: &str) -> Result<Info, String> {
+    let (combined, local_size) = scan_spirv(spirv);
+    let options = naga::front::spv::Options {
+        adjust_coordinate_space: false,
+        strict_capabilities: false,
+        block_ctx_dump_prefix: None,
+    };
+    let module = match naga::front::spv::Frontend::new(spirv.iter().copied(), &options).parse() {
+        Ok(module) => module,
+        Err(e) => {
+            // Expected for ray-query modules; their TRACE_COMPUTE twin is reflected instead.
+            let mut msg = format!("naga: {}", e.to_string().lines().next().unwrap_or_default());
+            if !combined.is_empty() {
+                msg += " (naga cannot parse sampling through a combined image sampler; \
+                        use a texture and a sampler)";
+            }
+            return Ok((local_size, Err(msg)));
+        }
+    };
+    let workgroup_size = match stage {
+        Stage::Compute => module.entry_points[0].workgroup_size,
+        _ => [1, 1, 1],
+    };
+    let mut bindings = Vec::new();
+    for (_, var) in module.global_variables.iter() {
+        let Some(rb) = &var.binding else { continue };
+        let (set, binding) = (rb.group, rb.binding);
+        let (kind, layout) = match var.space {
+            AddressSpace::Uniform => ("UniformBuffer", block_layout(&module, var.ty)),
+            AddressSpace::Storage { .. } => ("StorageBuffer", block_layout(&module, var.ty)),
+            AddressSpace::Handle => {
+                let combined = combined.contains(&(set, binding));
+                (handle_kind(&module, var.ty, combined), "None".into())
+            }
+            _ => continue,
+        };
+        // glslang names the variable of `buffer Photons { .. } photons;` "photons", and ""
+        // (naga: `Some("")`) when the instance name is left out.
+        let name = var.name.clone().unwrap_or_default();
+        if name.is_empty() {
+            let block = module.types[var.ty].name.clone().unwrap_or_default();
+            return Err(format!(
+                "{DIR}/{file}: block {block} (set {set}, binding {binding}) has no instance \
+                 name; block instances must be named (`{block} {{ .. }} {};`)",
+                block.to_lowercase()
+            ));
+        }
+        let literal = format!(
+            "ReflectedBinding {{ name: {name:?}, set: {set}, binding: {binding}, \
+             kind: BindingKind::{kind}, layout: {layout} }}"
+        );
+        bindings.push(((set, binding), literal));
+    }
+    bindings.sort();
+    let bindings = bindings.into_iter().map(|(_, literal)| literal).collect();
+    Ok((workgroup_size, Ok(bindings)))
+}
+
+fn handle_kind(module: &Module, ty: Handle<Type>, combined: bool) -> &'static str {
+    match &module.types[ty].inner {
+        TypeInner::BindingArray { base, .. } => handle_kind(module, *base, combined),
+        TypeInner::Image { class, .. } => match class {
+            ImageClass::Storage { .. } => "StorageImage",
+            _ if combined => "CombinedImageSampler",
+            _ => "SampledImage",
+        },
+        TypeInner::Sampler { .. } => "Sampler",
+        TypeInner::AccelerationStructure { .. } => "AccelerationStructure",
+        other => panic!("unexpected resource type {other:?}"),
+    }
+}
+
+/// `Some(BlockLayout { .. })` literal for a uniform or storage block.
+fn block_layout(module: &Module, ty: Handle<Type>) -> String {
+    let members_of = |ty: Handle<Type>| match &module.types[ty].inner {
+        TypeInner::Struct { members, .. } => {
+            let members = members.iter().map(|m| {
+                let name = m.name.as_deref().unwrap_or_default();
+                format!("Member {{ name: {name:?}, offset: {} }}", m.offset)
+            });
+            format!("&[{}]", members.collect::<Vec<_>>().join(", "))
+        }
+        _ => "&[]".to_string(),
+    };
+    let TypeInner::Struct { members, span } = &module.types[ty].inner else {
+        panic!("buffer block is not a struct: {:?}", module.types[ty]);
+    };
+    let last = members
+        .last()
+        .map(|m| (m.offset, &module.types[m.ty].inner));
+    let (size, stride, element) = match last {
+        // A trailing runtime array: the fixed part ends where the array starts.
+        Some((offset, TypeInner::Array { base, size, stride })) if *size == ArraySize::Dynamic => {
+            (offset, Some(stride), members_of(*base))
+        }
+        // naga's span: the last member's end rounded up to the block's alignment, as the
+        // size of a `#[repr(C)]` mirror of it.
+        _ => (*span, None, "&[]".into()),
+    };
+    format!(
+        "Some(BlockLayout {{ size: {size}, members: {}, array_stride: {stride:?}, \
+         element_members: {element} }})",
+        members_of(ty)
+    )
+}
+
+/// What naga's IR does not keep, read straight from the SPIR-V words: the (set, binding)s of
+/// combined image samplers (naga folds `OpTypeSampledImage` into the image type), and the
+/// workgroup size for modules naga cannot parse.
+fn scan_spirv(words: &[u32]) -> (HashSet<(u32, u32)>, [u32; 3]) {
+    let (mut sampled_images, mut vars, mut local_size) = (HashSet::new(), Vec::new(), [1; 3]);
+    let (mut pointee, mut element) = (HashMap::new(), HashMap::new());
+    let (mut sets, mut bindings) = (HashMap::new(), HashMap::new());
+    let mut i = 5; // after the header
+    while i < words.len() {
+        let (len, opcode) = ((words[i] >> 16).max(1) as usize, words[i] & 0xffff);
+        let w = &words[i + 1..(i + len).min(words.len())];
+        match (opcode, w) {
+            (16, [_, 17, x, y, z, ..]) => local_size = [*x, *y, *z], // OpExecutionMode LocalSize
+            (27, [id, ..]) => _ = sampled_images.insert(*id),        // OpTypeSampledImage
+            (28 | 29, [id, el, ..]) => _ = element.insert(*id, *el), // OpType(Runtime)Array
+            (32, [id, _, ty]) => _ = pointee.insert(*id, *ty),       // OpTypePointer
+            (59, [ptr, id, ..]) => vars.push((*id, *ptr)),           // OpVariable
+            (71, [id, 34, set]) => _ = sets.insert(*id, *set),       // OpDecorate DescriptorSet
+            (71, [id, 33, b]) => _ = bindings.insert(*id, *b),       // OpDecorate Binding
+            _ => {}
+        }
+        i += len;
+    }
+    let mut combined = HashSet::new();
+    for (id, ptr) in vars {
+        let mut ty = pointee.get(&ptr).copied().unwrap_or(0);
+        while let Some(&el) = element.get(&ty) {
+            ty = el; // arrays of sampler2D
+        }
+        if let (true, Some(&b)) = (sampled_images.contains(&ty), bindings.get(&id)) {
+            combined.insert((sets.get(&id).copied().unwrap_or(0), b));
+        }
+    }
+    (combined, local_size)
+}
+
+const HEADER: &str = "// Generated by build.rs from shaders-glsl/. Do not edit.
+#[allow(unused_imports)]
+use leakless_device::shader::{BindingKind, BlockLayout, Member, ReflectedBinding, ShaderInfo, ShaderStage};
+
+/// Gives `include_bytes!` data the alignment of `u32` so it can be viewed as SPIR-V words.
+#[repr(C, align(4))]
+#[allow(dead_code)]
+struct Aligned<T: ?Sized>(T);
+";
+
+fn emit_static(code: &mut String, ident: &str, name: &str, stage: Stage, len: usize, info: &Info) {
+    let (workgroup_size, reflection) = info;
+    let reflection = match reflection {
+        Ok(bindings) => format!("Ok(&[\n        {},\n    ])", bindings.join(",\n        ")),
+        Err(e) => format!("Err({e:?})"),
+    };
+    writeln!(
+        code,
+        r#"
+static {ident}_SPV: Aligned<[u8; {len}]> =
+    Aligned(*include_bytes!(concat!(env!("OUT_DIR"), "/{ident}.spv")));
+/// `shaders-glsl/{name}`
+pub static {ident}: ShaderInfo = ShaderInfo {{
+    name: {name:?},
+    stage: ShaderStage::{stage:?},
+    // SAFETY: 4-byte aligned, {len} bytes of native-endian words.
+    spirv: unsafe {{ core::slice::from_raw_parts({ident}_SPV.0.as_ptr().cast::<u32>(), {len} / 4) }},
+    workgroup_size: {workgroup_size:?},
+    reflection: {reflection},
+}};"#
+    )
+    .unwrap();
+}
