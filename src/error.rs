@@ -1,0 +1,17 @@
+use leakless_device::DeviceError;
+use leakless_scene::SceneError;
+
+/// Everything rendering can fail with; each variant prints as one line.
+#[derive(Debug, thiserror::Error)]
+pub enum RenderError {
+    #[error(transparent)]
+    Device(#[from] DeviceError),
+    #[error(transparent)]
+    Scene(#[from] SceneError),
+    #[error("invalid setting: {0}")]
+    Settings(String),
+    #[error("writing {path}: {message}")]
+    Output { path: String, message: String },
+}
+
+pub type Result<T, E = RenderError> = std::result::Result<T, E>;

@@ -1,0 +1,18 @@
+//! leakless: real-time diffuse global illumination by photon splatting, without light leaks.
+//!
+//! The frame, top to bottom (see `Renderer::render`): upload the frame constants, rasterise
+//! the G-buffer, light it directly, read the layers back. Each pass lives in `passes/`, one
+//! file per pass, next to its shader in `shaders-glsl/`.
+
+pub mod error;
+pub mod gpu_scene;
+pub mod gpu_types;
+pub mod output;
+pub mod passes;
+pub mod renderer;
+pub mod shaders;
+
+pub use error::{RenderError, Result};
+pub use leakless_device::{Gpu, GpuOptions};
+pub use leakless_scene::Scene;
+pub use renderer::{RenderSettings, RenderedFrame, Renderer};
