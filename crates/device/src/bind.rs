@@ -35,39 +35,19 @@ pub struct BindingDecl {
 
 impl BindingDecl {
     pub const fn uniform(name: &'static str, layout: RustLayout) -> Self {
-        Self {
-            name,
-            kind: BindingKind::UniformBuffer,
-            contents: Contents::Block(layout),
-        }
+        Self { name, kind: BindingKind::UniformBuffer, contents: Contents::Block(layout) }
     }
     pub const fn storage_array(name: &'static str, element: RustLayout) -> Self {
-        Self {
-            name,
-            kind: BindingKind::StorageBuffer,
-            contents: Contents::Array(element),
-        }
+        Self { name, kind: BindingKind::StorageBuffer, contents: Contents::Array(element) }
     }
     pub const fn storage_words(name: &'static str) -> Self {
-        Self {
-            name,
-            kind: BindingKind::StorageBuffer,
-            contents: Contents::Unchecked,
-        }
+        Self { name, kind: BindingKind::StorageBuffer, contents: Contents::Unchecked }
     }
     pub const fn storage_image(name: &'static str) -> Self {
-        Self {
-            name,
-            kind: BindingKind::StorageImage,
-            contents: Contents::Unchecked,
-        }
+        Self { name, kind: BindingKind::StorageImage, contents: Contents::Unchecked }
     }
     pub const fn acceleration_structure(name: &'static str) -> Self {
-        Self {
-            name,
-            kind: BindingKind::AccelerationStructure,
-            contents: Contents::Unchecked,
-        }
+        Self { name, kind: BindingKind::AccelerationStructure, contents: Contents::Unchecked }
     }
 }
 
@@ -88,21 +68,13 @@ pub fn check_bindings(shader: &ShaderInfo, pass: &str, decls: &[BindingDecl]) ->
         pass: pass.to_string(),
         problem,
     };
-    let reflected: &[ReflectedBinding] = shader
-        .reflection
-        .map_err(|why| err("*", format!("no reflection: {why}")))?;
+    let reflected: &[ReflectedBinding] = shader.reflection.map_err(|why| err("*", format!("no reflection: {why}")))?;
     for r in reflected {
         if r.set != 0 {
-            return Err(err(
-                r.name,
-                format!("uses descriptor set {}; passes use set 0 only", r.set),
-            ));
+            return Err(err(r.name, format!("uses descriptor set {}; passes use set 0 only", r.set)));
         }
         if !decls.iter().any(|d| d.name == r.name) {
-            return Err(err(
-                r.name,
-                "used by the shader but not declared by the pass".into(),
-            ));
+            return Err(err(r.name, "used by the shader but not declared by the pass".into()));
         }
     }
     let mut numbers = Vec::with_capacity(decls.len());
@@ -112,13 +84,7 @@ pub fn check_bindings(shader: &ShaderInfo, pass: &str, decls: &[BindingDecl]) ->
             .find(|r| r.name == d.name)
             .ok_or_else(|| err(d.name, "declared by the pass but not in the shader".into()))?;
         if r.kind != d.kind {
-            return Err(err(
-                d.name,
-                format!(
-                    "the pass declares {:?}, the shader has {:?}",
-                    d.kind, r.kind
-                ),
-            ));
+            return Err(err(d.name, format!("the pass declares {:?}, the shader has {:?}", d.kind, r.kind)));
         }
         check_contents(d, r.layout).map_err(|p| err(d.name, p))?;
         numbers.push(r.binding);
@@ -126,40 +92,26 @@ pub fn check_bindings(shader: &ShaderInfo, pass: &str, decls: &[BindingDecl]) ->
     Ok(numbers)
 }
 
-fn check_contents(
-    decl: &BindingDecl,
-    layout: Option<BlockLayout>,
-) -> std::result::Result<(), String> {
+fn check_contents(decl: &BindingDecl, layout: Option<BlockLayout>) -> std::result::Result<(), String> {
     let (rust, shader_size, shader_members, what) = match (decl.contents, layout) {
         (Contents::Unchecked, _) => return Ok(()),
         (_, None) => return Err("the shader side has no block layout".into()),
         (Contents::Block(rust), Some(l)) => {
             if l.array_stride.is_some() {
-                return Err(
-                    "the shader block ends in a runtime array; declare it with storage_array"
-                        .into(),
-                );
+                return Err("the shader block ends in a runtime array; declare it with storage_array".into());
             }
             (rust, l.size, l.members, "block")
         }
         (Contents::Array(rust), Some(l)) => {
-            let stride = l
-                .array_stride
-                .ok_or("the shader block has no runtime array")?;
+            let stride = l.array_stride.ok_or("the shader block has no runtime array")?;
             if l.size != 0 {
-                return Err(format!(
-                    "the shader block has {} bytes before its array; Rust declares none",
-                    l.size
-                ));
+                return Err(format!("the shader block has {} bytes before its array; Rust declares none", l.size));
             }
             (rust, stride, l.element_members, "array element")
         }
     };
     if rust.size != shader_size {
-        return Err(format!(
-            "{what} size: Rust {} bytes, shader {} bytes",
-            rust.size, shader_size
-        ));
+        return Err(format!("{what} size: Rust {} bytes, shader {} bytes", rust.size, shader_size));
     }
     if shader_members.is_empty() && rust.members.is_empty() {
         return Ok(());
@@ -168,22 +120,13 @@ fn check_contents(
         match shader_members.iter().find(|s| s.name == m.name) {
             None => return Err(format!("{what} member {} is not in the shader", m.name)),
             Some(s) if s.offset != m.offset => {
-                return Err(format!(
-                    "{what} member {}: Rust offset {}, shader offset {}",
-                    m.name, m.offset, s.offset
-                ))
+                return Err(format!("{what} member {}: Rust offset {}, shader offset {}", m.name, m.offset, s.offset))
             }
             Some(_) => {}
         }
     }
-    if let Some(s) = shader_members
-        .iter()
-        .find(|s| !rust.members.iter().any(|m| m.name == s.name))
-    {
-        return Err(format!(
-            "{what} member {} is in the shader but not in the Rust struct",
-            s.name
-        ));
+    if let Some(s) = shader_members.iter().find(|s| !rust.members.iter().any(|m| m.name == s.name)) {
+        return Err(format!("{what} member {} is in the shader but not in the Rust struct", s.name));
     }
     Ok(())
 }
@@ -216,34 +159,17 @@ mod tests {
     }
 
     const MEMBERS: &[Member] = &[
-        Member {
-            name: "a",
-            offset: 0,
-        },
-        Member {
-            name: "b",
-            offset: 16,
-        },
-        Member {
-            name: "c",
-            offset: 20,
-        },
-        Member {
-            name: "_pad",
-            offset: 24,
-        },
+        Member { name: "a", offset: 0 },
+        Member { name: "b", offset: 16 },
+        Member { name: "c", offset: 20 },
+        Member { name: "_pad", offset: 24 },
     ];
     const REFLECTED: &[ReflectedBinding] = &[ReflectedBinding {
         name: "frame",
         set: 0,
         binding: 3,
         kind: BindingKind::UniformBuffer,
-        layout: Some(BlockLayout {
-            size: 32,
-            members: MEMBERS,
-            array_stride: None,
-            element_members: &[],
-        }),
+        layout: Some(BlockLayout { size: 32, members: MEMBERS, array_stride: None, element_members: &[] }),
     }];
     const SHADER: ShaderInfo = ShaderInfo {
         name: "t.comp",
@@ -255,35 +181,21 @@ mod tests {
 
     #[test]
     fn matching_declaration_gives_the_shader_binding_number() {
-        let decl = [BindingDecl::uniform(
-            "frame",
-            crate::rust_layout!(Frame { a, b, c, _pad }),
-        )];
+        let decl = [BindingDecl::uniform("frame", crate::rust_layout!(Frame { a, b, c, _pad }))];
         assert_eq!(check_bindings(&SHADER, "p", &decl).unwrap(), vec![3]);
     }
 
     #[test]
     fn mismatches_name_shader_binding_and_pass() {
         let wrong_kind = [BindingDecl::storage_words("frame")];
-        let e = check_bindings(&SHADER, "direct", &wrong_kind)
-            .unwrap_err()
-            .to_string();
-        assert!(
-            e.contains("t.comp") && e.contains("\"frame\"") && e.contains("direct"),
-            "{e}"
-        );
+        let e = check_bindings(&SHADER, "direct", &wrong_kind).unwrap_err().to_string();
+        assert!(e.contains("t.comp") && e.contains("\"frame\"") && e.contains("direct"), "{e}");
         let missing = [
             BindingDecl::uniform("frame", crate::rust_layout!(Frame { a, b, c, _pad })),
             BindingDecl::storage_words("extra"),
         ];
-        assert!(check_bindings(&SHADER, "p", &missing)
-            .unwrap_err()
-            .to_string()
-            .contains("not in the shader"));
-        assert!(check_bindings(&SHADER, "p", &[])
-            .unwrap_err()
-            .to_string()
-            .contains("not declared by the pass"));
+        assert!(check_bindings(&SHADER, "p", &missing).unwrap_err().to_string().contains("not in the shader"));
+        assert!(check_bindings(&SHADER, "p", &[]).unwrap_err().to_string().contains("not declared by the pass"));
         #[repr(C)]
         struct Shifted {
             b: u32,
@@ -291,13 +203,8 @@ mod tests {
             c: u32,
             _pad: [u32; 2],
         }
-        let shifted = [BindingDecl::uniform(
-            "frame",
-            crate::rust_layout!(Shifted { a, b, c, _pad }),
-        )];
-        let e = check_bindings(&SHADER, "p", &shifted)
-            .unwrap_err()
-            .to_string();
+        let shifted = [BindingDecl::uniform("frame", crate::rust_layout!(Shifted { a, b, c, _pad }))];
+        let e = check_bindings(&SHADER, "p", &shifted).unwrap_err().to_string();
         assert!(e.contains("offset"), "{e}");
     }
 }

@@ -35,14 +35,8 @@ impl<'a> Cmd<'a> {
             pass: layout.pass.clone(),
             problem: problem.into(),
         };
-        if let Some((name, _)) = bound
-            .iter()
-            .find(|(n, _)| !layout.bindings.iter().any(|(d, _)| d.name == *n))
-        {
-            return Err(problem(
-                name,
-                "bound at record time but not declared by the pass",
-            ));
+        if let Some((name, _)) = bound.iter().find(|(n, _)| !layout.bindings.iter().any(|(d, _)| d.name == *n)) {
+            return Err(problem(name, "bound at record time but not declared by the pass"));
         }
         let mut buffer_infos = Vec::new();
         let mut image_infos = Vec::new();
@@ -54,15 +48,11 @@ impl<'a> Cmd<'a> {
                 .map(|(_, r)| *r)
                 .ok_or_else(|| problem(decl.name, "declared but not bound"))?;
             match resource {
-                Bound::Buffer(b) => buffer_infos.push(
-                    vk::DescriptorBufferInfo::default()
-                        .buffer(b.raw())
-                        .range(vk::WHOLE_SIZE),
-                ),
+                Bound::Buffer(b) => {
+                    buffer_infos.push(vk::DescriptorBufferInfo::default().buffer(b.raw()).range(vk::WHOLE_SIZE))
+                }
                 Bound::Image(i) => image_infos.push(
-                    vk::DescriptorImageInfo::default()
-                        .image_view(i.view())
-                        .image_layout(vk::ImageLayout::GENERAL),
+                    vk::DescriptorImageInfo::default().image_view(i.view()).image_layout(vk::ImageLayout::GENERAL),
                 ),
                 Bound::Accel(a) => accels.push(a),
             }
@@ -78,14 +68,9 @@ impl<'a> Cmd<'a> {
         let mut writes = Vec::with_capacity(layout.bindings.len());
         let mut accel_iter = accel_writes.iter_mut();
         for (decl, number) in &layout.bindings {
-            let resource = bound
-                .iter()
-                .find(|(n, _)| *n == decl.name)
-                .map(|(_, r)| *r)
-                .expect("checked above");
-            let write = vk::WriteDescriptorSet::default()
-                .dst_binding(*number)
-                .descriptor_type(decl.kind.descriptor_type());
+            let resource = bound.iter().find(|(n, _)| *n == decl.name).map(|(_, r)| *r).expect("checked above");
+            let write =
+                vk::WriteDescriptorSet::default().dst_binding(*number).descriptor_type(decl.kind.descriptor_type());
             let write = match resource {
                 Bound::Buffer(_) => {
                     bi += 1;
@@ -98,9 +83,7 @@ impl<'a> Cmd<'a> {
                 Bound::Accel(_) => {
                     ai += 1;
                     // ash 0.38 does not derive the count from a pushed-next struct.
-                    write
-                        .descriptor_count(1)
-                        .push_next(accel_iter.next().expect("one per accel"))
+                    write.descriptor_count(1).push_next(accel_iter.next().expect("one per accel"))
                 }
             };
             writes.push(write);
@@ -133,19 +116,10 @@ impl<'a> Cmd<'a> {
             return Ok(());
         }
         // SAFETY: recording state; pipeline from this device.
-        unsafe {
-            self.device().cmd_bind_pipeline(
-                self.raw,
-                vk::PipelineBindPoint::COMPUTE,
-                pipeline.raw(),
-            )
-        };
+        unsafe { self.device().cmd_bind_pipeline(self.raw, vk::PipelineBindPoint::COMPUTE, pipeline.raw()) };
         self.push_bindings(vk::PipelineBindPoint::COMPUTE, &pipeline.layout, bound)?;
         // SAFETY: pipeline and descriptors bound above.
-        unsafe {
-            self.device()
-                .cmd_dispatch(self.raw, groups[0], groups[1], groups[2])
-        };
+        unsafe { self.device().cmd_dispatch(self.raw, groups[0], groups[1], groups[2]) };
         Ok(())
     }
 
@@ -159,11 +133,8 @@ impl<'a> Cmd<'a> {
         vertices: &Buffer,
         vertex_count: u32,
     ) -> Result<()> {
-        let extent = colors
-            .first()
-            .map(|(i, _)| i.extent())
-            .or(depth.map(|d| d.extent()))
-            .expect("a draw needs a target");
+        let extent =
+            colors.first().map(|(i, _)| i.extent()).or(depth.map(|d| d.extent())).expect("a draw needs a target");
         let color_attachments: Vec<_> = colors
             .iter()
             .map(|(image, clear)| {
@@ -172,9 +143,7 @@ impl<'a> Cmd<'a> {
                     .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
                     .load_op(vk::AttachmentLoadOp::CLEAR)
                     .store_op(vk::AttachmentStoreOp::STORE)
-                    .clear_value(vk::ClearValue {
-                        color: vk::ClearColorValue { float32: *clear },
-                    })
+                    .clear_value(vk::ClearValue { color: vk::ClearColorValue { float32: *clear } })
             })
             .collect();
         let depth_attachment = depth.map(|d| {
@@ -183,30 +152,19 @@ impl<'a> Cmd<'a> {
                 .image_layout(vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL)
                 .load_op(vk::AttachmentLoadOp::CLEAR)
                 .store_op(vk::AttachmentStoreOp::STORE)
-                .clear_value(vk::ClearValue {
-                    depth_stencil: vk::ClearDepthStencilValue {
-                        depth: 1.0,
-                        stencil: 0,
-                    },
-                })
+                .clear_value(vk::ClearValue { depth_stencil: vk::ClearDepthStencilValue { depth: 1.0, stencil: 0 } })
         });
-        let area = vk::Rect2D {
-            offset: vk::Offset2D::default(),
-            extent,
-        };
-        let mut info = vk::RenderingInfo::default()
-            .render_area(area)
-            .layer_count(1)
-            .color_attachments(&color_attachments);
+        let area = vk::Rect2D { offset: vk::Offset2D::default(), extent };
+        let mut info =
+            vk::RenderingInfo::default().render_area(area).layer_count(1).color_attachments(&color_attachments);
         if let Some(d) = &depth_attachment {
             info = info.depth_attachment(d);
         }
-        // Flip Y so that +Y is up in clip space, like the rest of the renderer's maths.
         let viewport = vk::Viewport {
             x: 0.0,
-            y: extent.height as f32,
+            y: 0.0,
             width: extent.width as f32,
-            height: -(extent.height as f32),
+            height: extent.height as f32,
             min_depth: 0.0,
             max_depth: 1.0,
         };
@@ -232,16 +190,9 @@ impl<'a> Cmd<'a> {
     }
 
     pub fn copy_buffer(&mut self, src: &Buffer, dst: &Buffer, size: u64) {
-        let region = vk::BufferCopy {
-            src_offset: 0,
-            dst_offset: 0,
-            size,
-        };
+        let region = vk::BufferCopy { src_offset: 0, dst_offset: 0, size };
         // SAFETY: both buffers have the transfer usages and hold `size` bytes.
-        unsafe {
-            self.device()
-                .cmd_copy_buffer(self.raw, src.raw(), dst.raw(), &[region])
-        };
+        unsafe { self.device().cmd_copy_buffer(self.raw, src.raw(), dst.raw(), &[region]) };
     }
 
     /// Copies an image (in TRANSFER_SRC_OPTIMAL) tightly packed into `dst` at `offset`.
@@ -249,16 +200,8 @@ impl<'a> Cmd<'a> {
         let e = src.extent();
         let region = vk::BufferImageCopy::default()
             .buffer_offset(offset)
-            .image_subresource(
-                vk::ImageSubresourceLayers::default()
-                    .aspect_mask(src.aspect())
-                    .layer_count(1),
-            )
-            .image_extent(vk::Extent3D {
-                width: e.width,
-                height: e.height,
-                depth: 1,
-            });
+            .image_subresource(vk::ImageSubresourceLayers::default().aspect_mask(src.aspect()).layer_count(1))
+            .image_extent(vk::Extent3D { width: e.width, height: e.height, depth: 1 });
         // SAFETY: the graph put `src` in TRANSFER_SRC_OPTIMAL; `dst` is large enough (caller).
         unsafe {
             self.device().cmd_copy_image_to_buffer(
@@ -273,24 +216,15 @@ impl<'a> Cmd<'a> {
 
     pub fn fill_buffer(&mut self, dst: &Buffer, offset: u64, size: u64, value: u32) {
         // SAFETY: offset and size are multiples of 4 within the buffer (caller).
-        unsafe {
-            self.device()
-                .cmd_fill_buffer(self.raw, dst.raw(), offset, size, value)
-        };
+        unsafe { self.device().cmd_fill_buffer(self.raw, dst.raw(), offset, size, value) };
     }
 
     /// Records one pipeline barrier. Only the pass graph calls this.
-    pub fn barriers(
-        &mut self,
-        buffers: &[vk::BufferMemoryBarrier2<'_>],
-        images: &[vk::ImageMemoryBarrier2<'_>],
-    ) {
+    pub fn barriers(&mut self, buffers: &[vk::BufferMemoryBarrier2<'_>], images: &[vk::ImageMemoryBarrier2<'_>]) {
         if buffers.is_empty() && images.is_empty() {
             return;
         }
-        let info = vk::DependencyInfo::default()
-            .buffer_memory_barriers(buffers)
-            .image_memory_barriers(images);
+        let info = vk::DependencyInfo::default().buffer_memory_barriers(buffers).image_memory_barriers(images);
         // SAFETY: synchronization2 is enabled; the barriers name live resources.
         unsafe { self.device().cmd_pipeline_barrier2(self.raw, &info) };
     }
@@ -299,12 +233,7 @@ impl<'a> Cmd<'a> {
         if let Some(du) = &self.gpu.shared.debug_utils {
             let name = std::ffi::CString::new(name).unwrap_or_default();
             // SAFETY: debug utils is enabled; the label outlives the call.
-            unsafe {
-                du.cmd_begin_debug_utils_label(
-                    self.raw,
-                    &vk::DebugUtilsLabelEXT::default().label_name(&name),
-                )
-            };
+            unsafe { du.cmd_begin_debug_utils_label(self.raw, &vk::DebugUtilsLabelEXT::default().label_name(&name)) };
         }
     }
 
@@ -318,12 +247,7 @@ impl<'a> Cmd<'a> {
     pub fn write_timestamp(&mut self, pool: &TimestampPool, index: u32) {
         // SAFETY: the index is below the pool's capacity (TimestampPool checks) and was reset.
         unsafe {
-            self.device().cmd_write_timestamp2(
-                self.raw,
-                vk::PipelineStageFlags2::ALL_COMMANDS,
-                pool.raw(),
-                index,
-            )
+            self.device().cmd_write_timestamp2(self.raw, vk::PipelineStageFlags2::ALL_COMMANDS, pool.raw(), index)
         };
     }
 }

@@ -10,31 +10,19 @@ pub enum DeviceError {
     #[error("LEAKLESS_DEVICE={wanted:?} matches no usable device (usable: {usable})")]
     DeviceNotFound { wanted: String, usable: String },
     #[error("{call} failed: {result}")]
-    Vk {
-        call: &'static str,
-        result: vk::Result,
-    },
+    Vk { call: &'static str, result: vk::Result },
     #[error("GPU memory allocation for {what} failed: {message}")]
     Alloc { what: String, message: String },
     #[error("the GPU device was lost {where_}; the frame was abandoned")]
     DeviceLost { where_: String },
     #[error("shader {shader}, binding {binding:?}, pass {pass}: {problem}")]
-    Binding {
-        shader: &'static str,
-        binding: String,
-        pass: String,
-        problem: String,
-    },
+    Binding { shader: &'static str, binding: String, pass: String, problem: String },
     #[error("{count} Vulkan validation error(s); first: {first}")]
     Validation { count: usize, first: String },
     #[error("{0}")]
     Unsupported(String),
     #[error("buffer {name} holds {capacity} bytes, {requested} requested")]
-    Capacity {
-        name: String,
-        capacity: u64,
-        requested: u64,
-    },
+    Capacity { name: String, capacity: u64, requested: u64 },
 }
 
 pub type Result<T, E = DeviceError> = std::result::Result<T, E>;
@@ -47,9 +35,7 @@ pub(crate) trait VkContext<T> {
 impl<T> VkContext<T> for std::result::Result<T, vk::Result> {
     fn vk(self, call: &'static str) -> Result<T> {
         self.map_err(|result| match result {
-            vk::Result::ERROR_DEVICE_LOST => DeviceError::DeviceLost {
-                where_: format!("in {call}"),
-            },
+            vk::Result::ERROR_DEVICE_LOST => DeviceError::DeviceLost { where_: format!("in {call}") },
             result => DeviceError::Vk { call, result },
         })
     }

@@ -36,15 +36,14 @@ pub(crate) struct Shared {
     pub allocator: Mutex<Option<Allocator>>,
     pub debug_utils: Option<ext::debug_utils::Device>,
     pub push_descriptor: khr::push_descriptor::Device,
+    pub accel: Option<khr::acceleration_structure::Device>,
 }
 
 impl Shared {
     pub fn set_name<H: vk::Handle>(&self, handle: H, name: &str) {
         if let Some(du) = &self.debug_utils {
             let name = std::ffi::CString::new(name.replace('\0', " ")).expect("no interior NUL");
-            let info = vk::DebugUtilsObjectNameInfoEXT::default()
-                .object_handle(handle)
-                .object_name(&name);
+            let info = vk::DebugUtilsObjectNameInfoEXT::default().object_handle(handle).object_name(&name);
             // SAFETY: `handle` is a live object of this device; naming is advisory.
             let _ = unsafe { du.set_debug_utils_object_name(&info) };
         }
@@ -87,12 +86,9 @@ impl Gpu {
 
     /// Opens the chosen device without any window.
     pub fn new(options: &GpuOptions) -> Result<Gpu> {
-        let validation = options
-            .validation
-            .unwrap_or_else(|| instance::validation_wanted(false));
+        let validation = options.validation.unwrap_or_else(|| instance::validation_wanted(false));
         let mut parts = instance::create(validation)?;
-        let result = select::enumerate(&parts.instance)
-            .and_then(|reports| select::choose(&reports).cloned());
+        let result = select::enumerate(&parts.instance).and_then(|reports| select::choose(&reports).cloned());
         let report = match result {
             Ok(r) => r,
             Err(e) => {
@@ -118,52 +114,33 @@ impl Gpu {
             buffer_device_address: ray_tracing,
             allocation_sizes: Default::default(),
         })
-        .map_err(|e| DeviceError::Alloc {
-            what: "the allocator".into(),
-            message: e.to_string(),
-        })?;
-        let debug_utils = parts
-            .debug_utils
-            .as_ref()
-            .map(|_| ext::debug_utils::Device::new(&parts.instance, &device));
+        .map_err(|e| DeviceError::Alloc { what: "the allocator".into(), message: e.to_string() })?;
+        let debug_utils = parts.debug_utils.as_ref().map(|_| ext::debug_utils::Device::new(&parts.instance, &device));
         let push_descriptor = khr::push_descriptor::Device::new(&parts.instance, &device);
-        let caps = Capabilities {
-            ray_query: ray_tracing,
-            acceleration_structure: ray_tracing,
-            validation: parts.validation,
-        };
+        let accel = ray_tracing.then(|| khr::acceleration_structure::Device::new(&parts.instance, &device));
+        let caps =
+            Capabilities { ray_query: ray_tracing, acceleration_structure: ray_tracing, validation: parts.validation };
         let shared = Arc::new(Shared {
             instance: parts,
             device,
             allocator: Mutex::new(Some(allocator)),
             debug_utils,
             push_descriptor,
+            accel,
         });
         // SAFETY: the queue family index was validated during selection.
         let queue = unsafe { shared.device.get_device_queue(report.queue_family, 0) };
         let pool_info = vk::CommandPoolCreateInfo::default()
             .queue_family_index(report.queue_family)
-            .flags(
-                vk::CommandPoolCreateFlags::TRANSIENT
-                    | vk::CommandPoolCreateFlags::RESET_COMMAND_BUFFER,
-            );
+            .flags(vk::CommandPoolCreateFlags::TRANSIENT | vk::CommandPoolCreateFlags::RESET_COMMAND_BUFFER);
         // SAFETY: valid device and create info.
-        let command_pool = unsafe { shared.device.create_command_pool(&pool_info, None) }
-            .vk("vkCreateCommandPool")?;
+        let command_pool = unsafe { shared.device.create_command_pool(&pool_info, None) }.vk("vkCreateCommandPool")?;
         let timeout = std::env::var("LEAKLESS_GPU_TIMEOUT")
             .ok()
             .and_then(|s| s.parse::<u64>().ok())
             .map(Duration::from_secs)
             .unwrap_or(Duration::from_secs(600));
-        Ok(Gpu {
-            shared,
-            queue,
-            command_pool,
-            report,
-            caps,
-            timeout,
-            _not_sync: Default::default(),
-        })
+        Ok(Gpu { shared, queue, command_pool, report, caps, timeout, _not_sync: Default::default() })
     }
 
     pub fn report(&self) -> &DeviceReport {
@@ -172,6 +149,11 @@ impl Gpu {
 
     pub fn capabilities(&self) -> Capabilities {
         self.caps
+    }
+
+    /// Alignment of acceleration-structure scratch addresses, as the device reports it.
+    pub fn scratch_alignment(&self) -> u64 {
+        self.report.scratch_alignment
     }
 
     /// Records commands with `record`, submits them and waits for completion.
@@ -183,33 +165,24 @@ impl Gpu {
         let device = &self.shared.device;
         // SAFETY: the pool belongs to this device and is only used from this thread (Gpu is
         // not Sync).
-        let cmd_raw =
-            unsafe { device.allocate_command_buffers(&alloc) }.vk("vkAllocateCommandBuffers")?[0];
+        let cmd_raw = unsafe { device.allocate_command_buffers(&alloc) }.vk("vkAllocateCommandBuffers")?[0];
         let result = (|| {
-            let begin = vk::CommandBufferBeginInfo::default()
-                .flags(vk::CommandBufferUsageFlags::ONE_TIME_SUBMIT);
+            let begin = vk::CommandBufferBeginInfo::default().flags(vk::CommandBufferUsageFlags::ONE_TIME_SUBMIT);
             // SAFETY: freshly allocated command buffer.
             unsafe { device.begin_command_buffer(cmd_raw, &begin) }.vk("vkBeginCommandBuffer")?;
-            let mut cmd = Cmd {
-                gpu: self,
-                raw: cmd_raw,
-            };
+            let mut cmd = Cmd { gpu: self, raw: cmd_raw };
             let value = record(&mut cmd)?;
             // SAFETY: recording state.
             unsafe { device.end_command_buffer(cmd_raw) }.vk("vkEndCommandBuffer")?;
             // SAFETY: valid device.
-            let fence = unsafe { device.create_fence(&vk::FenceCreateInfo::default(), None) }
-                .vk("vkCreateFence")?;
+            let fence = unsafe { device.create_fence(&vk::FenceCreateInfo::default(), None) }.vk("vkCreateFence")?;
             let cmds = [cmd_raw];
             let submit = vk::SubmitInfo::default().command_buffers(&cmds);
             // SAFETY: the command buffer is executable and the fence unsignalled.
-            let waited = unsafe { device.queue_submit(self.queue, &[submit], fence) }
-                .vk("vkQueueSubmit")
-                .and_then(|_| {
+            let waited =
+                unsafe { device.queue_submit(self.queue, &[submit], fence) }.vk("vkQueueSubmit").and_then(|_| {
                     // SAFETY: the fence is from this device.
-                    match unsafe {
-                        device.wait_for_fences(&[fence], true, self.timeout.as_nanos() as u64)
-                    } {
+                    match unsafe { device.wait_for_fences(&[fence], true, self.timeout.as_nanos() as u64) } {
                         Ok(()) => Ok(()),
                         Err(vk::Result::TIMEOUT) => Err(DeviceError::DeviceLost {
                             where_: format!(
@@ -234,21 +207,12 @@ impl Gpu {
 
     /// Fails if validation reported errors since the last call (and clears them).
     pub fn check_validation(&self) -> Result<()> {
-        let mut errors = self
-            .shared
-            .instance
-            .log
-            .errors
-            .lock()
-            .map(|mut e| std::mem::take(&mut *e))
-            .unwrap_or_default();
+        let mut errors =
+            self.shared.instance.log.errors.lock().map(|mut e| std::mem::take(&mut *e)).unwrap_or_default();
         if errors.is_empty() {
             Ok(())
         } else {
-            Err(DeviceError::Validation {
-                count: errors.len(),
-                first: errors.swap_remove(0),
-            })
+            Err(DeviceError::Validation { count: errors.len(), first: errors.swap_remove(0) })
         }
     }
 
@@ -273,22 +237,15 @@ impl Drop for Gpu {
         // SAFETY: all command buffers from the pool completed (submit waits) or the device is lost.
         unsafe {
             let _ = self.shared.device.device_wait_idle();
-            self.shared
-                .device
-                .destroy_command_pool(self.command_pool, None);
+            self.shared.device.destroy_command_pool(self.command_pool, None);
         }
     }
 }
 
-fn create_device(
-    instance: &ash::Instance,
-    report: &DeviceReport,
-    ray_tracing: bool,
-) -> Result<ash::Device> {
+fn create_device(instance: &ash::Instance, report: &DeviceReport, ray_tracing: bool) -> Result<ash::Device> {
     let priorities = [1.0f32];
-    let queues = [vk::DeviceQueueCreateInfo::default()
-        .queue_family_index(report.queue_family)
-        .queue_priorities(&priorities)];
+    let queues =
+        [vk::DeviceQueueCreateInfo::default().queue_family_index(report.queue_family).queue_priorities(&priorities)];
     let mut ext_names = vec![khr::push_descriptor::NAME.as_ptr()];
     if ray_tracing {
         ext_names.extend(RAY_EXTENSIONS.iter().map(|n| n.as_ptr()));
@@ -300,11 +257,8 @@ fn create_device(
         .host_query_reset(true)
         .buffer_device_address(ray_tracing)
         .scalar_block_layout(false);
-    let mut f13 = vk::PhysicalDeviceVulkan13Features::default()
-        .dynamic_rendering(true)
-        .synchronization2(true);
-    let mut fas =
-        vk::PhysicalDeviceAccelerationStructureFeaturesKHR::default().acceleration_structure(true);
+    let mut f13 = vk::PhysicalDeviceVulkan13Features::default().dynamic_rendering(true).synchronization2(true);
+    let mut fas = vk::PhysicalDeviceAccelerationStructureFeaturesKHR::default().acceleration_structure(true);
     let mut frq = vk::PhysicalDeviceRayQueryFeaturesKHR::default().ray_query(true);
     let mut info = vk::DeviceCreateInfo::default()
         .queue_create_infos(&queues)

@@ -41,16 +41,11 @@ pub(crate) fn create(want_validation: bool) -> Result<InstanceParts> {
     // SAFETY: loading the Vulkan loader library; its symbols are only used through ash.
     let entry = unsafe { ash::Entry::load() }.map_err(|e| DeviceError::Loader(e.to_string()))?;
     // SAFETY: plain queries on a loaded entry.
-    let layers = unsafe { entry.enumerate_instance_layer_properties() }
-        .vk("vkEnumerateInstanceLayerProperties")?;
-    let has_layer = layers
-        .iter()
-        .any(|l| l.layer_name_as_c_str() == Ok(VALIDATION_LAYER));
-    let exts = unsafe { entry.enumerate_instance_extension_properties(None) }
-        .vk("vkEnumerateInstanceExtensionProperties")?;
-    let has_debug_utils = exts
-        .iter()
-        .any(|e| e.extension_name_as_c_str() == Ok(ext::debug_utils::NAME));
+    let layers = unsafe { entry.enumerate_instance_layer_properties() }.vk("vkEnumerateInstanceLayerProperties")?;
+    let has_layer = layers.iter().any(|l| l.layer_name_as_c_str() == Ok(VALIDATION_LAYER));
+    let exts =
+        unsafe { entry.enumerate_instance_extension_properties(None) }.vk("vkEnumerateInstanceExtensionProperties")?;
+    let has_debug_utils = exts.iter().any(|e| e.extension_name_as_c_str() == Ok(ext::debug_utils::NAME));
 
     let validation = want_validation && has_layer && has_debug_utils;
     if want_validation && !validation {
@@ -61,16 +56,8 @@ pub(crate) fn create(want_validation: bool) -> Result<InstanceParts> {
         .application_name(c"leakless")
         .engine_name(c"leakless")
         .api_version(vk::API_VERSION_1_3);
-    let layer_names = if validation {
-        vec![VALIDATION_LAYER.as_ptr()]
-    } else {
-        vec![]
-    };
-    let ext_names = if has_debug_utils {
-        vec![ext::debug_utils::NAME.as_ptr()]
-    } else {
-        vec![]
-    };
+    let layer_names = if validation { vec![VALIDATION_LAYER.as_ptr()] } else { vec![] };
+    let ext_names = if has_debug_utils { vec![ext::debug_utils::NAME.as_ptr()] } else { vec![] };
     let info = vk::InstanceCreateInfo::default()
         .application_info(&app)
         .enabled_layer_names(&layer_names)
@@ -84,28 +71,18 @@ pub(crate) fn create(want_validation: bool) -> Result<InstanceParts> {
     if let (true, Some(du)) = (validation, &debug_utils) {
         let info = vk::DebugUtilsMessengerCreateInfoEXT::default()
             .message_severity(
-                vk::DebugUtilsMessageSeverityFlagsEXT::ERROR
-                    | vk::DebugUtilsMessageSeverityFlagsEXT::WARNING,
+                vk::DebugUtilsMessageSeverityFlagsEXT::ERROR | vk::DebugUtilsMessageSeverityFlagsEXT::WARNING,
             )
             .message_type(
-                vk::DebugUtilsMessageTypeFlagsEXT::VALIDATION
-                    | vk::DebugUtilsMessageTypeFlagsEXT::PERFORMANCE,
+                vk::DebugUtilsMessageTypeFlagsEXT::VALIDATION | vk::DebugUtilsMessageTypeFlagsEXT::PERFORMANCE,
             )
             .pfn_user_callback(Some(on_message))
             .user_data(Arc::as_ptr(&log) as *mut c_void);
         // SAFETY: the user-data pointer stays valid while `log` lives in InstanceParts, which
         // destroys the messenger before dropping it.
-        messenger = unsafe { du.create_debug_utils_messenger(&info, None) }
-            .vk("vkCreateDebugUtilsMessengerEXT")?;
+        messenger = unsafe { du.create_debug_utils_messenger(&info, None) }.vk("vkCreateDebugUtilsMessengerEXT")?;
     }
-    Ok(InstanceParts {
-        _entry: entry,
-        instance,
-        debug_utils,
-        messenger,
-        validation,
-        log,
-    })
+    Ok(InstanceParts { _entry: entry, instance, debug_utils, messenger, validation, log })
 }
 
 unsafe extern "system" fn on_message(
@@ -117,10 +94,7 @@ unsafe extern "system" fn on_message(
     // SAFETY: the layer passes a valid callback-data pointer for the duration of the call,
     // and `user` is the ValidationLog kept alive by InstanceParts.
     let (message, log) = unsafe {
-        let msg = (*data)
-            .message_as_c_str()
-            .map(|m| m.to_string_lossy().into_owned())
-            .unwrap_or_default();
+        let msg = (*data).message_as_c_str().map(|m| m.to_string_lossy().into_owned()).unwrap_or_default();
         (msg, &*(user as *const ValidationLog))
     };
     if severity.contains(vk::DebugUtilsMessageSeverityFlagsEXT::ERROR) {

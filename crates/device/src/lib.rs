@@ -7,6 +7,7 @@
 //! bindings a pass declares against the shader's reflection. Every `unsafe` Vulkan call of
 //! the project lives in this crate.
 
+mod accel;
 mod bind;
 mod cmd;
 mod error;
@@ -19,6 +20,10 @@ mod select;
 pub mod shader;
 pub mod sync;
 
+pub use accel::{
+    accel_build_sizes, accel_instance, accel_instances, accel_scratch, AccelGeometry, AccelSizeQueries, AccelSizes,
+    AccelerationStructure,
+};
 pub use ash::vk;
 pub use bind::{check_bindings, BindingDecl, Bound, Contents, RustLayout};
 pub use cmd::Cmd;

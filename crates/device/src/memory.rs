@@ -26,10 +26,7 @@ fn allocate(
             linear,
             allocation_scheme: AllocationScheme::GpuAllocatorManaged,
         })
-        .map_err(|e| DeviceError::Alloc {
-            what: name.to_string(),
-            message: e.to_string(),
-        })
+        .map_err(|e| DeviceError::Alloc { what: name.to_string(), message: e.to_string() })
 }
 
 fn free(shared: &Shared, allocation: Allocation) {
@@ -55,6 +52,9 @@ pub struct Buffer {
     size: u64,
     name: String,
     address: Option<vk::DeviceAddress>,
+    /// Whether an earlier graph execution wrote it on the device: its first use in the next
+    /// execution must then make those writes visible.
+    device_written: std::sync::atomic::AtomicBool,
 }
 
 impl Buffer {
@@ -62,10 +62,8 @@ impl Buffer {
         let shared = &gpu.shared;
         // Zero-sized buffers are invalid in Vulkan; an empty list still gets a valid binding.
         let size = desc.size.max(16);
-        let info = vk::BufferCreateInfo::default()
-            .size(size)
-            .usage(desc.usage)
-            .sharing_mode(vk::SharingMode::EXCLUSIVE);
+        let info =
+            vk::BufferCreateInfo::default().size(size).usage(desc.usage).sharing_mode(vk::SharingMode::EXCLUSIVE);
         // SAFETY: valid device and create info.
         let raw = unsafe { shared.device.create_buffer(&info, None) }.vk("vkCreateBuffer")?;
         // SAFETY: `raw` was just created from this device.
@@ -79,24 +77,13 @@ impl Buffer {
             }
         };
         // SAFETY: memory and offset come from an allocation satisfying `requirements`.
-        unsafe {
-            shared
-                .device
-                .bind_buffer_memory(raw, allocation.memory(), allocation.offset())
-        }
-        .vk("vkBindBufferMemory")?;
+        unsafe { shared.device.bind_buffer_memory(raw, allocation.memory(), allocation.offset()) }
+            .vk("vkBindBufferMemory")?;
         shared.set_name(raw, desc.name);
-        let address = desc
-            .usage
-            .contains(vk::BufferUsageFlags::SHADER_DEVICE_ADDRESS)
-            .then(|| {
-                // SAFETY: the buffer was created with the device-address usage and bound to memory.
-                unsafe {
-                    shared.device.get_buffer_device_address(
-                        &vk::BufferDeviceAddressInfo::default().buffer(raw),
-                    )
-                }
-            });
+        let address = desc.usage.contains(vk::BufferUsageFlags::SHADER_DEVICE_ADDRESS).then(|| {
+            // SAFETY: the buffer was created with the device-address usage and bound to memory.
+            unsafe { shared.device.get_buffer_device_address(&vk::BufferDeviceAddressInfo::default().buffer(raw)) }
+        });
         Ok(Buffer {
             shared: shared.clone(),
             raw,
@@ -104,17 +91,13 @@ impl Buffer {
             size: desc.size,
             name: desc.name.to_string(),
             address,
+            device_written: Default::default(),
         })
     }
 
     /// A device-local buffer holding `data` (written directly when the memory is mappable, as on
     /// lavapipe and integrated GPUs, else through a staging copy).
-    pub fn with_data(
-        gpu: &Gpu,
-        name: &str,
-        usage: vk::BufferUsageFlags,
-        data: &[u8],
-    ) -> Result<Buffer> {
+    pub fn with_data(gpu: &Gpu, name: &str, usage: vk::BufferUsageFlags, data: &[u8]) -> Result<Buffer> {
         let buffer = Buffer::new(
             gpu,
             &BufferDesc {
@@ -141,6 +124,7 @@ impl Buffer {
                 cmd.copy_buffer(&staging, &buffer, data.len() as u64);
                 Ok(())
             })?;
+            buffer.set_device_written();
         }
         Ok(buffer)
     }
@@ -157,11 +141,18 @@ impl Buffer {
     pub fn device_address(&self) -> Option<vk::DeviceAddress> {
         self.address
     }
+    /// Whether a previous graph execution wrote this buffer on the device.
+    pub fn device_written(&self) -> bool {
+        self.device_written.load(std::sync::atomic::Ordering::Relaxed)
+    }
+
+    /// Recorded by the pass graph after an execution that wrote the buffer.
+    pub fn set_device_written(&self) {
+        self.device_written.store(true, std::sync::atomic::Ordering::Relaxed)
+    }
+
     pub fn is_mapped(&self) -> bool {
-        self.allocation
-            .as_ref()
-            .and_then(|a| a.mapped_ptr())
-            .is_some()
+        self.allocation.as_ref().and_then(|a| a.mapped_ptr()).is_some()
     }
 
     fn check_range(&self, offset: u64, len: usize) -> Result<()> {
@@ -182,9 +173,7 @@ impl Buffer {
         let ptr = self.mapped_ptr()?;
         // SAFETY: the range was checked against the buffer size, and the mapping covers the
         // whole allocation; no GPU work touches it concurrently (caller contract above).
-        unsafe {
-            std::ptr::copy_nonoverlapping(data.as_ptr(), ptr.add(offset as usize), data.len())
-        };
+        unsafe { std::ptr::copy_nonoverlapping(data.as_ptr(), ptr.add(offset as usize), data.len()) };
         Ok(())
     }
 
@@ -193,9 +182,7 @@ impl Buffer {
         self.check_range(offset, out.len())?;
         let ptr = self.mapped_ptr()?;
         // SAFETY: as in `write`; host-coherent or gpu-allocator-mapped memory after a fence wait.
-        unsafe {
-            std::ptr::copy_nonoverlapping(ptr.add(offset as usize), out.as_mut_ptr(), out.len())
-        };
+        unsafe { std::ptr::copy_nonoverlapping(ptr.add(offset as usize), out.as_mut_ptr(), out.len()) };
         Ok(())
     }
 
@@ -211,9 +198,7 @@ impl Buffer {
             .as_ref()
             .and_then(|a| a.mapped_ptr())
             .map(|p| p.as_ptr() as *mut u8)
-            .ok_or_else(|| {
-                DeviceError::Unsupported(format!("buffer {} is not host-visible", self.name))
-            })
+            .ok_or_else(|| DeviceError::Unsupported(format!("buffer {} is not host-visible", self.name)))
     }
 }
 
@@ -255,11 +240,7 @@ impl Image {
         let info = vk::ImageCreateInfo::default()
             .image_type(vk::ImageType::TYPE_2D)
             .format(desc.format)
-            .extent(vk::Extent3D {
-                width: desc.extent.width,
-                height: desc.extent.height,
-                depth: 1,
-            })
+            .extent(vk::Extent3D { width: desc.extent.width, height: desc.extent.height, depth: 1 })
             .mip_levels(1)
             .array_layers(1)
             .samples(vk::SampleCountFlags::TYPE_1)
@@ -270,13 +251,7 @@ impl Image {
         let raw = unsafe { shared.device.create_image(&info, None) }.vk("vkCreateImage")?;
         // SAFETY: `raw` was just created from this device.
         let requirements = unsafe { shared.device.get_image_memory_requirements(raw) };
-        let allocation = match allocate(
-            shared,
-            desc.name,
-            requirements,
-            MemoryLocation::GpuOnly,
-            false,
-        ) {
+        let allocation = match allocate(shared, desc.name, requirements, MemoryLocation::GpuOnly, false) {
             Ok(a) => a,
             Err(e) => {
                 // SAFETY: unused image of this device.
@@ -285,12 +260,8 @@ impl Image {
             }
         };
         // SAFETY: memory from an allocation satisfying `requirements`.
-        unsafe {
-            shared
-                .device
-                .bind_image_memory(raw, allocation.memory(), allocation.offset())
-        }
-        .vk("vkBindImageMemory")?;
+        unsafe { shared.device.bind_image_memory(raw, allocation.memory(), allocation.offset()) }
+            .vk("vkBindImageMemory")?;
         let aspect = match desc.format {
             vk::Format::D32_SFLOAT | vk::Format::D16_UNORM => vk::ImageAspectFlags::DEPTH,
             _ => vk::ImageAspectFlags::COLOR,
@@ -299,15 +270,9 @@ impl Image {
             .image(raw)
             .view_type(vk::ImageViewType::TYPE_2D)
             .format(desc.format)
-            .subresource_range(
-                vk::ImageSubresourceRange::default()
-                    .aspect_mask(aspect)
-                    .level_count(1)
-                    .layer_count(1),
-            );
+            .subresource_range(vk::ImageSubresourceRange::default().aspect_mask(aspect).level_count(1).layer_count(1));
         // SAFETY: the image is bound to memory; the view matches its format and aspect.
-        let view =
-            unsafe { shared.device.create_image_view(&view_info, None) }.vk("vkCreateImageView")?;
+        let view = unsafe { shared.device.create_image_view(&view_info, None) }.vk("vkCreateImageView")?;
         shared.set_name(raw, desc.name);
         shared.set_name(view, desc.name);
         Ok(Image {

@@ -44,13 +44,12 @@ impl Layout {
             .flags(vk::DescriptorSetLayoutCreateFlags::PUSH_DESCRIPTOR_KHR)
             .bindings(&vk_bindings);
         // SAFETY: valid device and create info.
-        let set_layout = unsafe { device.create_descriptor_set_layout(&info, None) }
-            .vk("vkCreateDescriptorSetLayout")?;
+        let set_layout =
+            unsafe { device.create_descriptor_set_layout(&info, None) }.vk("vkCreateDescriptorSetLayout")?;
         let set_layouts = [set_layout];
         let info = vk::PipelineLayoutCreateInfo::default().set_layouts(&set_layouts);
         // SAFETY: valid device and create info.
-        let pipeline_layout =
-            unsafe { device.create_pipeline_layout(&info, None) }.vk("vkCreatePipelineLayout")?;
+        let pipeline_layout = unsafe { device.create_pipeline_layout(&info, None) }.vk("vkCreatePipelineLayout")?;
         gpu.set_name(pipeline_layout, pass);
         Ok(Layout {
             shared: gpu.shared.clone(),
@@ -66,12 +65,8 @@ impl Drop for Layout {
     fn drop(&mut self) {
         // SAFETY: pipelines using the layout are destroyed first (field order in their owners).
         unsafe {
-            self.shared
-                .device
-                .destroy_pipeline_layout(self.pipeline_layout, None);
-            self.shared
-                .device
-                .destroy_descriptor_set_layout(self.set_layout, None);
+            self.shared.device.destroy_pipeline_layout(self.pipeline_layout, None);
+            self.shared.device.destroy_descriptor_set_layout(self.set_layout, None);
         }
     }
 }
@@ -79,8 +74,7 @@ impl Drop for Layout {
 fn shader_module(gpu: &Gpu, shader: &ShaderInfo) -> Result<vk::ShaderModule> {
     let info = vk::ShaderModuleCreateInfo::default().code(shader.spirv);
     // SAFETY: the SPIR-V was produced by glslang at build time.
-    let module =
-        unsafe { gpu.device().create_shader_module(&info, None) }.vk("vkCreateShaderModule")?;
+    let module = unsafe { gpu.device().create_shader_module(&info, None) }.vk("vkCreateShaderModule")?;
     gpu.set_name(module, shader.name);
     Ok(module)
 }
@@ -92,46 +86,25 @@ pub struct ComputePipeline {
 }
 
 impl ComputePipeline {
-    /// Builds the pipeline of pass `pass` from `shader`. `reflect_as` names the module whose
-    /// reflection stands for this one (a ray-query module is checked through its compute-BVH
-    /// twin); `None` means the shader itself.
-    pub fn new(
-        gpu: &Gpu,
-        pass: &str,
-        shader: &ShaderInfo,
-        reflect_as: Option<&ShaderInfo>,
-        decls: &[BindingDecl],
-    ) -> Result<Self> {
-        assert_eq!(
-            shader.stage,
-            ShaderStage::Compute,
-            "{} is not a compute shader",
-            shader.name
-        );
-        let numbers = check_bindings(reflect_as.unwrap_or(shader), pass, decls)?;
+    /// Builds the pipeline of pass `pass` from `shader`, checking `decls` against the shader's
+    /// reflection.
+    pub fn new(gpu: &Gpu, pass: &str, shader: &ShaderInfo, decls: &[BindingDecl]) -> Result<Self> {
+        assert_eq!(shader.stage, ShaderStage::Compute, "{} is not a compute shader", shader.name);
+        let numbers = check_bindings(shader, pass, decls)?;
         let layout = Layout::new(gpu, pass, decls, numbers, vk::ShaderStageFlags::COMPUTE)?;
         let module = shader_module(gpu, shader)?;
         let stage = vk::PipelineShaderStageCreateInfo::default()
             .stage(vk::ShaderStageFlags::COMPUTE)
             .module(module)
             .name(c"main");
-        let info = vk::ComputePipelineCreateInfo::default()
-            .stage(stage)
-            .layout(layout.pipeline_layout);
+        let info = vk::ComputePipelineCreateInfo::default().stage(stage).layout(layout.pipeline_layout);
         // SAFETY: module and layout are valid; the module is destroyed after creation.
-        let result = unsafe {
-            gpu.device()
-                .create_compute_pipelines(vk::PipelineCache::null(), &[info], None)
-        };
+        let result = unsafe { gpu.device().create_compute_pipelines(vk::PipelineCache::null(), &[info], None) };
         // SAFETY: the module is no longer needed once the pipeline exists (or failed).
         unsafe { gpu.device().destroy_shader_module(module, None) };
         let raw = result.map_err(|(_, e)| e).vk("vkCreateComputePipelines")?[0];
         gpu.set_name(raw, pass);
-        Ok(ComputePipeline {
-            raw,
-            layout,
-            workgroup_size: shader.workgroup_size,
-        })
+        Ok(ComputePipeline { raw, layout, workgroup_size: shader.workgroup_size })
     }
 
     pub(crate) fn raw(&self) -> vk::Pipeline {
@@ -180,33 +153,17 @@ pub struct GraphicsPipeline {
 }
 
 impl GraphicsPipeline {
-    pub fn new(
-        gpu: &Gpu,
-        pass: &str,
-        desc: &GraphicsDesc<'_>,
-        decls: &[BindingDecl],
-    ) -> Result<Self> {
+    pub fn new(gpu: &Gpu, pass: &str, desc: &GraphicsDesc<'_>, decls: &[BindingDecl]) -> Result<Self> {
         // Each declaration must be found in the stage(s) that use it; a binding may appear in
         // both stages, so check per stage the subset that stage reflects.
         let numbers = merged_numbers(desc, pass, decls)?;
-        let layout = Layout::new(
-            gpu,
-            pass,
-            decls,
-            numbers,
-            vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT,
-        )?;
+        let layout =
+            Layout::new(gpu, pass, decls, numbers, vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT)?;
         let vs = shader_module(gpu, desc.vertex)?;
         let fs = shader_module(gpu, desc.fragment)?;
         let stages = [
-            vk::PipelineShaderStageCreateInfo::default()
-                .stage(vk::ShaderStageFlags::VERTEX)
-                .module(vs)
-                .name(c"main"),
-            vk::PipelineShaderStageCreateInfo::default()
-                .stage(vk::ShaderStageFlags::FRAGMENT)
-                .module(fs)
-                .name(c"main"),
+            vk::PipelineShaderStageCreateInfo::default().stage(vk::ShaderStageFlags::VERTEX).module(vs).name(c"main"),
+            vk::PipelineShaderStageCreateInfo::default().stage(vk::ShaderStageFlags::FRAGMENT).module(fs).name(c"main"),
         ];
         let vb = [vk::VertexInputBindingDescription::default()
             .binding(0)
@@ -227,18 +184,16 @@ impl GraphicsPipeline {
         let vertex_input = vk::PipelineVertexInputStateCreateInfo::default()
             .vertex_binding_descriptions(&vb)
             .vertex_attribute_descriptions(&attrs);
-        let assembly = vk::PipelineInputAssemblyStateCreateInfo::default()
-            .topology(vk::PrimitiveTopology::TRIANGLE_LIST);
-        let viewport = vk::PipelineViewportStateCreateInfo::default()
-            .viewport_count(1)
-            .scissor_count(1);
+        let assembly =
+            vk::PipelineInputAssemblyStateCreateInfo::default().topology(vk::PrimitiveTopology::TRIANGLE_LIST);
+        let viewport = vk::PipelineViewportStateCreateInfo::default().viewport_count(1).scissor_count(1);
         let raster = vk::PipelineRasterizationStateCreateInfo::default()
             .polygon_mode(vk::PolygonMode::FILL)
             .cull_mode(desc.cull)
             .front_face(vk::FrontFace::COUNTER_CLOCKWISE)
             .line_width(1.0);
-        let multisample = vk::PipelineMultisampleStateCreateInfo::default()
-            .rasterization_samples(vk::SampleCountFlags::TYPE_1);
+        let multisample =
+            vk::PipelineMultisampleStateCreateInfo::default().rasterization_samples(vk::SampleCountFlags::TYPE_1);
         let depth = vk::PipelineDepthStencilStateCreateInfo::default()
             .depth_test_enable(desc.depth.is_some())
             .depth_write_enable(desc.depth.is_some())
@@ -246,13 +201,9 @@ impl GraphicsPipeline {
         let blend_attachments: Vec<_> = desc
             .colors
             .iter()
-            .map(|_| {
-                vk::PipelineColorBlendAttachmentState::default()
-                    .color_write_mask(vk::ColorComponentFlags::RGBA)
-            })
+            .map(|_| vk::PipelineColorBlendAttachmentState::default().color_write_mask(vk::ColorComponentFlags::RGBA))
             .collect();
-        let blend =
-            vk::PipelineColorBlendStateCreateInfo::default().attachments(&blend_attachments);
+        let blend = vk::PipelineColorBlendStateCreateInfo::default().attachments(&blend_attachments);
         let dynamic_states = [vk::DynamicState::VIEWPORT, vk::DynamicState::SCISSOR];
         let dynamic = vk::PipelineDynamicStateCreateInfo::default().dynamic_states(&dynamic_states);
         let color_formats: Vec<_> = desc.colors.iter().map(|c| c.format).collect();
@@ -272,10 +223,7 @@ impl GraphicsPipeline {
             .layout(layout.pipeline_layout)
             .push_next(&mut rendering);
         // SAFETY: all state structs outlive the call; modules are destroyed after creation.
-        let result = unsafe {
-            gpu.device()
-                .create_graphics_pipelines(vk::PipelineCache::null(), &[info], None)
-        };
+        let result = unsafe { gpu.device().create_graphics_pipelines(vk::PipelineCache::null(), &[info], None) };
         // SAFETY: the modules are no longer needed.
         unsafe {
             gpu.device().destroy_shader_module(vs, None);
@@ -297,11 +245,8 @@ fn merged_numbers(desc: &GraphicsDesc<'_>, pass: &str, decls: &[BindingDecl]) ->
     let mut numbers = vec![None; decls.len()];
     for shader in [desc.vertex, desc.fragment] {
         let reflected = shader.reflection.unwrap_or(&[]);
-        let used: Vec<BindingDecl> = decls
-            .iter()
-            .copied()
-            .filter(|d| reflected.iter().any(|r| r.name == d.name))
-            .collect();
+        let used: Vec<BindingDecl> =
+            decls.iter().copied().filter(|d| reflected.iter().any(|r| r.name == d.name)).collect();
         let found = check_bindings(shader, pass, &used)?;
         for (d, n) in used.iter().zip(found) {
             let i = decls.iter().position(|x| x.name == d.name).expect("subset");

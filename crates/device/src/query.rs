@@ -16,9 +16,7 @@ pub struct TimestampPool {
 
 impl TimestampPool {
     pub fn new(gpu: &Gpu, capacity: u32) -> Result<Self> {
-        let info = vk::QueryPoolCreateInfo::default()
-            .query_type(vk::QueryType::TIMESTAMP)
-            .query_count(capacity);
+        let info = vk::QueryPoolCreateInfo::default().query_type(vk::QueryType::TIMESTAMP).query_count(capacity);
         // SAFETY: valid device and create info.
         let raw = unsafe { gpu.device().create_query_pool(&info, None) }.vk("vkCreateQueryPool")?;
         Ok(TimestampPool {
@@ -40,11 +38,7 @@ impl TimestampPool {
     /// Resets every query from the host (hostQueryReset); call before recording writes.
     pub fn reset(&self) {
         // SAFETY: no submission using the pool is pending (callers reset between frames).
-        unsafe {
-            self.shared
-                .device
-                .reset_query_pool(self.raw, 0, self.capacity)
-        };
+        unsafe { self.shared.device.reset_query_pool(self.raw, 0, self.capacity) };
     }
 
     /// Reads the first `count` timestamps in nanoseconds, after the work completed.
@@ -63,10 +57,7 @@ impl TimestampPool {
             )
         }
         .vk("vkGetQueryPoolResults")?;
-        Ok(ticks
-            .into_iter()
-            .map(|t| t as f64 * self.period_ns)
-            .collect())
+        Ok(ticks.into_iter().map(|t| t as f64 * self.period_ns).collect())
     }
 }
 

@@ -43,77 +43,54 @@ pub struct DeviceReport {
     pub push_descriptor: bool,
     pub timestamp_period_ns: f32,
     pub subgroup_size: u32,
+    /// `minAccelerationStructureScratchOffsetAlignment` (1 without acceleration structures).
+    pub scratch_alignment: u64,
     /// Why the device cannot be used, if it cannot.
     pub rejected: Option<String>,
     pub(crate) physical: vk::PhysicalDevice,
     pub(crate) queue_family: u32,
 }
 
-pub(crate) const RAY_EXTENSIONS: [&CStr; 3] = [
-    khr::acceleration_structure::NAME,
-    khr::ray_query::NAME,
-    khr::deferred_host_operations::NAME,
-];
+pub(crate) const RAY_EXTENSIONS: [&CStr; 3] =
+    [khr::acceleration_structure::NAME, khr::ray_query::NAME, khr::deferred_host_operations::NAME];
 
 pub(crate) fn enumerate(instance: &ash::Instance) -> Result<Vec<DeviceReport>> {
     // SAFETY: queries on a valid instance.
-    let physicals =
-        unsafe { instance.enumerate_physical_devices() }.vk("vkEnumeratePhysicalDevices")?;
-    physicals
-        .iter()
-        .enumerate()
-        .map(|(index, &pd)| describe(instance, index, pd))
-        .collect()
+    let physicals = unsafe { instance.enumerate_physical_devices() }.vk("vkEnumeratePhysicalDevices")?;
+    physicals.iter().enumerate().map(|(index, &pd)| describe(instance, index, pd)).collect()
 }
 
-fn describe(
-    instance: &ash::Instance,
-    index: usize,
-    pd: vk::PhysicalDevice,
-) -> Result<DeviceReport> {
+fn describe(instance: &ash::Instance, index: usize, pd: vk::PhysicalDevice) -> Result<DeviceReport> {
+    // SAFETY: valid physical device.
+    let exts =
+        unsafe { instance.enumerate_device_extension_properties(pd) }.vk("vkEnumerateDeviceExtensionProperties")?;
+    let has = |n: &CStr| exts.iter().any(|e| e.extension_name_as_c_str() == Ok(n));
+    let ray_exts = RAY_EXTENSIONS.iter().all(|n| has(n));
+
     let mut driver = vk::PhysicalDeviceDriverProperties::default();
     let mut subgroup = vk::PhysicalDeviceSubgroupProperties::default();
-    let mut props2 = vk::PhysicalDeviceProperties2::default()
-        .push_next(&mut driver)
-        .push_next(&mut subgroup);
+    let mut accel_props = vk::PhysicalDeviceAccelerationStructurePropertiesKHR::default();
+    let mut props2 = vk::PhysicalDeviceProperties2::default().push_next(&mut driver).push_next(&mut subgroup);
+    if ray_exts {
+        props2 = props2.push_next(&mut accel_props);
+    }
     // SAFETY: valid physical device; the chained structs outlive the call.
     unsafe { instance.get_physical_device_properties2(pd, &mut props2) };
     let props = props2.properties;
-    let name = props
-        .device_name_as_c_str()
-        .map(|s| s.to_string_lossy().into_owned())
-        .unwrap_or_default();
+    let name = props.device_name_as_c_str().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
     let driver_name = format!(
         "{} {}",
-        driver
-            .driver_name_as_c_str()
-            .map(|s| s.to_string_lossy().into_owned())
-            .unwrap_or_default(),
-        driver
-            .driver_info_as_c_str()
-            .map(|s| s.to_string_lossy().into_owned())
-            .unwrap_or_default()
+        driver.driver_name_as_c_str().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default(),
+        driver.driver_info_as_c_str().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default()
     );
     let v = props.api_version;
-    let api_version = (
-        vk::api_version_major(v),
-        vk::api_version_minor(v),
-        vk::api_version_patch(v),
-    );
-
-    // SAFETY: valid physical device.
-    let exts = unsafe { instance.enumerate_device_extension_properties(pd) }
-        .vk("vkEnumerateDeviceExtensionProperties")?;
-    let has = |n: &CStr| exts.iter().any(|e| e.extension_name_as_c_str() == Ok(n));
+    let api_version = (vk::api_version_major(v), vk::api_version_minor(v), vk::api_version_patch(v));
 
     let mut f12 = vk::PhysicalDeviceVulkan12Features::default();
     let mut f13 = vk::PhysicalDeviceVulkan13Features::default();
     let mut fas = vk::PhysicalDeviceAccelerationStructureFeaturesKHR::default();
     let mut frq = vk::PhysicalDeviceRayQueryFeaturesKHR::default();
-    let ray_exts = RAY_EXTENSIONS.iter().all(|n| has(n));
-    let mut features2 = vk::PhysicalDeviceFeatures2::default()
-        .push_next(&mut f12)
-        .push_next(&mut f13);
+    let mut features2 = vk::PhysicalDeviceFeatures2::default().push_next(&mut f12).push_next(&mut f13);
     if ray_exts {
         features2 = features2.push_next(&mut fas).push_next(&mut frq);
     }
@@ -124,9 +101,7 @@ fn describe(
     // SAFETY: valid physical device.
     let families = unsafe { instance.get_physical_device_queue_family_properties(pd) };
     let wanted = vk::QueueFlags::GRAPHICS | vk::QueueFlags::COMPUTE;
-    let queue_family = families
-        .iter()
-        .position(|f| f.queue_flags.contains(wanted) && f.timestamp_valid_bits > 0);
+    let queue_family = families.iter().position(|f| f.queue_flags.contains(wanted) && f.timestamp_valid_bits > 0);
 
     let acceleration_structure =
         ray_exts && fas.acceleration_structure == vk::TRUE && f12.buffer_device_address == vk::TRUE;
@@ -167,6 +142,7 @@ fn describe(
         push_descriptor: has(khr::push_descriptor::NAME),
         timestamp_period_ns: props.limits.timestamp_period,
         subgroup_size: subgroup.subgroup_size,
+        scratch_alignment: (accel_props.min_acceleration_structure_scratch_offset_alignment as u64).max(1),
         rejected,
         physical: pd,
         queue_family: queue_family.unwrap_or(0) as u32,
@@ -178,13 +154,10 @@ fn describe(
 pub(crate) fn choose(reports: &[DeviceReport]) -> Result<&DeviceReport> {
     let usable: Vec<&DeviceReport> = reports.iter().filter(|r| r.rejected.is_none()).collect();
     if usable.is_empty() {
-        let why: Vec<String> = reports
-            .iter()
-            .map(|r| format!("{} ({})", r.name, r.rejected.as_deref().unwrap_or("?")))
-            .collect();
+        let why: Vec<String> =
+            reports.iter().map(|r| format!("{} ({})", r.name, r.rejected.as_deref().unwrap_or("?"))).collect();
         return Err(DeviceError::NoDevice(if why.is_empty() {
-            "the Vulkan loader sees no device (install mesa-vulkan-drivers: tools/install-deps)"
-                .into()
+            "the Vulkan loader sees no device (install mesa-vulkan-drivers: tools/install-deps)".into()
         } else {
             format!("rejected: {}", why.join("; "))
         }));
@@ -192,21 +165,12 @@ pub(crate) fn choose(reports: &[DeviceReport]) -> Result<&DeviceReport> {
     if let Ok(wanted) = std::env::var("LEAKLESS_DEVICE") {
         let found = match wanted.parse::<usize>() {
             Ok(i) => usable.iter().find(|r| r.index == i),
-            Err(_) => usable
-                .iter()
-                .find(|r| r.name.to_lowercase().contains(&wanted.to_lowercase())),
+            Err(_) => usable.iter().find(|r| r.name.to_lowercase().contains(&wanted.to_lowercase())),
         };
         return found.copied().ok_or_else(|| DeviceError::DeviceNotFound {
             wanted,
-            usable: usable
-                .iter()
-                .map(|r| format!("{}: {}", r.index, r.name))
-                .collect::<Vec<_>>()
-                .join(", "),
+            usable: usable.iter().map(|r| format!("{}: {}", r.index, r.name)).collect::<Vec<_>>().join(", "),
         });
     }
-    Ok(usable
-        .into_iter()
-        .min_by_key(|r| (r.device_type, r.index))
-        .expect("non-empty"))
+    Ok(usable.into_iter().min_by_key(|r| (r.device_type, r.index)).expect("non-empty"))
 }

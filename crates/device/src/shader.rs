@@ -67,7 +67,8 @@ pub struct ShaderInfo {
     pub spirv: &'static [u32],
     /// Workgroup size for compute shaders, `[1, 1, 1]` otherwise.
     pub workgroup_size: [u32; 3],
-    /// What reflection found, or why it could not run (naga's SPIR-V front end rejects
-    /// ray-query modules; their compute-BVH twins are reflected instead).
+    /// What reflection found (naga, or for ray-query modules, which naga's SPIR-V front end
+    /// rejects, a SPIR-V scan plus the layouts of their compute-BVH twins), or why it could not
+    /// run.
     pub reflection: Result<&'static [ReflectedBinding], &'static str>,
 }

@@ -24,6 +24,8 @@ pub enum Access {
     HostWrite,
     AccelerationStructureBuildRead,
     AccelerationStructureBuildWrite,
+    /// A compute shader traversing an acceleration structure with ray queries.
+    RayQueryRead,
     /// Handed to the presentation engine.
     Present,
 }
@@ -52,30 +54,19 @@ impl Access {
                 false,
             ),
             Access::ComputeWrite => (S::COMPUTE_SHADER, A::SHADER_STORAGE_WRITE, L::GENERAL, true),
-            Access::ComputeReadWrite => (
-                S::COMPUTE_SHADER,
-                A::SHADER_STORAGE_READ | A::SHADER_STORAGE_WRITE,
-                L::GENERAL,
-                true,
-            ),
+            Access::ComputeReadWrite => {
+                (S::COMPUTE_SHADER, A::SHADER_STORAGE_READ | A::SHADER_STORAGE_WRITE, L::GENERAL, true)
+            }
             Access::FragmentRead => (
                 S::FRAGMENT_SHADER,
                 A::SHADER_STORAGE_READ | A::SHADER_SAMPLED_READ | A::UNIFORM_READ,
                 L::SHADER_READ_ONLY_OPTIMAL,
                 false,
             ),
-            Access::VertexShaderRead => (
-                S::VERTEX_SHADER,
-                A::SHADER_STORAGE_READ | A::UNIFORM_READ,
-                L::SHADER_READ_ONLY_OPTIMAL,
-                false,
-            ),
-            Access::VertexBuffer => (
-                S::VERTEX_ATTRIBUTE_INPUT,
-                A::VERTEX_ATTRIBUTE_READ,
-                L::UNDEFINED,
-                false,
-            ),
+            Access::VertexShaderRead => {
+                (S::VERTEX_SHADER, A::SHADER_STORAGE_READ | A::UNIFORM_READ, L::SHADER_READ_ONLY_OPTIMAL, false)
+            }
+            Access::VertexBuffer => (S::VERTEX_ATTRIBUTE_INPUT, A::VERTEX_ATTRIBUTE_READ, L::UNDEFINED, false),
             Access::ColorAttachmentWrite => (
                 S::COLOR_ATTACHMENT_OUTPUT,
                 A::COLOR_ATTACHMENT_WRITE | A::COLOR_ATTACHMENT_READ,
@@ -88,18 +79,8 @@ impl Access {
                 L::DEPTH_ATTACHMENT_OPTIMAL,
                 true,
             ),
-            Access::TransferRead => (
-                S::TRANSFER,
-                A::TRANSFER_READ,
-                L::TRANSFER_SRC_OPTIMAL,
-                false,
-            ),
-            Access::TransferWrite => (
-                S::TRANSFER,
-                A::TRANSFER_WRITE,
-                L::TRANSFER_DST_OPTIMAL,
-                true,
-            ),
+            Access::TransferRead => (S::TRANSFER, A::TRANSFER_READ, L::TRANSFER_SRC_OPTIMAL, false),
+            Access::TransferWrite => (S::TRANSFER, A::TRANSFER_WRITE, L::TRANSFER_DST_OPTIMAL, true),
             Access::HostRead => (S::HOST, A::HOST_READ, L::GENERAL, false),
             Access::HostWrite => (S::HOST, A::HOST_WRITE, L::GENERAL, true),
             Access::AccelerationStructureBuildRead => (
@@ -114,13 +95,9 @@ impl Access {
                 L::UNDEFINED,
                 true,
             ),
+            Access::RayQueryRead => (S::COMPUTE_SHADER, A::ACCELERATION_STRUCTURE_READ_KHR, L::UNDEFINED, false),
             Access::Present => (S::NONE, A::NONE, L::PRESENT_SRC_KHR, false),
         };
-        AccessInfo {
-            stage,
-            access,
-            layout,
-            writes,
-        }
+        AccessInfo { stage, access, layout, writes }
     }
 }

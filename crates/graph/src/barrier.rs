@@ -30,8 +30,19 @@ pub struct ResourceState {
 }
 
 impl ResourceState {
-    pub fn buffer() -> Self {
-        Self::new(false, vk::ImageLayout::UNDEFINED)
+    /// A buffer; `written_before` when an earlier execution wrote it on the device.
+    pub fn buffer(written_before: bool) -> Self {
+        let mut state = Self::new(false, vk::ImageLayout::UNDEFINED);
+        if written_before {
+            state.write_stage = vk::PipelineStageFlags2::ALL_COMMANDS;
+            state.write_access = vk::AccessFlags2::MEMORY_WRITE;
+        }
+        state
+    }
+
+    /// Whether any use so far wrote the resource.
+    pub fn written(&self) -> bool {
+        self.write_access != vk::AccessFlags2::NONE
     }
 
     /// An image in `layout`, as left by an earlier graph execution (or `UNDEFINED`).
@@ -45,18 +56,9 @@ impl ResourceState {
         let (write_stage, write_access) = if layout == vk::ImageLayout::UNDEFINED {
             (vk::PipelineStageFlags2::NONE, vk::AccessFlags2::NONE)
         } else {
-            (
-                vk::PipelineStageFlags2::ALL_COMMANDS,
-                vk::AccessFlags2::MEMORY_WRITE,
-            )
+            (vk::PipelineStageFlags2::ALL_COMMANDS, vk::AccessFlags2::MEMORY_WRITE)
         };
-        ResourceState {
-            is_image,
-            layout,
-            write_stage,
-            write_access,
-            readers: Vec::new(),
-        }
+        ResourceState { is_image, layout, write_stage, write_access, readers: Vec::new() }
     }
 
     pub fn layout(&self) -> vk::ImageLayout {
@@ -66,11 +68,7 @@ impl ResourceState {
     /// Records the use `next` and returns the dependency it needs, if any.
     pub fn access(&mut self, next: Access) -> Option<Transition> {
         let n = next.info();
-        let new_layout = if self.is_image {
-            n.layout
-        } else {
-            vk::ImageLayout::UNDEFINED
-        };
+        let new_layout = if self.is_image { n.layout } else { vk::ImageLayout::UNDEFINED };
         let layout_change = self.is_image && new_layout != self.layout;
 
         if !n.writes && !layout_change {
@@ -94,20 +92,16 @@ impl ResourceState {
         }
 
         // A write or a layout change waits for the last write and for every read since it.
-        let reader_stages = self
-            .readers
-            .iter()
-            .fold(vk::PipelineStageFlags2::NONE, |s, r| s | r.info().stage);
+        let reader_stages = self.readers.iter().fold(vk::PipelineStageFlags2::NONE, |s, r| s | r.info().stage);
         let src_stage = self.write_stage | reader_stages;
-        let transition =
-            (src_stage != vk::PipelineStageFlags2::NONE || layout_change).then_some(Transition {
-                src_stage,
-                src_access: self.write_access,
-                dst_stage: n.stage,
-                dst_access: n.access,
-                old_layout: self.layout,
-                new_layout,
-            });
+        let transition = (src_stage != vk::PipelineStageFlags2::NONE || layout_change).then_some(Transition {
+            src_stage,
+            src_access: self.write_access,
+            dst_stage: n.stage,
+            dst_access: n.access,
+            old_layout: self.layout,
+            new_layout,
+        });
         self.layout = new_layout;
         self.readers.clear();
         if n.writes {
@@ -143,116 +137,78 @@ mod tests {
 
     #[test]
     fn first_write_to_a_fresh_buffer_needs_no_barrier() {
-        let mut b = ResourceState::buffer();
+        let mut b = ResourceState::buffer(false);
         assert_eq!(b.access(Access::ComputeWrite), None);
     }
 
     #[test]
     fn read_after_write_makes_the_write_visible_once_per_kind_of_reader() {
-        let mut b = ResourceState::buffer();
+        let mut b = ResourceState::buffer(false);
         b.access(Access::ComputeWrite);
         let t = b.access(Access::ComputeRead).expect("RAW needs a barrier");
-        assert_eq!(
-            (t.src_stage, t.src_access),
-            (S::COMPUTE_SHADER, A::SHADER_STORAGE_WRITE)
-        );
+        assert_eq!((t.src_stage, t.src_access), (S::COMPUTE_SHADER, A::SHADER_STORAGE_WRITE));
         assert_eq!(t.dst_stage, S::COMPUTE_SHADER);
         assert!(t.dst_access.contains(A::SHADER_STORAGE_READ));
-        assert_eq!(
-            b.access(Access::ComputeRead),
-            None,
-            "second compute read is covered"
-        );
-        let t = b
-            .access(Access::TransferRead)
-            .expect("a new kind of reader needs visibility");
+        assert_eq!(b.access(Access::ComputeRead), None, "second compute read is covered");
+        let t = b.access(Access::TransferRead).expect("a new kind of reader needs visibility");
         assert_eq!(t.src_access, A::SHADER_STORAGE_WRITE);
         assert_eq!(t.dst_stage, S::TRANSFER);
     }
 
     #[test]
     fn write_after_reads_waits_for_every_reader_without_access_masks() {
-        let mut b = ResourceState::buffer();
+        let mut b = ResourceState::buffer(false);
         b.access(Access::TransferWrite);
         b.access(Access::ComputeRead);
         b.access(Access::VertexBuffer);
-        let t = b
-            .access(Access::TransferWrite)
-            .expect("WAR needs an execution dependency");
-        assert_eq!(
-            t.src_stage,
-            S::TRANSFER | S::COMPUTE_SHADER | S::VERTEX_ATTRIBUTE_INPUT
-        );
+        let t = b.access(Access::TransferWrite).expect("WAR needs an execution dependency");
+        assert_eq!(t.src_stage, S::TRANSFER | S::COMPUTE_SHADER | S::VERTEX_ATTRIBUTE_INPUT);
         assert_eq!(t.src_access, A::TRANSFER_WRITE);
     }
 
     #[test]
     fn image_layouts_follow_the_accesses() {
         let mut i = ResourceState::image(L::UNDEFINED);
-        let t = i
-            .access(Access::ColorAttachmentWrite)
-            .expect("initial transition");
-        assert_eq!(
-            (t.old_layout, t.new_layout),
-            (L::UNDEFINED, L::COLOR_ATTACHMENT_OPTIMAL)
-        );
+        let t = i.access(Access::ColorAttachmentWrite).expect("initial transition");
+        assert_eq!((t.old_layout, t.new_layout), (L::UNDEFINED, L::COLOR_ATTACHMENT_OPTIMAL));
         assert_eq!(t.src_stage, S::NONE);
         let t = i.access(Access::ComputeRead).expect("attachment → general");
-        assert_eq!(
-            (t.old_layout, t.new_layout),
-            (L::COLOR_ATTACHMENT_OPTIMAL, L::GENERAL)
-        );
-        assert_eq!(
-            (t.src_stage, t.src_access),
-            (S::COLOR_ATTACHMENT_OUTPUT, A::COLOR_ATTACHMENT_WRITE)
-        );
+        assert_eq!((t.old_layout, t.new_layout), (L::COLOR_ATTACHMENT_OPTIMAL, L::GENERAL));
+        assert_eq!((t.src_stage, t.src_access), (S::COLOR_ATTACHMENT_OUTPUT, A::COLOR_ATTACHMENT_WRITE));
         assert_eq!(i.access(Access::ComputeRead), None);
-        let t = i
-            .access(Access::TransferRead)
-            .expect("general → transfer src");
-        assert_eq!(
-            (t.old_layout, t.new_layout),
-            (L::GENERAL, L::TRANSFER_SRC_OPTIMAL)
-        );
+        let t = i.access(Access::TransferRead).expect("general → transfer src");
+        assert_eq!((t.old_layout, t.new_layout), (L::GENERAL, L::TRANSFER_SRC_OPTIMAL));
         // The attachment write was already waited for by the previous transition; chaining
         // through the compute readers covers it.
-        assert_eq!(
-            (t.src_stage, t.src_access),
-            (S::COMPUTE_SHADER, A::NONE),
-            "waits for the readers"
-        );
+        assert_eq!((t.src_stage, t.src_access), (S::COMPUTE_SHADER, A::NONE), "waits for the readers");
         assert_eq!(i.layout(), L::TRANSFER_SRC_OPTIMAL);
         // After a transition done for a read, another reader kind in the same layout still
         // gets a dependency on that transition.
         let t = i.access(Access::HostRead);
-        assert!(
-            t.is_some(),
-            "host read of the image after a transition: layout differs → transition"
-        );
+        assert!(t.is_some(), "host read of the image after a transition: layout differs → transition");
     }
 
     #[test]
     fn image_kept_across_executions_is_not_discarded() {
         let mut i = ResourceState::image(L::GENERAL);
-        let t = i
-            .access(Access::ComputeReadWrite)
-            .expect("previous frame's writes must be visible");
-        assert_eq!(
-            t.old_layout,
-            L::GENERAL,
-            "no UNDEFINED: the accumulated content is kept"
-        );
+        let t = i.access(Access::ComputeReadWrite).expect("previous frame's writes must be visible");
+        assert_eq!(t.old_layout, L::GENERAL, "no UNDEFINED: the accumulated content is kept");
         assert_eq!(t.src_access, A::MEMORY_WRITE);
     }
 
     #[test]
+    fn buffer_written_by_an_earlier_execution_is_made_visible() {
+        let mut b = ResourceState::buffer(true);
+        let t = b.access(Access::RayQueryRead).expect("earlier device writes need visibility");
+        assert_eq!((t.src_stage, t.src_access), (S::ALL_COMMANDS, A::MEMORY_WRITE));
+        assert_eq!(ResourceState::buffer(false).access(Access::RayQueryRead), None);
+    }
+
+    #[test]
     fn write_after_write_orders_both_writes() {
-        let mut b = ResourceState::buffer();
+        let mut b = ResourceState::buffer(false);
         b.access(Access::ComputeWrite);
         let t = b.access(Access::ComputeWrite).expect("WAW");
-        assert_eq!(
-            (t.src_access, t.dst_access),
-            (A::SHADER_STORAGE_WRITE, A::SHADER_STORAGE_WRITE)
-        );
+        assert_eq!((t.src_access, t.dst_access), (A::SHADER_STORAGE_WRITE, A::SHADER_STORAGE_WRITE));
     }
 }

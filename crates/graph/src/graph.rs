@@ -43,25 +43,17 @@ impl<'r> Graph<'r> {
 
     pub fn import_buffer(&mut self, buffer: &'r Buffer) -> BufferHandle {
         self.resources.push(Resource::Buffer(buffer));
-        BufferHandle {
-            id: self.resources.len() - 1,
-        }
+        BufferHandle { id: self.resources.len() - 1 }
     }
 
     pub fn import_image(&mut self, image: &'r Image) -> ImageHandle {
         self.resources.push(Resource::Image(image));
-        ImageHandle {
-            id: self.resources.len() - 1,
-        }
+        ImageHandle { id: self.resources.len() - 1 }
     }
 
     /// Starts a pass; `name` is its debug label, timing key and crash marker.
     pub fn pass<'g>(&'g mut self, name: &str) -> PassBuilder<'g, 'r> {
-        PassBuilder {
-            graph: self,
-            name: name.to_string(),
-            uses: Vec::new(),
-        }
+        PassBuilder { graph: self, name: name.to_string(), uses: Vec::new() }
     }
 
     pub fn pass_names(&self) -> impl Iterator<Item = &str> {
@@ -114,9 +106,18 @@ impl Handle for ImageHandle {
 
 impl<'g, 'r> PassBuilder<'g, 'r> {
     fn declare<H: Handle>(&mut self, handle: &H, access: Access) -> &'r H::Target {
+        // Several reads of one resource are fine (a vertex buffer also read as storage); a
+        // write, or two image layouts, must be one combined declaration.
+        let clash = self.uses.iter().any(|&(id, prev)| {
+            id == handle.id()
+                && (prev.info().writes
+                    || access.info().writes
+                    || (matches!(self.graph.resources[id], Resource::Image(_))
+                        && prev.info().layout != access.info().layout))
+        });
         assert!(
-            !self.uses.iter().any(|(id, _)| *id == handle.id()),
-            "pass {}: a resource is declared twice; declare its combined use once (e.g. ComputeReadWrite)",
+            !clash,
+            "pass {}: conflicting declarations of one resource; declare its combined use once (e.g. ComputeReadWrite)",
             self.name
         );
         self.uses.push((handle.id(), access));
@@ -125,30 +126,18 @@ impl<'g, 'r> PassBuilder<'g, 'r> {
 
     /// Declares a read. Panics if `access` writes: that is a bug in the pass.
     pub fn read<H: Handle>(&mut self, handle: &H, access: Access) -> &'r H::Target {
-        assert!(
-            !access.info().writes,
-            "pass {}: read() with writing access {access:?}",
-            self.name
-        );
+        assert!(!access.info().writes, "pass {}: read() with writing access {access:?}", self.name);
         self.declare(handle, access)
     }
 
     /// Declares a write (or read-write); the handle is borrowed mutably to show it changes.
     pub fn write<H: Handle>(&mut self, handle: &mut H, access: Access) -> &'r H::Target {
-        assert!(
-            access.info().writes,
-            "pass {}: write() with read-only access {access:?}",
-            self.name
-        );
+        assert!(access.info().writes, "pass {}: write() with read-only access {access:?}", self.name);
         self.declare(handle, access)
     }
 
     /// Ends the declaration with the commands the pass records.
     pub fn record(self, record: impl FnOnce(&mut Cmd<'_>) -> Result<()> + 'r) {
-        self.graph.passes.push(Pass {
-            name: self.name,
-            uses: self.uses,
-            record: Box::new(record),
-        });
+        self.graph.passes.push(Pass { name: self.name, uses: self.uses, record: Box::new(record) });
     }
 }

@@ -3,9 +3,7 @@
 use std::time::Instant;
 
 use ash::vk;
-use leakless_device::{
-    Buffer, BufferDesc, Cmd, DeviceError, Gpu, MemoryLocation, Result, TimestampPool,
-};
+use leakless_device::{Buffer, BufferDesc, Cmd, DeviceError, Gpu, MemoryLocation, Result, TimestampPool};
 
 use crate::barrier::{ResourceState, Transition};
 use crate::graph::{Graph, Pass, Resource};
@@ -52,13 +50,7 @@ struct RecordContext<'a, 'r> {
 
 impl RecordContext<'_, '_> {
     /// Derived barriers, then the pass between its label, timestamps and crash markers.
-    fn record(
-        &self,
-        cmd: &mut Cmd<'_>,
-        index: usize,
-        pass: Pass<'_>,
-        states: &mut [ResourceState],
-    ) -> Result<()> {
+    fn record(&self, cmd: &mut Cmd<'_>, index: usize, pass: Pass<'_>, states: &mut [ResourceState]) -> Result<()> {
         let mut buffer_barriers = Vec::new();
         let mut image_barriers = Vec::new();
         for &(id, access) in &pass.uses {
@@ -94,12 +86,7 @@ impl GraphRunner {
                 location: MemoryLocation::GpuToCpu,
             },
         )?;
-        Ok(GraphRunner {
-            timestamps,
-            markers,
-            max_passes,
-            timing: Timing::default(),
-        })
+        Ok(GraphRunner { timestamps, markers, max_passes, timing: Timing::default() })
     }
 
     pub fn set_timing(&mut self, timing: Timing) {
@@ -121,17 +108,13 @@ impl GraphRunner {
         let mut states: Vec<ResourceState> = resources
             .iter()
             .map(|r| match r {
-                Resource::Buffer(_) => ResourceState::buffer(),
+                Resource::Buffer(b) => ResourceState::buffer(b.device_written()),
                 Resource::Image(i) => ResourceState::image(i.layout()),
             })
             .collect();
         self.timestamps.reset();
         self.markers.write(0, &vec![0u8; 8 * passes.len()])?;
-        let ctx = RecordContext {
-            resources: &resources,
-            markers: &self.markers,
-            timestamps: &self.timestamps,
-        };
+        let ctx = RecordContext { resources: &resources, markers: &self.markers, timestamps: &self.timestamps };
 
         let mut wall_ms = vec![None; names.len()];
         let submitted = match self.timing {
@@ -141,30 +124,25 @@ impl GraphRunner {
                 }
                 Ok(())
             }),
-            Timing::PerPassSubmit => {
-                passes
-                    .into_iter()
-                    .enumerate()
-                    .try_for_each(|(index, pass)| {
-                        let start = Instant::now();
-                        gpu.submit(|cmd| ctx.record(cmd, index, pass, &mut states))?;
-                        wall_ms[index] = Some(start.elapsed().as_secs_f64() * 1e3);
-                        Ok(())
-                    })
-            }
+            Timing::PerPassSubmit => passes.into_iter().enumerate().try_for_each(|(index, pass)| {
+                let start = Instant::now();
+                gpu.submit(|cmd| ctx.record(cmd, index, pass, &mut states))?;
+                wall_ms[index] = Some(start.elapsed().as_secs_f64() * 1e3);
+                Ok(())
+            }),
         };
         match submitted {
             Ok(()) => {}
             Err(DeviceError::DeviceLost { where_ }) => {
-                return Err(DeviceError::DeviceLost {
-                    where_: format!("{where_} {}", self.last_pass(&names)),
-                })
+                return Err(DeviceError::DeviceLost { where_: format!("{where_} {}", self.last_pass(&names)) })
             }
             Err(e) => return Err(e),
         }
         for (r, s) in resources.iter().zip(&states) {
-            if let Resource::Image(i) = r {
-                i.set_layout(s.layout());
+            match r {
+                Resource::Image(i) => i.set_layout(s.layout()),
+                Resource::Buffer(b) if s.written() => b.set_device_written(),
+                Resource::Buffer(_) => {}
             }
         }
         gpu.check_validation()?;
@@ -173,11 +151,7 @@ impl GraphRunner {
             .into_iter()
             .zip(wall_ms)
             .enumerate()
-            .map(|(i, (name, wall_ms))| PassTiming {
-                name,
-                ms: (ns[2 * i + 1] - ns[2 * i]).max(0.0) * 1e-6,
-                wall_ms,
-            })
+            .map(|(i, (name, wall_ms))| PassTiming { name, ms: (ns[2 * i + 1] - ns[2 * i]).max(0.0) * 1e-6, wall_ms })
             .collect())
     }
 
@@ -207,10 +181,7 @@ fn buffer_barrier<'a>(buffer: &Buffer, t: &Transition) -> vk::BufferMemoryBarrie
         .size(vk::WHOLE_SIZE)
 }
 
-fn image_barrier<'a>(
-    image: &leakless_device::Image,
-    t: &Transition,
-) -> vk::ImageMemoryBarrier2<'a> {
+fn image_barrier<'a>(image: &leakless_device::Image, t: &Transition) -> vk::ImageMemoryBarrier2<'a> {
     vk::ImageMemoryBarrier2::default()
         .src_stage_mask(t.src_stage)
         .src_access_mask(t.src_access)
@@ -220,9 +191,6 @@ fn image_barrier<'a>(
         .new_layout(t.new_layout)
         .image(image.raw())
         .subresource_range(
-            vk::ImageSubresourceRange::default()
-                .aspect_mask(image.aspect())
-                .level_count(1)
-                .layer_count(1),
+            vk::ImageSubresourceRange::default().aspect_mask(image.aspect()).level_count(1).layer_count(1),
         )
 }
