@@ -1,0 +1,32 @@
+//! Acceleration structures of leakless (DESIGN.md §3 "Trace backends").
+//!
+//! * [`rayquery`]: the ray-query backend's BLAS and TLAS, built on the device.
+//! * [`bvh`]: the compute-shader backend. A binary BVH built on the CPU over the scene's flat
+//!   triangle list and flattened into two storage buffers ([`BvhNode`], [`BvhTriangle`]) that
+//!   `shaders-glsl/trace_compute.glsl` traverses; [`Bvh::intersect`] is its exact CPU twin.
+
+pub mod bvh;
+pub mod rayquery;
+
+pub use bvh::{
+    intersect_triangle, Bvh, BvhNode, BvhStats, BvhTriangle, Hit, Ray, BVH_MAX_DEPTH, BVH_NODE_LAYOUT,
+    BVH_TRIANGLE_LAYOUT,
+};
+pub use rayquery::{RayQueryAccel, RayQueryStats};
+
+/// Why an acceleration structure could not be built; each variant prints as one line.
+#[derive(Debug, thiserror::Error)]
+pub enum AccelError {
+    #[error(transparent)]
+    Device(#[from] leakless_device::DeviceError),
+    #[error("the scene has no triangles: there is nothing to trace rays against")]
+    Empty,
+    #[error("the triangle list has {0} vertices, which is not a multiple of 3")]
+    NotTriangles(usize),
+    #[error("none of the scene's {0} triangles has finite vertex positions: there is nothing to trace rays against")]
+    NoFiniteTriangles(usize),
+    #[error("the scene has {0} triangles; the compute BVH indexes at most {max}", max = bvh::MAX_TRIANGLES)]
+    TooManyTriangles(usize),
+    #[error("the BVH is {depth} levels deep; the traversal stack holds {max} (BVH_STACK_SIZE in trace_compute.glsl)", max = BVH_MAX_DEPTH)]
+    TooDeep { depth: u32 },
+}
