@@ -1,13 +1,18 @@
 //! Compiles every `.vert` / `.frag` / `.comp` in `shaders-glsl/` to SPIR-V with glslang,
-//! reflects each module with naga and writes `$OUT_DIR/shaders.rs` (included by
-//! `src/shaders.rs`): one `ShaderInfo` static per module plus `ALL`.
+//! reflects each module and writes `$OUT_DIR/shaders.rs` (included by `src/shaders.rs`): one
+//! `ShaderInfo` static per module plus `ALL`.
+//!
+//! Reflection: naga gives buffer layouts; a small SPIR-V scan (`build/spirv_scan.rs`) gives
+//! names, sets, bindings and kinds of every module, including those naga cannot parse (ray
+//! queries), and must agree with naga on the others. A `:rayquery` variant takes its buffer
+//! layouts from its `:compute` twin, by binding name.
 //!
 //! Includes are expanded here rather than through glslang's include callback: we need the
 //! include graph anyway (a module that reaches `trace.glsl` is compiled twice), and emitting
 //! `#line <n> <string-index>` around each included file lets us map glslang's
 //! `ERROR: <index>:<line>:` messages back to `shaders-glsl/<file>:<line>`.
 
-use std::collections::{HashMap, HashSet};
+use std::collections::HashSet;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use std::{env, fs};
@@ -16,6 +21,9 @@ use glslang::error::GlslangError;
 use glslang::{Compiler, CompilerOptions, ShaderInput, ShaderMessage, ShaderSource};
 use glslang::{ShaderStage as Stage, SourceLanguage, SpirvVersion, Target, VulkanVersion};
 use naga::{AddressSpace, ArraySize, Handle, ImageClass, Module, Type, TypeInner};
+
+#[path = "build/spirv_scan.rs"]
+mod spirv_scan;
 
 const DIR: &str = "shaders-glsl";
 
@@ -27,11 +35,10 @@ const SPIRV: SpirvVersion = SpirvVersion::SPIRV1_3;
 const RAY_QUERY_SPIRV: SpirvVersion = SpirvVersion::SPIRV1_6;
 
 /// A module that includes `trace.glsl` is compiled once per trace backend:
-/// (name suffix, define, SPIR-V version).
-const TRACE_VARIANTS: [(&str, &str, SpirvVersion); 2] = [
-    ("rayquery", "TRACE_RAYQUERY", RAY_QUERY_SPIRV),
-    ("compute", "TRACE_COMPUTE", SPIRV),
-];
+/// (name suffix, define, SPIR-V version). The ray-query variant comes first, the compute one
+/// (the one naga reflects) last.
+const TRACE_VARIANTS: [(&str, &str, SpirvVersion); 2] =
+    [("rayquery", "TRACE_RAYQUERY", RAY_QUERY_SPIRV), ("compute", "TRACE_COMPUTE", SPIRV)];
 
 fn main() {
     println!("cargo:rerun-if-changed=build.rs");
@@ -64,28 +71,31 @@ fn main() {
         } else {
             vec![(file.clone(), None, SPIRV)]
         };
+        let mut built = Vec::new();
         for (name, define, version) in variants {
-            let ident = name.to_uppercase().replace(['.', ':', '-'], "_");
             match build_module(compiler, stage, &file, &name, define, version) {
-                Ok((spirv, info)) => {
-                    let bytes: Vec<u8> = spirv.iter().flat_map(|w| w.to_ne_bytes()).collect();
-                    fs::write(out_dir.join(format!("{ident}.spv")), &bytes).unwrap();
-                    emit_static(&mut code, &ident, &name, stage, bytes.len(), &info);
-                    all.push(format!("&{ident}"));
-                }
+                Ok((spirv, info)) => built.push((name, spirv, info)),
                 Err(e) => errors.push(e),
             }
+        }
+        if let [(rq_name, _, rq), (twin_name, _, twin)] = &mut built[..] {
+            if let Err(e) = take_twin_layouts(&file, (rq_name, rq), (twin_name, twin)) {
+                errors.push(e);
+            }
+        }
+        for (name, spirv, info) in &built {
+            let ident = name.to_uppercase().replace(['.', ':', '-'], "_");
+            let bytes: Vec<u8> = spirv.iter().flat_map(|w| w.to_ne_bytes()).collect();
+            fs::write(out_dir.join(format!("{ident}.spv")), &bytes).unwrap();
+            emit_static(&mut code, &ident, name, stage, bytes.len(), info);
+            all.push(format!("&{ident}"));
         }
     }
     if !errors.is_empty() {
         panic!("shader build failed:\n{}", errors.join("\n"));
     }
     let all = all.join(", ");
-    writeln!(
-        code,
-        "\n/// Every module above.\npub static ALL: &[&ShaderInfo] = &[{all}];"
-    )
-    .unwrap();
+    writeln!(code, "\n/// Every module above.\npub static ALL: &[&ShaderInfo] = &[{all}];").unwrap();
     fs::write(out_dir.join("shaders.rs"), code).unwrap();
 }
 
@@ -110,16 +120,14 @@ fn expand(file: &str, define: Option<&str>) -> Result<Expanded, String> {
 
 impl Expanded {
     fn include(&mut self, file: &str, define: Option<&str>) -> Result<(), String> {
-        let src = fs::read_to_string(Path::new(DIR).join(file))
-            .map_err(|e| format!("{DIR}/{file}: cannot read: {e}"))?;
+        let src =
+            fs::read_to_string(Path::new(DIR).join(file)).map_err(|e| format!("{DIR}/{file}: cannot read: {e}"))?;
         if src.lines().any(|l| l.trim() == "#pragma once") && !self.once.insert(file.into()) {
             return Ok(()); // already included in this module
         }
         if self.stack.iter().any(|f| f == file) {
             let chain = self.stack.join(" -> ");
-            return Err(format!(
-                "{DIR}/{file}: include cycle {chain} -> {file}; use #pragma once"
-            ));
+            return Err(format!("{DIR}/{file}: include cycle {chain} -> {file}; use #pragma once"));
         }
         self.stack.push(file.into());
         let (index, top) = (self.files.len(), self.stack.len() == 1);
@@ -134,8 +142,7 @@ impl Expanded {
             let t = line.trim();
             if let Some(rest) = t.strip_prefix("#include") {
                 let name = rest.trim().trim_matches('"'); // `#include "x.glsl"`
-                self.include(name, None)
-                    .map_err(|e| format!("{e}\n  included from {DIR}/{file}:{lineno}"))?;
+                self.include(name, None).map_err(|e| format!("{e}\n  included from {DIR}/{file}:{lineno}"))?;
                 writeln!(self.text, "#line {} {index}", lineno + 1).unwrap();
             } else if t == "#pragma once" {
                 self.text.push('\n'); // keeps line numbers; glslang would warn about the pragma
@@ -169,10 +176,7 @@ fn build_module(
     let source = ShaderSource::from(src.text.as_str());
     let options = CompilerOptions {
         source_language: SourceLanguage::GLSL,
-        target: Target::Vulkan {
-            version: VulkanVersion::Vulkan1_3,
-            spirv_version,
-        },
+        target: Target::Vulkan { version: VulkanVersion::Vulkan1_3, spirv_version },
         version_profile: None, // taken from the `#version` line
         messages: ShaderMessage::DEFAULT | ShaderMessage::VULKAN_RULES | ShaderMessage::SPV_RULES,
     };
@@ -190,8 +194,9 @@ fn build_module(
     // glslang's default SPIR-V options keep OpName / OpMemberName, which reflection needs.
     let spirv = shader.compile().map_err(fail)?;
     let info = reflect(&spirv, stage, file)?;
-    if let (Err(e), false) = (&info.1, define == Some("TRACE_RAYQUERY")) {
-        println!("cargo:warning={name}: bindings not reflected, so not checked: {e}");
+    // A ray-query variant takes its layouts from its compute twin (`take_twin_layouts`).
+    if let (Some(e), false) = (&info.naga_error, define == Some("TRACE_RAYQUERY")) {
+        println!("cargo:warning={name}: buffer layouts not reflected, so not checked: {e}");
     }
     Ok((spirv, info))
 }
@@ -223,12 +228,40 @@ fn map_log(log: &str, files: &[String], name: &str) -> String {
     out.join("\n")
 }
 
-/// What reflection found for one module: workgroup size and either the bindings, as Rust
-/// `ReflectedBinding` literals, or why naga could not parse the module.
-type Info = ([u32; 3], Result<Vec<String>, String>);
+/// What reflection found for one module.
+struct Info {
+    workgroup_size: [u32; 3],
+    /// Ordered by (set, binding).
+    bindings: Vec<Binding>,
+    /// Why naga could not parse the module: its bindings come from the SPIR-V scan alone,
+    /// without buffer layouts.
+    naga_error: Option<String>,
+}
+
+/// One resource binding, to become a `ReflectedBinding` literal.
+struct Binding {
+    name: String,
+    set: u32,
+    binding: u32,
+    /// `BindingKind` variant.
+    kind: &'static str,
+    /// `Some(BlockLayout { .. })` literal: buffers naga reflected.
+    layout: Option<String>,
+}
+
+impl Binding {
+    fn id(&self) -> (&str, u32, u32, &str) {
+        (&self.name, self.set, self.binding, self.kind)
+    }
+}
 
 fn reflect(spirv: &[u32], stage: Stage, file: &str) -> Result<Info, String> {
-    let (combined, local_size) = scan_spirv(spirv);
+    let scan = spirv_scan::scan(spirv).map_err(|e| format!("{DIR}/{file}: {e}"))?;
+    let scanned: Vec<Binding> = scan
+        .resources
+        .into_iter()
+        .map(|r| Binding { name: r.name, set: r.set, binding: r.binding, kind: r.kind, layout: None })
+        .collect();
     let options = naga::front::spv::Options {
         adjust_coordinate_space: false,
         strict_capabilities: false,
@@ -237,13 +270,14 @@ fn reflect(spirv: &[u32], stage: Stage, file: &str) -> Result<Info, String> {
     let module = match naga::front::spv::Frontend::new(spirv.iter().copied(), &options).parse() {
         Ok(module) => module,
         Err(e) => {
-            // Expected for ray-query modules; their TRACE_COMPUTE twin is reflected instead.
+            // Expected for ray-query modules; their TRACE_COMPUTE twin lends them its layouts.
             let mut msg = format!("naga: {}", e.to_string().lines().next().unwrap_or_default());
-            if !combined.is_empty() {
+            if scanned.iter().any(|b| b.kind == "CombinedImageSampler") {
                 msg += " (naga cannot parse sampling through a combined image sampler; \
                         use a texture and a sampler)";
             }
-            return Ok((local_size, Err(msg)));
+            let (workgroup_size, naga_error) = (scan.local_size, Some(msg));
+            return Ok(Info { workgroup_size, bindings: scanned, naga_error });
         }
     };
     let workgroup_size = match stage {
@@ -255,34 +289,63 @@ fn reflect(spirv: &[u32], stage: Stage, file: &str) -> Result<Info, String> {
         let Some(rb) = &var.binding else { continue };
         let (set, binding) = (rb.group, rb.binding);
         let (kind, layout) = match var.space {
-            AddressSpace::Uniform => ("UniformBuffer", block_layout(&module, var.ty)),
-            AddressSpace::Storage { .. } => ("StorageBuffer", block_layout(&module, var.ty)),
+            AddressSpace::Uniform => ("UniformBuffer", Some(block_layout(&module, var.ty))),
+            AddressSpace::Storage { .. } => ("StorageBuffer", Some(block_layout(&module, var.ty))),
             AddressSpace::Handle => {
-                let combined = combined.contains(&(set, binding));
-                (handle_kind(&module, var.ty, combined), "None".into())
+                // naga folds a combined image sampler into its image type.
+                let combined =
+                    scanned.iter().any(|b| (b.set, b.binding, b.kind) == (set, binding, "CombinedImageSampler"));
+                (handle_kind(&module, var.ty, combined), None)
             }
             _ => continue,
         };
-        // glslang names the variable of `buffer Photons { .. } photons;` "photons", and ""
-        // (naga: `Some("")`) when the instance name is left out.
+        // glslang names the variable of `buffer Photons { .. } photons;` "photons" (the scan
+        // has already rejected blocks without an instance name).
         let name = var.name.clone().unwrap_or_default();
-        if name.is_empty() {
-            let block = module.types[var.ty].name.clone().unwrap_or_default();
-            return Err(format!(
-                "{DIR}/{file}: block {block} (set {set}, binding {binding}) has no instance \
-                 name; block instances must be named (`{block} {{ .. }} {};`)",
-                block.to_lowercase()
-            ));
-        }
-        let literal = format!(
-            "ReflectedBinding {{ name: {name:?}, set: {set}, binding: {binding}, \
-             kind: BindingKind::{kind}, layout: {layout} }}"
-        );
-        bindings.push(((set, binding), literal));
+        bindings.push(Binding { name, set, binding, kind, layout });
     }
-    bindings.sort();
-    let bindings = bindings.into_iter().map(|(_, literal)| literal).collect();
-    Ok((workgroup_size, Ok(bindings)))
+    bindings.sort_by(|a, b| (a.set, a.binding, &a.name).cmp(&(b.set, b.binding, &b.name)));
+    // The scan stands in for naga where naga cannot parse, so it must agree where it can.
+    let ids = |bs: &[Binding]| bs.iter().map(|b| format!("{:?}", b.id())).collect::<Vec<_>>().join(", ");
+    if ids(&bindings) != ids(&scanned) {
+        return Err(format!(
+            "{DIR}/{file}: build.rs bug: the SPIR-V scan (build/spirv_scan.rs) disagrees with naga:\n  \
+             scan: {}\n  naga: {}",
+            ids(&scanned),
+            ids(&bindings)
+        ));
+    }
+    Ok(Info { workgroup_size, bindings, naga_error: None })
+}
+
+/// Gives a `:rayquery` module naga could not parse the buffer layouts of its `:compute` twin,
+/// matched by binding name, after checking that every binding the two variants share has the
+/// same set, number and kind. Bindings of the ray-query variant alone (`tlas`) keep `None`.
+fn take_twin_layouts(file: &str, rq: (&str, &mut Info), twin: (&str, &Info)) -> Result<(), String> {
+    let ((rq_name, rq), (twin_name, twin)) = (rq, twin);
+    let mut mismatches = Vec::new();
+    for b in &mut rq.bindings {
+        let Some(t) = twin.bindings.iter().find(|t| t.name == b.name) else {
+            if b.layout.is_none() && b.kind.ends_with("Buffer") {
+                println!("cargo:warning={rq_name}: `{}` is not in {twin_name}, so its layout is not checked", b.name);
+            }
+            continue;
+        };
+        if (t.set, t.binding, t.kind) != (b.set, b.binding, b.kind) {
+            mismatches.push(format!(
+                "{DIR}/{file}: binding `{}` is set {}, binding {}, {} in {rq_name} but set {}, binding {}, {} \
+                 in {twin_name}; trace variants must agree on every binding they share",
+                b.name, b.set, b.binding, b.kind, t.set, t.binding, t.kind
+            ));
+        } else if rq.naga_error.is_some() {
+            b.layout.clone_from(&t.layout);
+        }
+    }
+    if mismatches.is_empty() {
+        Ok(())
+    } else {
+        Err(mismatches.join("\n"))
+    }
 }
 
 fn handle_kind(module: &Module, ty: Handle<Type>, combined: bool) -> &'static str {
@@ -314,9 +377,7 @@ fn block_layout(module: &Module, ty: Handle<Type>) -> String {
     let TypeInner::Struct { members, span } = &module.types[ty].inner else {
         panic!("buffer block is not a struct: {:?}", module.types[ty]);
     };
-    let last = members
-        .last()
-        .map(|m| (m.offset, &module.types[m.ty].inner));
+    let last = members.last().map(|m| (m.offset, &module.types[m.ty].inner));
     let (size, stride, element) = match last {
         // A trailing runtime array: the fixed part ends where the array starts.
         Some((offset, TypeInner::Array { base, size, stride })) if *size == ArraySize::Dynamic => {
@@ -333,42 +394,6 @@ fn block_layout(module: &Module, ty: Handle<Type>) -> String {
     )
 }
 
-/// What naga's IR does not keep, read straight from the SPIR-V words: the (set, binding)s of
-/// combined image samplers (naga folds `OpTypeSampledImage` into the image type), and the
-/// workgroup size for modules naga cannot parse.
-fn scan_spirv(words: &[u32]) -> (HashSet<(u32, u32)>, [u32; 3]) {
-    let (mut sampled_images, mut vars, mut local_size) = (HashSet::new(), Vec::new(), [1; 3]);
-    let (mut pointee, mut element) = (HashMap::new(), HashMap::new());
-    let (mut sets, mut bindings) = (HashMap::new(), HashMap::new());
-    let mut i = 5; // after the header
-    while i < words.len() {
-        let (len, opcode) = ((words[i] >> 16).max(1) as usize, words[i] & 0xffff);
-        let w = &words[i + 1..(i + len).min(words.len())];
-        match (opcode, w) {
-            (16, [_, 17, x, y, z, ..]) => local_size = [*x, *y, *z], // OpExecutionMode LocalSize
-            (27, [id, ..]) => _ = sampled_images.insert(*id),        // OpTypeSampledImage
-            (28 | 29, [id, el, ..]) => _ = element.insert(*id, *el), // OpType(Runtime)Array
-            (32, [id, _, ty]) => _ = pointee.insert(*id, *ty),       // OpTypePointer
-            (59, [ptr, id, ..]) => vars.push((*id, *ptr)),           // OpVariable
-            (71, [id, 34, set]) => _ = sets.insert(*id, *set),       // OpDecorate DescriptorSet
-            (71, [id, 33, b]) => _ = bindings.insert(*id, *b),       // OpDecorate Binding
-            _ => {}
-        }
-        i += len;
-    }
-    let mut combined = HashSet::new();
-    for (id, ptr) in vars {
-        let mut ty = pointee.get(&ptr).copied().unwrap_or(0);
-        while let Some(&el) = element.get(&ty) {
-            ty = el; // arrays of sampler2D
-        }
-        if let (true, Some(&b)) = (sampled_images.contains(&ty), bindings.get(&id)) {
-            combined.insert((sets.get(&id).copied().unwrap_or(0), b));
-        }
-    }
-    (combined, local_size)
-}
-
 const HEADER: &str = "// Generated by build.rs from shaders-glsl/. Do not edit.
 #[allow(unused_imports)]
 use leakless_device::shader::{BindingKind, BlockLayout, Member, ReflectedBinding, ShaderInfo, ShaderStage};
@@ -380,11 +405,17 @@ struct Aligned<T: ?Sized>(T);
 ";
 
 fn emit_static(code: &mut String, ident: &str, name: &str, stage: Stage, len: usize, info: &Info) {
-    let (workgroup_size, reflection) = info;
-    let reflection = match reflection {
-        Ok(bindings) => format!("Ok(&[\n        {},\n    ])", bindings.join(",\n        ")),
-        Err(e) => format!("Err({e:?})"),
+    let literal = |b: &Binding| {
+        let (name, set, binding, kind) = b.id();
+        let layout = b.layout.as_deref().unwrap_or("None");
+        format!(
+            "ReflectedBinding {{ name: {name:?}, set: {set}, binding: {binding}, \
+             kind: BindingKind::{kind}, layout: {layout} }}"
+        )
     };
+    let bindings: Vec<String> = info.bindings.iter().map(literal).collect();
+    let reflection = format!("Ok(&[\n        {},\n    ])", bindings.join(",\n        "));
+    let workgroup_size = info.workgroup_size;
     writeln!(
         code,
         r#"

@@ -1,0 +1,162 @@
+//! A minimal SPIR-V reader for build.rs: the descriptor bindings of a module (name, set,
+//! binding, kind) and its workgroup size, read straight from the words. It covers what naga
+//! cannot: modules naga's SPIR-V front end rejects (ray queries), and combined image samplers,
+//! which naga folds into the image type. Buffer layouts are left to naga.
+//!
+//! Only the instructions below are decoded (numbers from the SPIR-V specification, §3);
+//! everything else is skipped by its word count.
+
+use std::collections::HashMap;
+
+const MAGIC: u32 = 0x0723_0203;
+
+// Opcodes.
+const OP_NAME: u32 = 5;
+const OP_EXECUTION_MODE: u32 = 16;
+const OP_TYPE_IMAGE: u32 = 25;
+const OP_TYPE_SAMPLER: u32 = 26;
+const OP_TYPE_SAMPLED_IMAGE: u32 = 27;
+const OP_TYPE_ARRAY: u32 = 28;
+const OP_TYPE_RUNTIME_ARRAY: u32 = 29;
+const OP_TYPE_STRUCT: u32 = 30;
+const OP_TYPE_POINTER: u32 = 32;
+const OP_VARIABLE: u32 = 59;
+const OP_DECORATE: u32 = 71;
+const OP_TYPE_ACCELERATION_STRUCTURE_KHR: u32 = 5341; // also OpTypeAccelerationStructureNV
+
+// Execution mode.
+const LOCAL_SIZE: u32 = 17;
+
+// Image dimensions that are not images to leakless.
+const DIM_BUFFER: u32 = 5;
+const DIM_SUBPASS_DATA: u32 = 6;
+
+// Storage classes.
+const UNIFORM_CONSTANT: u32 = 0;
+const UNIFORM: u32 = 2;
+const STORAGE_BUFFER: u32 = 12;
+
+// Decorations.
+const BLOCK: u32 = 2;
+const BUFFER_BLOCK: u32 = 3;
+const BINDING: u32 = 33;
+const DESCRIPTOR_SET: u32 = 34;
+
+/// One descriptor binding of a module.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Resource {
+    /// The variable's `OpName`: glslang names the variable of `buffer Photons { .. } photons;`
+    /// "photons". Never empty (an unnamed block instance is an error).
+    pub name: String,
+    pub set: u32,
+    pub binding: u32,
+    /// Name of the `leakless_device::shader::BindingKind` variant.
+    pub kind: &'static str,
+}
+
+/// What [`scan`] found.
+pub struct Scan {
+    /// Variables decorated with both `DescriptorSet` and `Binding` in the `UniformConstant`,
+    /// `Uniform` and `StorageBuffer` storage classes, ordered by (set, binding).
+    pub resources: Vec<Resource>,
+    /// `LocalSize` execution mode, `[1, 1, 1]` without one.
+    pub local_size: [u32; 3],
+}
+
+/// Resource types, after arrays of them are looked through.
+#[derive(Clone, Copy)]
+enum Ty {
+    Image { dim: u32, sampled: u32 },
+    Sampler,
+    SampledImage,
+    AccelerationStructure,
+    Struct,
+}
+
+/// Reads the resources of a SPIR-V module. Fails on a module that is not SPIR-V, on a block
+/// instance without a name, and on resource types that are not a `BindingKind`.
+pub fn scan(words: &[u32]) -> Result<Scan, String> {
+    if words.len() < 5 || words[0] != MAGIC {
+        return Err("not a SPIR-V module (bad header)".into());
+    }
+    let mut names: HashMap<u32, String> = HashMap::new();
+    let (mut types, mut element, mut pointee) = (HashMap::new(), HashMap::new(), HashMap::new());
+    let (mut sets, mut bindings, mut blocks) = (HashMap::new(), HashMap::new(), HashMap::new());
+    let (mut vars, mut local_size) = (Vec::new(), [1; 3]);
+    let mut i = 5; // after the header
+    while i < words.len() {
+        let (len, opcode) = ((words[i] >> 16) as usize, words[i] & 0xffff);
+        if len == 0 || i + len > words.len() {
+            return Err(format!("malformed instruction at word {i}"));
+        }
+        let w = &words[i + 1..i + len];
+        match (opcode, w) {
+            (OP_NAME, [id, s @ ..]) => _ = names.insert(*id, string(s)),
+            (OP_EXECUTION_MODE, [_, LOCAL_SIZE, x, y, z]) => local_size = [*x, *y, *z],
+            (OP_TYPE_IMAGE, [id, _, dim, _depth, _arrayed, _ms, sampled, ..]) => {
+                _ = types.insert(*id, Ty::Image { dim: *dim, sampled: *sampled })
+            }
+            (OP_TYPE_SAMPLER, [id]) => _ = types.insert(*id, Ty::Sampler),
+            (OP_TYPE_SAMPLED_IMAGE, [id, _]) => _ = types.insert(*id, Ty::SampledImage),
+            (OP_TYPE_ARRAY | OP_TYPE_RUNTIME_ARRAY, [id, el, ..]) => _ = element.insert(*id, *el),
+            (OP_TYPE_STRUCT, [id, ..]) => _ = types.insert(*id, Ty::Struct),
+            (OP_TYPE_POINTER, [id, _, ty]) => _ = pointee.insert(*id, *ty),
+            (OP_VARIABLE, [ptr, id, class, ..]) => vars.push((*id, *ptr, *class)),
+            (OP_DECORATE, [id, DESCRIPTOR_SET, set]) => _ = sets.insert(*id, *set),
+            (OP_DECORATE, [id, BINDING, b]) => _ = bindings.insert(*id, *b),
+            (OP_DECORATE, [id, d @ (BLOCK | BUFFER_BLOCK)]) => _ = blocks.insert(*id, *d),
+            (OP_TYPE_ACCELERATION_STRUCTURE_KHR, [id]) => _ = types.insert(*id, Ty::AccelerationStructure),
+            _ => {}
+        }
+        i += len;
+    }
+
+    let mut resources = Vec::new();
+    for (id, ptr, class) in vars {
+        if !matches!(class, UNIFORM_CONSTANT | UNIFORM | STORAGE_BUFFER) {
+            continue; // push constants, inputs, outputs, workgroup and function memory
+        }
+        let (Some(&set), Some(&binding)) = (sets.get(&id), bindings.get(&id)) else {
+            continue; // not a descriptor (naga skips these too)
+        };
+        let mut ty = pointee.get(&ptr).copied().unwrap_or(0);
+        while let Some(&el) = element.get(&ty) {
+            ty = el; // arrays of resources
+        }
+        let name = names.get(&id).cloned().unwrap_or_default();
+        let at = || format!("`{name}` (set {set}, binding {binding})");
+        let kind = match (class, types.get(&ty), blocks.get(&ty)) {
+            (UNIFORM, Some(Ty::Struct), Some(&BLOCK)) => "UniformBuffer",
+            (UNIFORM, Some(Ty::Struct), Some(&BUFFER_BLOCK)) => "StorageBuffer",
+            (STORAGE_BUFFER, Some(Ty::Struct), Some(&BLOCK)) => "StorageBuffer",
+            (UNIFORM_CONSTANT, Some(Ty::AccelerationStructure), _) => "AccelerationStructure",
+            (UNIFORM_CONSTANT, Some(Ty::Sampler), _) => "Sampler",
+            (UNIFORM_CONSTANT, Some(Ty::SampledImage), _) => "CombinedImageSampler",
+            (UNIFORM_CONSTANT, Some(&Ty::Image { dim, sampled }), _) => match (dim, sampled) {
+                (DIM_BUFFER, _) => return Err(format!("{} is a texel buffer; leakless binds none", at())),
+                (DIM_SUBPASS_DATA, _) => return Err(format!("{} is an input attachment; leakless binds none", at())),
+                (_, 1) => "SampledImage",
+                (_, 2) => "StorageImage",
+                _ => return Err(format!("{}: image with Sampled = {sampled} (unknown at compile time)", at())),
+            },
+            _ => return Err(format!("{}: unsupported resource type (storage class {class})", at())),
+        };
+        if name.is_empty() {
+            let block = names.get(&ty).cloned().unwrap_or_default();
+            return Err(format!(
+                "block {block} (set {set}, binding {binding}) has no instance name; block instances \
+                 must be named (`{block} {{ .. }} {};`)",
+                block.to_lowercase()
+            ));
+        }
+        resources.push(Resource { name, set, binding, kind });
+    }
+    resources.sort_by(|a, b| (a.set, a.binding, &a.name).cmp(&(b.set, b.binding, &b.name)));
+    Ok(Scan { resources, local_size })
+}
+
+/// A SPIR-V literal string: UTF-8, nul-terminated, packed little-end first into words.
+fn string(words: &[u32]) -> String {
+    let bytes: Vec<u8> = words.iter().flat_map(|w| w.to_le_bytes()).take_while(|&b| b != 0).collect();
+    String::from_utf8_lossy(&bytes).into_owned()
+}
