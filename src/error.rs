@@ -8,6 +8,8 @@ pub enum RenderError {
     Device(#[from] DeviceError),
     #[error(transparent)]
     Scene(#[from] SceneError),
+    #[error(transparent)]
+    Accel(#[from] leakless_accel::AccelError),
     #[error("invalid setting: {0}")]
     Settings(String),
     #[error("writing {path}: {message}")]

@@ -2,11 +2,23 @@
 
 use ash::vk;
 use glam::Vec3;
-use leakless_device::{Buffer, Gpu};
+use leakless_device::{BindingDecl, Bound, Buffer, Gpu};
+use leakless_graph::{Access, BufferHandle, Graph, PassBuilder};
 use leakless_scene::{LightKind, Scene};
 
-use crate::error::Result;
-use crate::gpu_types::{self, Light, Material};
+use crate::error::{RenderError, Result};
+use crate::gpu_types::{self, Light, Material, MATERIAL_LAYOUT, U32_LAYOUT, VERTEX_LAYOUT};
+
+/// What `scene.glsl` binds: the surfaces, by triangle index.
+pub const SCENE_BINDINGS: &[BindingDecl] = &[
+    BindingDecl::storage_array("scene_vertices", VERTEX_LAYOUT),
+    BindingDecl::storage_array("triangle_materials", U32_LAYOUT),
+    BindingDecl::storage_array("materials", MATERIAL_LAYOUT),
+    BindingDecl::storage_array("texels", U32_LAYOUT),
+];
+
+/// The G-buffer stores `triangle + 1` in a float channel, exact up to 2^24.
+pub const MAX_TRIANGLES: usize = (1 << 24) - 1;
 
 pub struct GpuScene {
     /// `Vertex` × 3 per triangle, world space.
@@ -23,19 +35,22 @@ pub struct GpuScene {
 
 impl GpuScene {
     pub fn upload(gpu: &Gpu, scene: &Scene) -> Result<GpuScene> {
+        if scene.triangle_count() > MAX_TRIANGLES {
+            return Err(RenderError::Settings(format!(
+                "scene {} has {} triangles; at most {MAX_TRIANGLES} are supported",
+                scene.name,
+                scene.triangle_count()
+            )));
+        }
         let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
-        let vertices = Buffer::with_data(
-            gpu,
-            "vertices",
-            vk::BufferUsageFlags::VERTEX_BUFFER | storage,
-            bytemuck::cast_slice(&scene.vertices),
-        )?;
-        let triangle_materials = Buffer::with_data(
-            gpu,
-            "triangle materials",
-            storage,
-            bytemuck::cast_slice(&scene.triangle_material),
-        )?;
+        let mut vertex_usage = vk::BufferUsageFlags::VERTEX_BUFFER | storage;
+        if gpu.capabilities().acceleration_structure {
+            vertex_usage |= vk::BufferUsageFlags::ACCELERATION_STRUCTURE_BUILD_INPUT_READ_ONLY_KHR
+                | vk::BufferUsageFlags::SHADER_DEVICE_ADDRESS;
+        }
+        let vertices = Buffer::with_data(gpu, "vertices", vertex_usage, bytemuck::cast_slice(&scene.vertices))?;
+        let triangle_materials =
+            Buffer::with_data(gpu, "triangle materials", storage, bytemuck::cast_slice(&scene.triangle_material))?;
 
         let mut texels: Vec<u32> = Vec::new();
         let mut texture_offsets = Vec::with_capacity(scene.textures.len());
@@ -47,9 +62,7 @@ impl GpuScene {
             .materials
             .iter()
             .map(|m| {
-                let texture = m
-                    .texture
-                    .map(|i| (texture_offsets[i as usize], &scene.textures[i as usize]));
+                let texture = m.texture.map(|i| (texture_offsets[i as usize], &scene.textures[i as usize]));
                 Material {
                     base_color: m.base_color.to_array(),
                     texture_offset: texture.map_or(0, |(o, _)| o),
@@ -59,13 +72,11 @@ impl GpuScene {
                 }
             })
             .collect();
-        let materials =
-            Buffer::with_data(gpu, "materials", storage, bytemuck::cast_slice(&materials))?;
+        let materials = Buffer::with_data(gpu, "materials", storage, bytemuck::cast_slice(&materials))?;
         let texels = Buffer::with_data(gpu, "texels", storage, bytemuck::cast_slice(&texels))?;
 
         let lights: Vec<Light> = scene.lights.iter().map(gpu_light).collect();
-        let lights_buffer =
-            Buffer::with_data(gpu, "lights", storage, bytemuck::cast_slice(&lights))?;
+        let lights_buffer = Buffer::with_data(gpu, "lights", storage, bytemuck::cast_slice(&lights))?;
         Ok(GpuScene {
             vertices,
             vertex_count: scene.vertices.len() as u32,
@@ -78,14 +89,45 @@ impl GpuScene {
     }
 }
 
+impl GpuScene {
+    pub fn import<'r>(&'r self, graph: &mut Graph<'r>) -> SceneHandles {
+        SceneHandles {
+            vertices: graph.import_buffer(&self.vertices),
+            triangle_materials: graph.import_buffer(&self.triangle_materials),
+            materials: graph.import_buffer(&self.materials),
+            texels: graph.import_buffer(&self.texels),
+            lights: graph.import_buffer(&self.lights),
+        }
+    }
+}
+
+/// The scene's buffers in one frame's graph.
+pub struct SceneHandles {
+    pub vertices: BufferHandle,
+    pub triangle_materials: BufferHandle,
+    pub materials: BufferHandle,
+    pub texels: BufferHandle,
+    pub lights: BufferHandle,
+}
+
+impl SceneHandles {
+    /// Declares that `pass` reads the surfaces (`scene.glsl`) with `access`, and returns what
+    /// to bind.
+    pub fn declare<'r>(&self, pass: &mut PassBuilder<'_, 'r>, access: Access) -> Vec<(&'static str, Bound<'r>)> {
+        vec![
+            ("scene_vertices", Bound::Buffer(pass.read(&self.vertices, access))),
+            ("triangle_materials", Bound::Buffer(pass.read(&self.triangle_materials, access))),
+            ("materials", Bound::Buffer(pass.read(&self.materials, access))),
+            ("texels", Bound::Buffer(pass.read(&self.texels, access))),
+        ]
+    }
+}
+
 /// A glTF light as the shaders use it: colour × intensity, cone cosines.
 pub fn gpu_light(l: &leakless_scene::Light) -> Light {
     let (kind, cos_outer, cos_inner) = match l.kind {
         LightKind::Point => (gpu_types::LIGHT_POINT, -1.0, -1.0),
-        LightKind::Spot {
-            inner_cone,
-            outer_cone,
-        } => (gpu_types::LIGHT_SPOT, outer_cone.cos(), inner_cone.cos()),
+        LightKind::Spot { inner_cone, outer_cone } => (gpu_types::LIGHT_SPOT, outer_cone.cos(), inner_cone.cos()),
         LightKind::Directional => (gpu_types::LIGHT_DIRECTIONAL, 1.0, 1.0),
     };
     Light {

@@ -17,14 +17,8 @@ pub struct Frame {
     pub pad0: u32,
 }
 
-pub const FRAME_LAYOUT: RustLayout = rust_layout!(Frame {
-    view_proj,
-    camera_position,
-    width,
-    height,
-    light_count,
-    pad0
-});
+pub const FRAME_LAYOUT: RustLayout =
+    rust_layout!(Frame { view_proj, camera_position, width, height, light_count, pad0 });
 
 /// `struct Light` of common.glsl.
 #[repr(C)]
@@ -38,14 +32,7 @@ pub struct Light {
     pub cos_inner: f32,
 }
 
-pub const LIGHT_LAYOUT: RustLayout = rust_layout!(Light {
-    position,
-    kind,
-    direction,
-    cos_outer,
-    intensity,
-    cos_inner
-});
+pub const LIGHT_LAYOUT: RustLayout = rust_layout!(Light { position, kind, direction, cos_outer, intensity, cos_inner });
 
 pub const LIGHT_POINT: u32 = 0;
 pub const LIGHT_SPOT: u32 = 1;
@@ -62,16 +49,76 @@ pub struct Material {
     pub alpha_cutoff: f32,
 }
 
-pub const MATERIAL_LAYOUT: RustLayout = rust_layout!(Material {
-    base_color,
-    texture_offset,
-    texture_width,
-    texture_height,
-    alpha_cutoff
-});
+pub const MATERIAL_LAYOUT: RustLayout =
+    rust_layout!(Material { base_color, texture_offset, texture_width, texture_height, alpha_cutoff });
+
+/// `struct SceneVertex` of scene.glsl is `leakless_scene::Vertex`.
+pub const VERTEX_LAYOUT: RustLayout = rust_layout!(leakless_scene::Vertex { position, normal, uv });
 
 /// A plain `uint` array element (`uint ids[]`, `uint words[]`).
-pub const U32_LAYOUT: RustLayout = RustLayout {
-    size: 4,
-    members: &[],
-};
+pub const U32_LAYOUT: RustLayout = RustLayout { size: 4, members: &[] };
+
+/// The `ReferenceParams` block of reference.comp.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
+pub struct ReferenceParams {
+    pub first_sample: u32,
+    pub sample_count: u32,
+    pub max_bounces: u32,
+    pub seed: u32,
+    pub roulette_start: u32,
+    pub pad0: u32,
+    pub pad1: u32,
+    pub pad2: u32,
+}
+
+pub const REFERENCE_PARAMS_LAYOUT: RustLayout =
+    rust_layout!(ReferenceParams { first_sample, sample_count, max_bounces, seed, roulette_start, pad0, pad1, pad2 });
+
+/// The `ComposeParams` block of compose.comp.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
+pub struct ComposeParams {
+    pub indirect_scale: f32,
+    pub pad0: u32,
+    pub pad1: u32,
+    pub pad2: u32,
+}
+
+pub const COMPOSE_PARAMS_LAYOUT: RustLayout = rust_layout!(ComposeParams { indirect_scale, pad0, pad1, pad2 });
+
+/// `struct Ray` of raycast.comp.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct GpuRay {
+    pub origin: [f32; 3],
+    pub tmin: f32,
+    pub dir: [f32; 3],
+    pub tmax: f32,
+}
+
+pub const RAY_LAYOUT: RustLayout = rust_layout!(GpuRay { origin, tmin, dir, tmax });
+
+/// `struct RayHit` of raycast.comp.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct RayHit {
+    pub t: f32,
+    /// `u32::MAX` on a miss (occlusion rays: 0 = occluded).
+    pub triangle: u32,
+    pub barycentrics: [f32; 2],
+}
+
+pub const RAY_HIT_LAYOUT: RustLayout = rust_layout!(RayHit { t, triangle, barycentrics });
+
+/// The `RaycastParams` block of raycast.comp.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
+pub struct RaycastParams {
+    pub ray_count: u32,
+    pub occlusion: u32,
+    pub pad0: u32,
+    pub pad1: u32,
+}
+
+pub const RAYCAST_PARAMS_LAYOUT: RustLayout = rust_layout!(RaycastParams { ray_count, occlusion, pad0, pad1 });

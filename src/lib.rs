@@ -4,15 +4,20 @@
 //! the G-buffer, light it directly, read the layers back. Each pass lives in `passes/`, one
 //! file per pass, next to its shader in `shaders-glsl/`.
 
+pub mod bench;
 pub mod error;
 pub mod gpu_scene;
 pub mod gpu_types;
 pub mod output;
 pub mod passes;
+pub mod raycast;
+pub mod raygen;
 pub mod renderer;
 pub mod shaders;
+pub mod trace;
 
 pub use error::{RenderError, Result};
 pub use leakless_device::{Gpu, GpuOptions};
 pub use leakless_scene::Scene;
-pub use renderer::{RenderSettings, RenderedFrame, Renderer};
+pub use renderer::{Method, RenderSettings, RenderedFrame, Renderer};
+pub use trace::{Backend, BackendChoice};

@@ -2,6 +2,7 @@
 //! The CLI, the tests and (later) the app and the benchmarks all drive it the same way.
 
 use ash::vk;
+use glam::camera::rh::proj::vulkan;
 use glam::Mat4;
 use leakless_device::{Buffer, BufferDesc, Gpu, Image, ImageDesc, MemoryLocation};
 use leakless_graph::{Graph, GraphRunner, PassTiming, Timing};
@@ -9,16 +10,55 @@ use leakless_scene::{Camera, Scene};
 
 use crate::error::{RenderError, Result};
 use crate::gpu_scene::GpuScene;
-use crate::gpu_types::Frame;
+use crate::gpu_types::{Frame, ReferenceParams};
+use crate::passes::compose::{ComposeImages, ComposePass};
 use crate::passes::direct::DirectPass;
-use crate::passes::gbuffer::{self, GBuffer, GBufferPass, SceneInputs};
+use crate::passes::gbuffer::{self, GBuffer, GBufferPass};
 use crate::passes::readback;
+use crate::passes::reference::ReferencePass;
+use crate::passes::ViewInputs;
+use crate::trace::{Backend, BackendChoice, TraceScene, TraceStats};
 
 /// What to render and how.
 #[derive(Clone, Debug)]
 pub struct RenderSettings {
     pub width: u32,
     pub height: u32,
+    pub backend: BackendChoice,
+    pub method: Method,
+    /// Samples per view sample of the reference path tracer.
+    pub spp: u32,
+    /// Indirect bounces after the view sample (the reference's path depth).
+    pub max_bounces: u32,
+    /// Seeds every random sequence: a fixed seed gives a bit-identical frame.
+    pub seed: u32,
+}
+
+/// What computes the indirect light (DESIGN.md §2; the photon methods come with splatting).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Method {
+    /// Direct light only: no indirect layer.
+    #[default]
+    Direct,
+    /// Progressive path tracer of the same light transport, `spp` samples.
+    Reference,
+}
+
+impl Method {
+    pub fn parse(s: &str) -> Option<Self> {
+        match s {
+            "direct" => Some(Method::Direct),
+            "reference" => Some(Method::Reference),
+            _ => None,
+        }
+    }
+
+    pub fn name(self) -> &'static str {
+        match self {
+            Method::Direct => "direct",
+            Method::Reference => "reference",
+        }
+    }
 }
 
 impl Default for RenderSettings {
@@ -26,9 +66,18 @@ impl Default for RenderSettings {
         RenderSettings {
             width: 640,
             height: 480,
+            backend: BackendChoice::Auto,
+            method: Method::Direct,
+            spp: 64,
+            max_bounces: 8,
+            seed: 0,
         }
     }
 }
+
+/// Upper bounds that keep a typo from asking for hours or gigabytes.
+pub const MAX_SPP: u32 = 1 << 20;
+pub const MAX_BOUNCES: u32 = 64;
 
 /// Largest image side accepted: bounds memory (a 16k² frame of this renderer's layers would
 /// need tens of GiB).
@@ -36,13 +85,26 @@ pub const MAX_SIDE: u32 = 8192;
 
 impl RenderSettings {
     pub fn validate(&self) -> Result<()> {
+        let bad = |m: String| Err(RenderError::Settings(m));
         if self.width == 0 || self.height == 0 || self.width > MAX_SIDE || self.height > MAX_SIDE {
-            return Err(RenderError::Settings(format!(
-                "size {}x{} must be within 1..={MAX_SIDE} per side",
-                self.width, self.height
-            )));
+            return bad(format!("size {}x{} must be within 1..={MAX_SIDE} per side", self.width, self.height));
+        }
+        if self.spp == 0 || self.spp > MAX_SPP {
+            return bad(format!("--spp {} must be within 1..={MAX_SPP}", self.spp));
+        }
+        if self.max_bounces > MAX_BOUNCES {
+            return bad(format!("--max-bounces {} must be at most {MAX_BOUNCES}", self.max_bounces));
         }
         Ok(())
+    }
+
+    /// `name=value` pairs for EXR headers and stats.
+    pub fn describe(&self) -> String {
+        let mut s = format!("size={}x{} method={}", self.width, self.height, self.method.name());
+        if self.method == Method::Reference {
+            s += &format!(" spp={} max_bounces={} seed={}", self.spp, self.max_bounces, self.seed);
+        }
+        s
     }
 }
 
@@ -51,11 +113,14 @@ impl RenderSettings {
 pub struct RenderedFrame {
     pub width: u32,
     pub height: u32,
-    /// Final radiance (direct + indirect).
+    /// Final radiance: direct + indirect.
     pub radiance: Vec<[f32; 3]>,
     pub direct: Vec<[f32; 3]>,
+    pub indirect: Vec<[f32; 3]>,
+    /// Per-pass times, summed over the submissions of the frame (a reference frame runs its
+    /// path tracer in several).
     pub timings: Vec<PassTiming>,
-    /// Host wall-clock time from the start of recording to the end of the last wait.
+    /// Host wall-clock time of the whole frame.
     pub wall_ms: f64,
 }
 
@@ -68,16 +133,46 @@ impl RenderedFrame {
 struct Passes {
     gbuffer: GBufferPass,
     direct: DirectPass,
+    reference: ReferencePass,
+    compose: ComposePass,
 }
+
+/// The images a frame writes, kept between frames.
+struct Targets {
+    gbuffer: GBuffer,
+    direct: Image,
+    indirect_sum: Image,
+    indirect: Image,
+    radiance: Image,
+}
+
+impl Targets {
+    fn new(gpu: &Gpu, extent: vk::Extent2D) -> Result<Targets> {
+        let image = |name| {
+            let usage = vk::ImageUsageFlags::STORAGE | vk::ImageUsageFlags::TRANSFER_SRC;
+            Image::new(gpu, &ImageDesc { name, extent, format: gbuffer::FORMAT, usage })
+        };
+        Ok(Targets {
+            gbuffer: GBuffer::new(gpu, extent)?,
+            direct: image("direct")?,
+            indirect_sum: image("indirect sum")?,
+            indirect: image("indirect")?,
+            radiance: image("radiance")?,
+        })
+    }
+}
+
+/// The three layers read back: radiance, direct, indirect.
+const LAYERS: u64 = 3;
 
 pub struct Renderer {
     settings: RenderSettings,
     camera: Camera,
     scene_name: String,
     scene: GpuScene,
+    trace: TraceScene,
     frame: Buffer,
-    gbuffer: GBuffer,
-    direct: Image,
+    targets: Targets,
     readback: Buffer,
     passes: Passes,
     runner: GraphRunner,
@@ -88,11 +183,10 @@ pub struct Renderer {
 impl Renderer {
     pub fn new(gpu: Gpu, scene: &Scene, settings: RenderSettings) -> Result<Renderer> {
         settings.validate()?;
-        let extent = vk::Extent2D {
-            width: settings.width,
-            height: settings.height,
-        };
+        let extent = vk::Extent2D { width: settings.width, height: settings.height };
+        let backend = settings.backend.resolve(gpu.capabilities(), &gpu.report().name)?;
         let gpu_scene = GpuScene::upload(&gpu, scene)?;
+        let trace = TraceScene::build(&gpu, scene, &gpu_scene, backend)?;
         let frame = Buffer::new(
             &gpu,
             &BufferDesc {
@@ -102,28 +196,21 @@ impl Renderer {
                 location: MemoryLocation::CpuToGpu,
             },
         )?;
-        let gbuffer = GBuffer::new(&gpu, extent)?;
-        let direct = Image::new(
-            &gpu,
-            &ImageDesc {
-                name: "direct",
-                extent,
-                format: gbuffer::FORMAT,
-                usage: vk::ImageUsageFlags::STORAGE | vk::ImageUsageFlags::TRANSFER_SRC,
-            },
-        )?;
+        let targets = Targets::new(&gpu, extent)?;
         let readback = Buffer::new(
             &gpu,
             &BufferDesc {
                 name: "readback",
-                size: extent.width as u64 * extent.height as u64 * 16,
+                size: LAYERS * extent.width as u64 * extent.height as u64 * 16,
                 usage: vk::BufferUsageFlags::TRANSFER_DST,
                 location: MemoryLocation::GpuToCpu,
             },
         )?;
         let passes = Passes {
             gbuffer: GBufferPass::new(&gpu)?,
-            direct: DirectPass::new(&gpu)?,
+            direct: DirectPass::new(&gpu, backend)?,
+            reference: ReferencePass::new(&gpu, backend)?,
+            compose: ComposePass::new(&gpu)?,
         };
         let runner = GraphRunner::new(&gpu, 64)?;
         gpu.check_validation()?;
@@ -132,9 +219,9 @@ impl Renderer {
             camera: scene.camera_or_framing(),
             scene_name: scene.name.clone(),
             scene: gpu_scene,
+            trace,
             frame,
-            gbuffer,
-            direct,
+            targets,
             readback,
             passes,
             runner,
@@ -146,9 +233,13 @@ impl Renderer {
         &self.gpu
     }
 
-    /// Per-pass timestamps in one submission (default), or one timed submission per pass.
-    pub fn set_timing(&mut self, timing: Timing) {
-        self.runner.set_timing(timing);
+    pub fn backend(&self) -> Backend {
+        self.trace.backend()
+    }
+
+    /// What building the trace structures cost.
+    pub fn trace_stats(&self) -> &TraceStats {
+        self.trace.stats()
     }
 
     pub fn settings(&self) -> &RenderSettings {
@@ -163,19 +254,31 @@ impl Renderer {
         &self.camera
     }
 
-    /// The camera's view-projection for the output aspect ratio (the glTF yfov is kept).
+    /// Per-pass timestamps in one submission (default), or one timed submission per pass.
+    pub fn set_timing(&mut self, timing: Timing) {
+        self.runner.set_timing(timing);
+    }
+
+    /// The camera's view-projection for the output aspect ratio (the glTF yfov is kept), in
+    /// Vulkan's clip space: depth 0..1, y pointing down the image.
     fn view_proj(&self) -> Mat4 {
         let aspect = self.settings.width as f32 / self.settings.height as f32;
         let c = &self.camera;
         let proj = match c.zfar {
-            Some(zfar) => Mat4::perspective_rh(c.yfov, aspect, c.znear, zfar),
-            None => Mat4::perspective_infinite_rh(c.yfov, aspect, c.znear),
+            Some(zfar) => vulkan::perspective(c.yfov, aspect, c.znear, zfar),
+            None => vulkan::perspective_infinite(c.yfov, aspect, c.znear),
         };
         proj * c.view_from_world()
     }
 
     /// Renders one frame and reads its layers back.
     pub fn render(&mut self) -> Result<RenderedFrame> {
+        self.render_with_progress(&mut |_, _| {})
+    }
+
+    /// Renders one frame; `progress(done, total)` is called as reference samples accumulate.
+    pub fn render_with_progress(&mut self, progress: &mut dyn FnMut(u32, u32)) -> Result<RenderedFrame> {
+        let start = std::time::Instant::now();
         let (width, height) = (self.settings.width, self.settings.height);
         let frame = Frame {
             view_proj: self.view_proj().to_cols_array_2d(),
@@ -186,45 +289,120 @@ impl Renderer {
             pad0: 0,
         };
         self.frame.write(0, bytemuck::bytes_of(&frame))?;
+        let mut timings = Timings::default();
 
-        let mut graph = Graph::new();
-        let frame = graph.import_buffer(&self.frame);
-        let vertices = graph.import_buffer(&self.scene.vertices);
-        let materials = graph.import_buffer(&self.scene.materials);
-        let triangle_materials = graph.import_buffer(&self.scene.triangle_materials);
-        let texels = graph.import_buffer(&self.scene.texels);
-        let lights = graph.import_buffer(&self.scene.lights);
-        let mut gbuffer = self.gbuffer.import(&mut graph);
-        let mut direct = graph.import_image(&self.direct);
-        let mut readback = graph.import_buffer(&self.readback);
+        // The view samples and their direct light; the reference's first samples ride along.
+        let total = if self.settings.method == Method::Reference { self.settings.spp } else { 0 };
+        let mut done = 0;
+        let mut chunk = total.min(1);
+        let t = std::time::Instant::now();
+        timings.add(self.run(true, done, chunk, None)?);
+        done += chunk;
+        progress(done, total);
+        // Size later submissions to about half a second each: responsive progress, few
+        // submissions, and far from the lost-device timeout.
+        let mut last_ms = t.elapsed().as_secs_f64() * 1e3;
+        while done < total {
+            let per_sample = last_ms / chunk.max(1) as f64;
+            chunk = ((500.0 / per_sample.max(1e-3)) as u32).clamp(1, 256).min(total - done);
+            let t = std::time::Instant::now();
+            timings.add(self.run(false, done, chunk, None)?);
+            last_ms = t.elapsed().as_secs_f64() * 1e3;
+            done += chunk;
+            progress(done, total);
+        }
+        let scale = if total > 0 { 1.0 / total as f32 } else { 0.0 };
+        timings.add(self.run(false, done, 0, Some(scale))?);
 
-        let scene = SceneInputs {
-            vertices: &vertices,
-            vertex_count: self.scene.vertex_count,
-            materials: &materials,
-            triangle_materials: &triangle_materials,
-            texels: &texels,
+        let texels: Vec<[f32; 4]> = self.readback.read_vec(LAYERS as usize * (width * height) as usize)?;
+        let layer = |i: usize| -> Vec<[f32; 3]> {
+            texels[i * (width * height) as usize..(i + 1) * (width * height) as usize]
+                .iter()
+                .map(|t| [t[0], t[1], t[2]])
+                .collect()
         };
-        self.passes
-            .gbuffer
-            .add(&mut graph, &frame, scene, &mut gbuffer);
-        self.passes
-            .direct
-            .add(&mut graph, &frame, &lights, &gbuffer, &mut direct);
-        readback::add(&mut graph, &[&direct], &mut readback);
-        let start = std::time::Instant::now();
-        let timings = self.runner.run(&self.gpu, graph)?;
-        let wall_ms = start.elapsed().as_secs_f64() * 1e3;
-
-        let texels: Vec<[f32; 4]> = self.readback.read_vec((width * height) as usize)?;
-        let direct: Vec<[f32; 3]> = texels.iter().map(|t| [t[0], t[1], t[2]]).collect();
         Ok(RenderedFrame {
             width,
             height,
-            radiance: direct.clone(),
-            direct,
-            timings,
-            wall_ms,
+            radiance: layer(0),
+            direct: layer(1),
+            indirect: layer(2),
+            timings: timings.0,
+            wall_ms: start.elapsed().as_secs_f64() * 1e3,
         })
+    }
+
+    /// One submission: optionally the view samples and direct light, then `sample_count`
+    /// reference samples after `first_sample`, then (with `compose`'s indirect scale) the
+    /// final image and its readback.
+    fn run(
+        &mut self,
+        view_samples: bool,
+        first_sample: u32,
+        sample_count: u32,
+        compose: Option<f32>,
+    ) -> Result<Vec<PassTiming>> {
+        let mut graph = Graph::new();
+        let frame = graph.import_buffer(&self.frame);
+        let scene = self.scene.import(&mut graph);
+        let trace = self.trace.import(&mut graph);
+        let t = &self.targets;
+        let mut gbuffer = t.gbuffer.import(&mut graph);
+        let mut direct = graph.import_image(&t.direct);
+        let mut indirect_sum = graph.import_image(&t.indirect_sum);
+        let mut indirect = graph.import_image(&t.indirect);
+        let mut radiance = graph.import_image(&t.radiance);
+        let mut readback = graph.import_buffer(&self.readback);
+
+        if view_samples {
+            self.passes.gbuffer.add(&mut graph, &frame, &scene, self.scene.vertex_count, &mut gbuffer);
+        }
+        let view = ViewInputs { frame: &frame, scene: &scene, trace: &trace, gbuffer: &gbuffer };
+        if view_samples {
+            self.passes.direct.add(&mut graph, &view, &mut direct);
+        }
+        if sample_count > 0 {
+            let params = ReferenceParams {
+                first_sample,
+                sample_count,
+                max_bounces: self.settings.max_bounces,
+                seed: self.settings.seed,
+                roulette_start: 3,
+                ..Default::default()
+            };
+            self.passes.reference.add(&mut graph, &params, &view, &mut indirect_sum)?;
+        }
+        if let Some(scale) = compose {
+            let images = ComposeImages {
+                direct: &direct,
+                indirect_sum: &indirect_sum,
+                indirect: &mut indirect,
+                radiance: &mut radiance,
+            };
+            self.passes.compose.add(&mut graph, scale, &frame, images)?;
+            readback::add(&mut graph, &[&radiance, &direct, &indirect], &mut readback);
+        }
+        Ok(self.runner.run(&self.gpu, graph)?)
+    }
+}
+
+/// Per-pass times summed by pass name, in first-run order.
+#[derive(Default)]
+struct Timings(Vec<PassTiming>);
+
+impl Timings {
+    fn add(&mut self, run: Vec<PassTiming>) {
+        for t in run {
+            match self.0.iter_mut().find(|x| x.name == t.name) {
+                Some(x) => {
+                    x.ms += t.ms;
+                    x.wall_ms = match (x.wall_ms, t.wall_ms) {
+                        (Some(a), Some(b)) => Some(a + b),
+                        (a, b) => a.or(b),
+                    };
+                }
+                None => self.0.push(t),
+            }
+        }
     }
 }

@@ -5,11 +5,12 @@
 //! `trace.glsl` is compiled twice, as `<file>:rayquery` (`TRACE_RAYQUERY` defined) and
 //! `<file>:compute` (`TRACE_COMPUTE`), with statics suffixed `_RAYQUERY` / `_COMPUTE`. Each
 //! module is reflected with naga, and one [`ShaderInfo`] static is generated per module
-//! (`GBUFFER_VERT`, `DIRECT_COMP`, `GATHER_COMP_RAYQUERY`, ...), plus [`ALL`].
+//! (`GBUFFER_VERT`, `COMPOSE_COMP`, `DIRECT_COMP_RAYQUERY`, ...), plus [`ALL`].
 //!
-//! naga cannot parse ray-query modules, nor modules that sample through a combined image
-//! sampler (`sampler2D`; use `texture2D` + `sampler`): their `reflection` is `Err` with naga's
-//! message, and the build prints a warning for the latter.
+//! naga cannot parse ray-query modules: a small SPIR-V scan (`build/spirv_scan.rs`) finds
+//! their names, sets, bindings and kinds, and buffer layouts come from the `:compute` twin
+//! (the build fails if the twins disagree on a binding they share). The scan also checks
+//! naga's result on every module naga does parse.
 
 include!(concat!(env!("OUT_DIR"), "/shaders.rs"));
 
@@ -28,12 +29,13 @@ mod tests {
     /// Reflection of a real module: the direct-light pass.
     #[test]
     fn reflection_of_direct_comp() {
-        let s = &DIRECT_COMP;
-        assert_eq!((s.name, s.stage), ("direct.comp", ShaderStage::Compute));
+        let s = &DIRECT_COMP_COMPUTE;
+        assert_eq!((s.name, s.stage), ("direct.comp:compute", ShaderStage::Compute));
         assert_eq!(s.workgroup_size, [8, 8, 1]);
         assert_eq!(s.spirv[0], 0x0723_0203, "SPIR-V magic number");
-        let b = s.reflection.expect("naga parses direct.comp");
-        assert_eq!(b.len(), 6);
+        let b = s.reflection.expect("naga parses direct.comp:compute");
+        // Its own six, the trace backend's two (16, 17) and the scene's four (20..=23).
+        assert_eq!(b.len(), 12);
 
         use BindingKind::*;
         assert_eq!(id(&b[0]), ("frame", 0, 0, UniformBuffer));
@@ -64,26 +66,64 @@ mod tests {
         ];
         assert_eq!(lights.element_members, &element);
 
-        for (i, name) in [
-            (2, "gbuffer_position"),
-            (3, "gbuffer_normal"),
-            (4, "gbuffer_albedo"),
-            (5, "direct"),
-        ] {
+        for (i, name) in [(2, "gbuffer_position"), (3, "gbuffer_normal"), (4, "gbuffer_albedo"), (5, "direct")] {
             assert_eq!(id(&b[i]), (name, 0, i as u32, StorageImage));
             assert_eq!(b[i].layout, None);
         }
+        let names: Vec<_> = b[6..].iter().map(|r| (r.name, r.binding)).collect();
+        let expected = [
+            ("bvh_nodes", 16),
+            ("bvh_triangles", 17),
+            ("scene_vertices", 20),
+            ("triangle_materials", 21),
+            ("materials", 22),
+            ("texels", 23),
+        ];
+        assert_eq!(names, expected);
     }
 
     #[test]
     fn all_lists_every_module_once() {
-        assert!(ALL.iter().any(|s| std::ptr::eq(*s, &DIRECT_COMP)));
+        assert!(ALL.iter().any(|s| std::ptr::eq(*s, &DIRECT_COMP_RAYQUERY)));
         let mut names: Vec<_> = ALL.iter().map(|s| s.name).collect();
         names.sort();
         names.dedup();
         assert_eq!(names.len(), ALL.len());
-        assert!(ALL
-            .iter()
-            .all(|s| s.spirv.len() > 5 && s.spirv[0] == 0x0723_0203));
+        assert!(ALL.iter().all(|s| s.spirv.len() > 5 && s.spirv[0] == 0x0723_0203));
+    }
+
+    /// A ray-query variant, which naga cannot parse, is reflected by build.rs's SPIR-V scan:
+    /// it has `tlas` where its compute twin has the BVH buffers, and every binding the two
+    /// share (buffer layouts included, taken from the twin) is the twin's.
+    #[test]
+    fn rayquery_variants_are_reflected_like_their_compute_twins() {
+        use BindingKind::*;
+        let only_in = |a: &[ReflectedBinding], b: &[ReflectedBinding]| -> Vec<&str> {
+            a.iter().filter(|x| !b.iter().any(|y| y.name == x.name)).map(|x| x.name).collect()
+        };
+        let mut twins = 0;
+        for rq in ALL.iter().filter(|s| s.name.ends_with(":rayquery")) {
+            let twin_name = rq.name.replace(":rayquery", ":compute");
+            let cs = ALL.iter().find(|s| s.name == twin_name).expect("every ray-query variant has a compute twin");
+            let (r, c) = (rq.reflection.expect(rq.name), cs.reflection.expect(cs.name));
+            assert_eq!(only_in(r, c), ["tlas"], "{}", rq.name);
+            assert_eq!(only_in(c, r), ["bvh_nodes", "bvh_triangles"], "{}", cs.name);
+            let tlas = r.iter().find(|b| b.name == "tlas").unwrap();
+            assert_eq!((id(tlas), tlas.layout), (("tlas", 0, 16, AccelerationStructure), None), "{}", rq.name);
+            for b in r.iter().filter(|b| b.name != "tlas") {
+                assert_eq!(Some(b), c.iter().find(|t| t.name == b.name), "{}: {}", rq.name, b.name);
+            }
+            assert!(r.windows(2).all(|w| (w[0].set, w[0].binding) < (w[1].set, w[1].binding)), "{}", rq.name);
+            assert_eq!(rq.workgroup_size, cs.workgroup_size, "{}", rq.name);
+            twins += 1;
+        }
+        assert!(twins > 0, "no ray-query variants");
+
+        // direct.comp traces: its frame block and lights buffer keep their checked layouts.
+        let b = DIRECT_COMP_RAYQUERY.reflection.unwrap();
+        assert_eq!(id(&b[0]), ("frame", 0, 0, UniformBuffer));
+        assert_eq!(b[0].layout.map(|l| l.size), Some(96));
+        assert_eq!(id(&b[1]), ("lights", 0, 1, StorageBuffer));
+        assert_eq!(b[1].layout.and_then(|l| l.array_stride), Some(48));
     }
 }

@@ -36,25 +36,12 @@ fn srgb_encode(x: f32) -> f32 {
 }
 
 pub fn tonemap(pixels: &[[f32; 3]], exposure: f32) -> Vec<u8> {
-    pixels
-        .iter()
-        .flat_map(|p| p.map(|c| (srgb_encode(filmic(c.max(0.0) * exposure)) * 255.0 + 0.5) as u8))
-        .collect()
+    pixels.iter().flat_map(|p| p.map(|c| (srgb_encode(filmic(c.max(0.0) * exposure)) * 255.0 + 0.5) as u8)).collect()
 }
 
-pub fn write(
-    path: &Path,
-    width: u32,
-    height: u32,
-    pixels: &[[f32; 3]],
-    exposure: Option<f32>,
-) -> Result<()> {
+pub fn write(path: &Path, width: u32, height: u32, pixels: &[[f32; 3]], exposure: Option<f32>) -> Result<()> {
     let exposure = exposure.unwrap_or_else(|| auto_exposure(pixels));
     let rgb = tonemap(pixels, exposure);
-    image::save_buffer(path, &rgb, width, height, image::ExtendedColorType::Rgb8).map_err(|e| {
-        RenderError::Output {
-            path: path.display().to_string(),
-            message: e.to_string(),
-        }
-    })
+    image::save_buffer(path, &rgb, width, height, image::ExtendedColorType::Rgb8)
+        .map_err(|e| RenderError::Output { path: path.display().to_string(), message: e.to_string() })
 }

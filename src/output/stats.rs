@@ -5,6 +5,7 @@ use std::path::Path;
 use serde::Serialize;
 
 use crate::error::{RenderError, Result};
+use crate::{RenderedFrame, Renderer, Scene};
 
 #[derive(Clone, Debug, Serialize)]
 pub struct PassTime {
@@ -16,26 +17,73 @@ pub struct PassTime {
     pub wall_ms: Option<f64>,
 }
 
+/// What building the trace structures cost.
+#[derive(Clone, Debug, Serialize)]
+pub struct TraceBuild {
+    pub backend: String,
+    pub build_ms: f64,
+    pub bytes: u64,
+    pub detail: String,
+}
+
 #[derive(Clone, Debug, Serialize)]
 pub struct Stats {
     pub scene: String,
     pub device: String,
     pub driver: String,
     pub backend: String,
+    pub method: String,
+    pub parameters: String,
     pub width: u32,
     pub height: u32,
     pub triangles: usize,
     pub lights: usize,
+    pub trace_build: TraceBuild,
     pub passes: Vec<PassTime>,
     pub frame_gpu_ms: f64,
     /// Host wall-clock time of the whole frame (submission to completion).
     pub frame_wall_ms: f64,
 }
 
+impl Stats {
+    pub fn new(
+        scene: &Scene,
+        device: &leakless_device::DeviceReport,
+        renderer: &Renderer,
+        frame: &RenderedFrame,
+    ) -> Stats {
+        let t = renderer.trace_stats();
+        let settings = renderer.settings();
+        Stats {
+            scene: scene.name.clone(),
+            device: device.name.clone(),
+            driver: device.driver.clone(),
+            backend: renderer.backend().name().into(),
+            method: settings.method.name().into(),
+            parameters: settings.describe(),
+            width: frame.width,
+            height: frame.height,
+            triangles: scene.triangle_count(),
+            lights: scene.lights.len(),
+            trace_build: TraceBuild {
+                backend: t.backend.name().into(),
+                build_ms: t.build_ms,
+                bytes: t.bytes,
+                detail: t.detail.clone(),
+            },
+            frame_gpu_ms: frame.timings.iter().map(|t| t.ms).sum(),
+            frame_wall_ms: frame.wall_ms,
+            passes: frame
+                .timings
+                .iter()
+                .map(|t| PassTime { pass: t.name.clone(), gpu_ms: t.ms, wall_ms: t.wall_ms })
+                .collect(),
+        }
+    }
+}
+
 pub fn write(path: &Path, stats: &Stats) -> Result<()> {
     let json = serde_json::to_string_pretty(stats).expect("stats serialise");
-    std::fs::write(path, json + "\n").map_err(|e| RenderError::Output {
-        path: path.display().to_string(),
-        message: e.to_string(),
-    })
+    std::fs::write(path, json + "\n")
+        .map_err(|e| RenderError::Output { path: path.display().to_string(), message: e.to_string() })
 }

@@ -1,63 +1,35 @@
-//! Direct light: Lambertian reflection of every punctual light at each view sample
-//! (`direct.comp`).
+//! Direct light: Lambertian reflection of every punctual light at each view sample, with one
+//! shadow ray per light (`direct.comp`).
 
 use leakless_device::{BindingDecl, Bound, ComputePipeline, Gpu};
-use leakless_graph::{Access, BufferHandle, Graph, ImageHandle};
+use leakless_graph::{Access, Graph, ImageHandle};
 
 use crate::error::Result;
-use crate::gpu_types::{FRAME_LAYOUT, LIGHT_LAYOUT};
-use crate::passes::gbuffer::GBufferHandles;
+use crate::passes::{view_bindings, ViewInputs};
 use crate::shaders;
+use crate::trace::Backend;
 
-pub const BINDINGS: &[BindingDecl] = &[
-    BindingDecl::uniform("frame", FRAME_LAYOUT),
-    BindingDecl::storage_array("lights", LIGHT_LAYOUT),
-    BindingDecl::storage_image("gbuffer_position"),
-    BindingDecl::storage_image("gbuffer_normal"),
-    BindingDecl::storage_image("gbuffer_albedo"),
-    BindingDecl::storage_image("direct"),
-];
+/// The pass's own bindings, after those of [`ViewInputs`].
+pub const BINDINGS: &[BindingDecl] = &[BindingDecl::storage_image("direct")];
 
 pub struct DirectPass {
     pipeline: ComputePipeline,
 }
 
 impl DirectPass {
-    pub fn new(gpu: &Gpu) -> Result<Self> {
-        Ok(DirectPass {
-            pipeline: ComputePipeline::new(gpu, "direct", &shaders::DIRECT_COMP, None, BINDINGS)?,
-        })
+    pub fn new(gpu: &Gpu, backend: Backend) -> Result<Self> {
+        let shader = backend.pick(&shaders::DIRECT_COMP_RAYQUERY, &shaders::DIRECT_COMP_COMPUTE);
+        Ok(DirectPass { pipeline: ComputePipeline::new(gpu, "direct", shader, &view_bindings(backend, BINDINGS))? })
     }
 
-    pub fn add<'r>(
-        &'r self,
-        graph: &mut Graph<'r>,
-        frame: &BufferHandle,
-        lights: &BufferHandle,
-        gbuffer: &GBufferHandles,
-        direct: &mut ImageHandle,
-    ) {
+    pub fn add<'r>(&'r self, graph: &mut Graph<'r>, view: &ViewInputs<'_>, direct: &mut ImageHandle) {
         let mut pass = graph.pass("direct");
-        let frame = pass.read(frame, Access::ComputeRead);
-        let lights = pass.read(lights, Access::ComputeRead);
-        let position = pass.read(&gbuffer.position, Access::ComputeRead);
-        let normal = pass.read(&gbuffer.normal, Access::ComputeRead);
-        let albedo = pass.read(&gbuffer.albedo, Access::ComputeRead);
+        let mut bound = view.declare(&mut pass);
         let out = pass.write(direct, Access::ComputeWrite);
+        bound.push(("direct", Bound::Image(out)));
         pass.record(move |cmd| {
             let e = out.extent();
-            cmd.dispatch(
-                &self.pipeline,
-                &[
-                    ("frame", Bound::Buffer(frame)),
-                    ("lights", Bound::Buffer(lights)),
-                    ("gbuffer_position", Bound::Image(position)),
-                    ("gbuffer_normal", Bound::Image(normal)),
-                    ("gbuffer_albedo", Bound::Image(albedo)),
-                    ("direct", Bound::Image(out)),
-                ],
-                [e.width, e.height, 1],
-            )
+            cmd.dispatch(&self.pipeline, &bound, [e.width, e.height, 1])
         });
     }
 }

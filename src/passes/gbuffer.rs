@@ -3,22 +3,23 @@
 
 use ash::vk;
 use leakless_device::{
-    BindingDecl, Bound, ColorTarget, Gpu, GraphicsDesc, GraphicsPipeline, Image, ImageDesc,
-    VertexLayout,
+    BindingDecl, Bound, ColorTarget, Gpu, GraphicsDesc, GraphicsPipeline, Image, ImageDesc, VertexLayout,
 };
 use leakless_graph::{Access, BufferHandle, Graph, ImageHandle};
 use leakless_scene::Vertex;
 
 use crate::error::Result;
-use crate::gpu_types::{FRAME_LAYOUT, MATERIAL_LAYOUT, U32_LAYOUT};
+use crate::gpu_scene::{SceneHandles, SCENE_BINDINGS};
+use crate::gpu_types::FRAME_LAYOUT;
 use crate::shaders;
 
-pub const BINDINGS: &[BindingDecl] = &[
-    BindingDecl::uniform("frame", FRAME_LAYOUT),
-    BindingDecl::storage_array("materials", MATERIAL_LAYOUT),
-    BindingDecl::storage_array("triangle_materials", U32_LAYOUT),
-    BindingDecl::storage_array("texels", U32_LAYOUT),
-];
+/// The pass's own bindings; it also binds the scene (`SCENE_BINDINGS`).
+pub const BINDINGS: &[BindingDecl] = &[BindingDecl::uniform("frame", FRAME_LAYOUT)];
+
+/// Every binding of the pass.
+pub fn bindings() -> Vec<BindingDecl> {
+    [BINDINGS, SCENE_BINDINGS].concat()
+}
 
 pub const FORMAT: vk::Format = vk::Format::R32G32B32A32_SFLOAT;
 const DEPTH_FORMAT: vk::Format = vk::Format::D32_SFLOAT;
@@ -33,20 +34,9 @@ pub struct GBuffer {
 
 impl GBuffer {
     pub fn new(gpu: &Gpu, extent: vk::Extent2D) -> Result<GBuffer> {
-        let usage = vk::ImageUsageFlags::COLOR_ATTACHMENT
-            | vk::ImageUsageFlags::STORAGE
-            | vk::ImageUsageFlags::TRANSFER_SRC;
-        let color = |name| {
-            Image::new(
-                gpu,
-                &ImageDesc {
-                    name,
-                    extent,
-                    format: FORMAT,
-                    usage,
-                },
-            )
-        };
+        let usage =
+            vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::STORAGE | vk::ImageUsageFlags::TRANSFER_SRC;
+        let color = |name| Image::new(gpu, &ImageDesc { name, extent, format: FORMAT, usage });
         Ok(GBuffer {
             position: color("gbuffer position")?,
             normal: color("gbuffer normal")?,
@@ -80,15 +70,6 @@ pub struct GBufferHandles {
     pub depth: ImageHandle,
 }
 
-/// Scene buffers the G-buffer reads.
-pub struct SceneInputs<'a> {
-    pub vertices: &'a BufferHandle,
-    pub vertex_count: u32,
-    pub materials: &'a BufferHandle,
-    pub triangle_materials: &'a BufferHandle,
-    pub texels: &'a BufferHandle,
-}
-
 pub struct GBufferPass {
     pipeline: GraphicsPipeline,
 }
@@ -101,64 +82,38 @@ impl GBufferPass {
             vertex_layout: VertexLayout {
                 stride: std::mem::size_of::<Vertex>() as u32,
                 attributes: vec![
-                    (
-                        0,
-                        vk::Format::R32G32B32_SFLOAT,
-                        std::mem::offset_of!(Vertex, position) as u32,
-                    ),
-                    (
-                        1,
-                        vk::Format::R32G32B32_SFLOAT,
-                        std::mem::offset_of!(Vertex, normal) as u32,
-                    ),
-                    (
-                        2,
-                        vk::Format::R32G32_SFLOAT,
-                        std::mem::offset_of!(Vertex, uv) as u32,
-                    ),
+                    (0, vk::Format::R32G32B32_SFLOAT, std::mem::offset_of!(Vertex, position) as u32),
+                    (1, vk::Format::R32G32B32_SFLOAT, std::mem::offset_of!(Vertex, normal) as u32),
+                    (2, vk::Format::R32G32_SFLOAT, std::mem::offset_of!(Vertex, uv) as u32),
                 ],
             },
             colors: vec![ColorTarget { format: FORMAT }; 3],
             depth: Some(DEPTH_FORMAT),
             cull: vk::CullModeFlags::NONE,
         };
-        Ok(GBufferPass {
-            pipeline: GraphicsPipeline::new(gpu, "gbuffer", &desc, BINDINGS)?,
-        })
+        Ok(GBufferPass { pipeline: GraphicsPipeline::new(gpu, "gbuffer", &desc, &bindings())? })
     }
 
     pub fn add<'r>(
         &'r self,
         graph: &mut Graph<'r>,
         frame: &BufferHandle,
-        scene: SceneInputs<'_>,
+        scene: &SceneHandles,
+        vertex_count: u32,
         out: &mut GBufferHandles,
     ) {
         let mut pass = graph.pass("gbuffer");
-        let frame = pass.read(frame, Access::VertexShaderRead);
-        let vertices = pass.read(scene.vertices, Access::VertexBuffer);
-        let materials = pass.read(scene.materials, Access::FragmentRead);
-        let triangle_materials = pass.read(scene.triangle_materials, Access::FragmentRead);
-        let texels = pass.read(scene.texels, Access::FragmentRead);
+        let mut bound = vec![("frame", Bound::Buffer(pass.read(frame, Access::VertexShaderRead)))];
+        pass.read(frame, Access::FragmentRead);
+        let vertices = pass.read(&scene.vertices, Access::VertexBuffer);
+        bound.extend(scene.declare(&mut pass, Access::FragmentRead));
         let position = pass.write(&mut out.position, Access::ColorAttachmentWrite);
         let normal = pass.write(&mut out.normal, Access::ColorAttachmentWrite);
         let albedo = pass.write(&mut out.albedo, Access::ColorAttachmentWrite);
         let depth = pass.write(&mut out.depth, Access::DepthAttachmentWrite);
-        let vertex_count = scene.vertex_count;
         pass.record(move |cmd| {
-            cmd.draw(
-                &self.pipeline,
-                &[
-                    ("frame", Bound::Buffer(frame)),
-                    ("materials", Bound::Buffer(materials)),
-                    ("triangle_materials", Bound::Buffer(triangle_materials)),
-                    ("texels", Bound::Buffer(texels)),
-                ],
-                &[(position, [0.0; 4]), (normal, [0.0; 4]), (albedo, [0.0; 4])],
-                Some(depth),
-                vertices,
-                vertex_count,
-            )
+            let targets = [(position, [0.0; 4]), (normal, [0.0; 4]), (albedo, [0.0; 4])];
+            cmd.draw(&self.pipeline, &bound, &targets, Some(depth), vertices, vertex_count)
         });
     }
 }

@@ -6,10 +6,7 @@ use leakless_graph::{Access, BufferHandle, Graph, ImageHandle};
 /// Adds the copy of `images` (in order, tightly packed) into `buffer`, then the host read.
 pub fn add<'r>(graph: &mut Graph<'r>, images: &[&ImageHandle], buffer: &mut BufferHandle) {
     let mut pass = graph.pass("readback");
-    let sources: Vec<_> = images
-        .iter()
-        .map(|h| pass.read(*h, Access::TransferRead))
-        .collect();
+    let sources: Vec<_> = images.iter().map(|h| pass.read(*h, Access::TransferRead)).collect();
     let dst = pass.write(buffer, Access::TransferWrite);
     pass.record(move |cmd| {
         let mut offset = 0;

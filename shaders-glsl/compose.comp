@@ -1,0 +1,30 @@
+#version 460
+// Final image: radiance = direct + indirect, where the indirect layer is a running sum scaled
+// by `indirect_scale` (1/spp for the reference; 0 when the method has no indirect light yet).
+#include "common.glsl"
+
+layout(local_size_x = 8, local_size_y = 8) in;
+
+FRAME_BLOCK(0);
+layout(set = 0, binding = 1, rgba32f) uniform readonly image2D direct;
+layout(set = 0, binding = 2, rgba32f) uniform readonly image2D indirect_sum;
+layout(set = 0, binding = 3, rgba32f) uniform writeonly image2D indirect;
+layout(set = 0, binding = 4, rgba32f) uniform writeonly image2D radiance;
+layout(set = 0, binding = 5) uniform ComposeParams {
+    float indirect_scale;
+    uint pad0;
+    uint pad1;
+    uint pad2;
+} params;
+
+void main() {
+    ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
+    if (pixel.x >= int(frame.width) || pixel.y >= int(frame.height)) {
+        return;
+    }
+    // Never read the sum when it is not used: its content is then undefined.
+    vec3 l_indirect = params.indirect_scale == 0.0 ? vec3(0.0) : imageLoad(indirect_sum, pixel).rgb * params.indirect_scale;
+    vec3 l_direct = imageLoad(direct, pixel).rgb;
+    imageStore(indirect, pixel, vec4(l_indirect, 1.0));
+    imageStore(radiance, pixel, vec4(l_direct + l_indirect, 1.0));
+}

@@ -1,0 +1,49 @@
+#version 460
+// Traces a list of rays through the trace interface: closest hits or occlusion. Used to
+// compare backends ray by ray and to measure rays per second.
+#include "trace.glsl"
+
+layout(local_size_x = 64) in;
+
+struct Ray {
+    vec3 origin;
+    float tmin;
+    vec3 dir;
+    float tmax;
+};
+
+struct RayHit {
+    float t;
+    uint triangle;  // NO_HIT on a miss; for occlusion rays 0 = occluded, NO_HIT = clear
+    vec2 barycentrics;
+};
+
+layout(set = 0, binding = 0, std430) readonly buffer Rays { Ray rays[]; } rays;
+layout(set = 0, binding = 1, std430) writeonly buffer RayHits { RayHit hits[]; } ray_hits;
+layout(set = 0, binding = 2) uniform RaycastParams {
+    uint ray_count;
+    uint occlusion;  // 1: traceOccluded, 0: traceClosest
+    uint pad0;
+    uint pad1;
+} params;
+
+void main() {
+    uint i = gl_GlobalInvocationID.x;
+    if (i >= params.ray_count) {
+        return;
+    }
+    Ray r = rays.rays[i];
+    RayHit out_hit;
+    if (params.occlusion != 0u) {
+        bool occluded = traceOccluded(r.origin, r.dir, r.tmin, r.tmax);
+        out_hit.t = 0.0;
+        out_hit.triangle = occluded ? 0u : NO_HIT;
+        out_hit.barycentrics = vec2(0.0);
+    } else {
+        Hit h = traceClosest(r.origin, r.dir, r.tmin, r.tmax);
+        out_hit.t = h.t;
+        out_hit.triangle = h.triangle;
+        out_hit.barycentrics = h.barycentrics;
+    }
+    ray_hits.hits[i] = out_hit;
+}

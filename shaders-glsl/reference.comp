@@ -1,0 +1,98 @@
+#version 460
+// Reference path tracer of the same light transport as the splatting methods: Lambertian
+// surfaces, punctual lights, next-event estimation at every path vertex. It estimates the
+// indirect radiance leaving each view sample of the G-buffer (the direct part is exact and
+// comes from the direct pass) and adds `sample_count` samples to a running sum.
+#include "trace.glsl"
+#include "common.glsl"
+#include "light.glsl"
+#include "random.glsl"
+
+layout(local_size_x = 8, local_size_y = 8) in;
+
+FRAME_BLOCK(0);
+layout(set = 0, binding = 1, std430) readonly buffer Lights { Light lights[]; } lights;
+layout(set = 0, binding = 2, rgba32f) uniform readonly image2D gbuffer_position;
+layout(set = 0, binding = 3, rgba32f) uniform readonly image2D gbuffer_normal;
+layout(set = 0, binding = 4, rgba32f) uniform readonly image2D gbuffer_albedo;
+layout(set = 0, binding = 5, rgba32f) uniform image2D accumulated;
+layout(set = 0, binding = 6) uniform ReferenceParams {
+    uint first_sample;   // samples already in `accumulated` (0: start over)
+    uint sample_count;   // samples this dispatch adds
+    uint max_bounces;    // indirect bounces after the view sample
+    uint seed;
+    uint roulette_start; // bounces before Russian roulette may end a path
+    uint pad0;
+    uint pad1;
+    uint pad2;
+} params;
+
+// Orients the geometric normal of `triangle` to the side of `n`.
+vec3 oriented_geometric_normal(uint triangle, vec3 n) {
+    vec3 ng = triangle_geometric_normal(triangle);
+    return dot(ng, n) < 0.0 ? -ng : ng;
+}
+
+vec3 direct_at(vec3 p, vec3 n, vec3 ng) {
+    vec3 e = vec3(0.0);
+    for (uint i = 0u; i < frame.light_count; ++i) {
+        e += visible_irradiance(lights.lights[i], p, n, ng);
+    }
+    return e;
+}
+
+// One path from the view sample: returns its estimate of the indirect radiance.
+vec3 indirect_sample(vec3 p, vec3 n, vec3 ng, vec3 albedo, inout Rng rng) {
+    vec3 radiance = vec3(0.0);
+    vec3 throughput = albedo;  // ρ/π · L cos / (cos/π): the cosine pdf cancels all but ρ
+    for (uint bounce = 1u; bounce <= params.max_bounces; ++bounce) {
+        vec3 dir = sample_cosine(n, rng_next(rng), rng_next(rng));
+        if (dot(dir, ng) <= 0.0) {
+            break;  // below the actual surface: the shading normal lied; no light this way
+        }
+        Hit hit = traceClosest(offset_ray(p, ng), dir, 0.0, 1e30);
+        if (hit.triangle == NO_HIT) {
+            break;
+        }
+        vec3 y = triangle_position(hit.triangle, hit.barycentrics);
+        vec3 ny = triangle_shading_normal(hit.triangle, hit.barycentrics);
+        if (dot(ny, dir) > 0.0) {
+            ny = -ny;  // two-sided: face the incoming ray
+        }
+        vec3 ngy = oriented_geometric_normal(hit.triangle, ny);
+        vec3 rho = material_albedo(triangle_material(hit.triangle), triangle_uv(hit.triangle, hit.barycentrics)).rgb;
+        radiance += throughput * rho / PI * direct_at(y, ny, ngy);
+        throughput *= rho;
+        if (bounce >= params.roulette_start) {
+            float survive = clamp(max(throughput.r, max(throughput.g, throughput.b)), 0.05, 1.0);
+            if (rng_next(rng) >= survive) {
+                break;
+            }
+            throughput /= survive;
+        }
+        p = y;
+        n = ny;
+        ng = ngy;
+    }
+    return radiance;
+}
+
+void main() {
+    ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
+    if (pixel.x >= int(frame.width) || pixel.y >= int(frame.height)) {
+        return;
+    }
+    vec3 sum = params.first_sample == 0u ? vec3(0.0) : imageLoad(accumulated, pixel).rgb;
+    vec4 position = imageLoad(gbuffer_position, pixel);
+    if (position.w > 0.0) {
+        uint triangle = uint(position.w) - 1u;
+        vec3 n = imageLoad(gbuffer_normal, pixel).xyz;
+        vec3 ng = oriented_geometric_normal(triangle, n);
+        vec3 albedo = imageLoad(gbuffer_albedo, pixel).rgb;
+        for (uint s = 0u; s < params.sample_count; ++s) {
+            Rng rng = rng_seed(uvec2(pixel), params.first_sample + s, params.seed);
+            sum += indirect_sample(position.xyz, n, ng, albedo, rng);
+        }
+    }
+    imageStore(accumulated, pixel, vec4(sum, float(params.first_sample + params.sample_count)));
+}

@@ -1,0 +1,200 @@
+// The compute-shader trace backend (DESIGN.md §3): a stack-based traversal of the binary BVH
+// that crates/accel builds on the CPU. trace.glsl includes this file under TRACE_COMPUTE after
+// defining Hit, NO_HIT, TRACE_BINDING and trace_alpha_pass.
+//
+// Bvh::traverse and intersect_triangle in crates/accel/src/bvh*.rs are this file's CPU twin,
+// operation for operation, and the tests there (brute force, watertightness) speak for it:
+// change both together.
+#ifndef LEAKLESS_TRACE_COMPUTE_GLSL
+#define LEAKLESS_TRACE_COMPUTE_GLSL
+
+// Rust twins: BvhNode and BvhTriangle in crates/accel/src/bvh.rs (checked by reflection).
+// count == 0: interior node, children left_or_first and left_or_first + 1; count > 0: a leaf
+// with triangles left_or_first .. left_or_first + count - 1. The root is node 0.
+struct BvhNode {
+    vec3 bounds_min;
+    uint left_or_first;
+    vec3 bounds_max;
+    uint count;
+};
+
+// Raw vertices, since the watertight test needs them, and the original scene triangle index,
+// which is what a Hit reports (triangles are stored in BVH order).
+struct BvhTriangle {
+    vec3 v0;
+    uint triangle;
+    vec3 v1;
+    uint pad0;
+    vec3 v2;
+    uint pad1;
+};
+
+layout(set = 0, binding = TRACE_BINDING, std430) readonly buffer BvhNodes {
+    BvhNode nodes[];
+} bvh_nodes;
+
+layout(set = 0, binding = TRACE_BINDING + 1, std430) readonly buffer BvhTriangles {
+    BvhTriangle triangles[];
+} bvh_triangles;
+
+// The traversal pushes at most one node per tree level, and no BVH is deeper than
+// BVH_MAX_DEPTH = 64 (crates/accel: PLOC trees are 20-35 deep for 200k triangles, and a deeper
+// one is rebuilt with binned SAH, which bounds the depth; a test checks the two constants
+// agree), so this stack never overflows.
+#define BVH_STACK_SIZE 64
+
+// 1 + 2γ₃ (Ize, "Robust BVH Ray Traversal", 2013): scaling the far slab distance by it keeps
+// the box test from culling a box the exact ray touches. The builder also pads every box by a
+// few ulps of the scene's scale to cover the triangle test's own rounding.
+const float BVH_ROBUST_FAR = 1.0000004;
+
+// What the tests need of a ray, computed once.
+struct BvhRay {
+    vec3 origin;
+    vec3 inv_dir;  // ±inf on an axis the ray does not move along
+    uvec3 k;       // kx, ky, kz: kz is the axis of the largest |dir|
+    vec3 shear;    // dir[kx]/dir[kz], dir[ky]/dir[kz], 1/dir[kz]
+};
+
+BvhRay bvh_ray(vec3 origin, vec3 dir) {
+    vec3 a = abs(dir);
+    // Ties pick the lowest axis, as on the CPU.
+    uint kz = (a.x >= a.y && a.x >= a.z) ? 0u : (a.y >= a.z ? 1u : 2u);
+    // Woop et al. swap kx and ky when dir[kz] < 0 to keep the winding. Surfaces are two-sided
+    // and the swap only flips the signs of u, v, w and det together, so it is left out.
+    uint kx = (kz + 1u) % 3u;
+    uint ky = (kx + 1u) % 3u;
+    BvhRay ray;
+    ray.origin = origin;
+    ray.inv_dir = 1.0 / dir;
+    ray.k = uvec3(kx, ky, kz);
+    ray.shear = vec3(dir[kx] / dir[kz], dir[ky] / dir[kz], 1.0 / dir[kz]);
+    return ray;
+}
+
+// Whether the ray meets the box within [tmin, tmax], and where it enters. Near and far planes
+// are picked by the sign of 1/dir rather than with min/max: on an axis the ray does not move
+// along that gives ±inf, or NaN for a ray exactly in a face plane, and the comparisons below
+// are written so that NaN leaves the interval as it is, which is right for such a ray.
+bool bvh_box(BvhRay ray, BvhNode node, float tmin, float tmax, out float entry) {
+    bvec3 neg = lessThan(ray.inv_dir, vec3(0.0));
+    vec3 t_near = (mix(node.bounds_min, node.bounds_max, neg) - ray.origin) * ray.inv_dir;
+    vec3 t_far = (mix(node.bounds_max, node.bounds_min, neg) - ray.origin) * ray.inv_dir * BVH_ROBUST_FAR;
+    float near = tmin;
+    float far = tmax;
+    near = t_near.x > near ? t_near.x : near;
+    near = t_near.y > near ? t_near.y : near;
+    near = t_near.z > near ? t_near.z : near;
+    far = t_far.x < far ? t_far.x : far;
+    far = t_far.y < far ? t_far.y : far;
+    far = t_far.z < far ? t_far.z : far;
+    entry = near;
+    return near <= far;
+}
+
+// Watertight ray/triangle test (Woop, Benthin and Wald, JCGT 2013): move the origin to the ray
+// origin, permute so the ray's dominant axis is z, shear so the ray is the z axis, and take the
+// 2D edge functions at the origin. Hits have t in (tmin, tmax); barycentrics (u, v) mean
+// p = (1-u-v) v0 + u v1 + v v2, as GL_EXT_ray_query reports them.
+//
+// Watertight without the paper's double-precision fallback: a vertex shared by two triangles
+// goes through the same operations to the same values, and a shared edge's function from the
+// other side is the same products subtracted the other way round, exactly the negation. So a
+// ray through a shared edge or vertex sees matching zeros, and since zero counts as inside, a
+// triangle on one side always reports it. `precise` (which covers every operation feeding the
+// variable) forbids the fused multiply-adds that would break that symmetry.
+bool bvh_triangle(BvhRay ray, BvhTriangle tri, float tmin, float tmax, out float t, out vec2 barycentrics) {
+    vec3 a = tri.v0 - ray.origin;
+    vec3 b = tri.v1 - ray.origin;
+    vec3 c = tri.v2 - ray.origin;
+    float ax = a[ray.k.x] - ray.shear.x * a[ray.k.z];
+    float ay = a[ray.k.y] - ray.shear.y * a[ray.k.z];
+    float bx = b[ray.k.x] - ray.shear.x * b[ray.k.z];
+    float by = b[ray.k.y] - ray.shear.y * b[ray.k.z];
+    float cx = c[ray.k.x] - ray.shear.x * c[ray.k.z];
+    float cy = c[ray.k.y] - ray.shear.y * c[ray.k.z];
+    // Twice the signed areas of the sub-triangles the ray splits the projected triangle into.
+    precise float u = cx * by - cy * bx;
+    precise float v = ax * cy - ay * cx;
+    precise float w = bx * ay - by * ax;
+    // Mixed signs: the ray passes outside. Zeros count as inside (see above).
+    if ((u < 0.0 || v < 0.0 || w < 0.0) && (u > 0.0 || v > 0.0 || w > 0.0)) {
+        return false;
+    }
+    float det = u + v + w;
+    if (det == 0.0) {
+        return false;  // degenerate, or the ray lies in the triangle's plane
+    }
+    float sz = ray.shear.z;
+    float t_scaled = u * (sz * a[ray.k.z]) + v * (sz * b[ray.k.z]) + w * (sz * c[ray.k.z]);
+    float inv_det = 1.0 / det;
+    t = t_scaled * inv_det;
+    barycentrics = vec2(v, w) * inv_det;
+    return t > tmin && t < tmax;
+}
+
+// The closest hit with t in (tmin, tmax), or with any_hit the first accepted one (occlusion).
+// Every candidate goes through trace_alpha_pass before it counts. On a miss, triangle is
+// NO_HIT and t is tmax.
+Hit trace_bvh(vec3 origin, vec3 dir, float tmin, float tmax, bool any_hit) {
+    Hit hit;
+    hit.t = tmax;
+    hit.triangle = NO_HIT;
+    hit.barycentrics = vec2(0.0);
+    BvhRay ray = bvh_ray(origin, dir);
+    float entry;
+    // Children are box-tested by their parent; the root by itself, so a ray that misses the
+    // scene costs one box test.
+    if (!bvh_box(ray, bvh_nodes.nodes[0], tmin, hit.t, entry)) {
+        return hit;
+    }
+    uint stack[BVH_STACK_SIZE];
+    uint sp = 0u;
+    uint node = 0u;
+    while (true) {
+        BvhNode n = bvh_nodes.nodes[node];
+        if (n.count == 0u) {
+            uint left = n.left_or_first;
+            float d0, d1;
+            // hit.t shrinks as hits are found, culling everything behind the closest one.
+            bool h0 = bvh_box(ray, bvh_nodes.nodes[left], tmin, hit.t, d0);
+            bool h1 = bvh_box(ray, bvh_nodes.nodes[left + 1u], tmin, hit.t, d1);
+            if (h0 && h1) {
+                // Near child first: its hits shrink hit.t and may cull the far one.
+                bool left_near = d0 <= d1;
+                if (sp < uint(BVH_STACK_SIZE)) {  // always true (see BVH_STACK_SIZE)
+                    stack[sp] = left_near ? left + 1u : left;
+                    sp++;
+                }
+                node = left_near ? left : left + 1u;
+                continue;
+            }
+            if (h0 || h1) {
+                node = h0 ? left : left + 1u;
+                continue;
+            }
+        } else {
+            for (uint i = n.left_or_first; i < n.left_or_first + n.count; i++) {
+                BvhTriangle tri = bvh_triangles.triangles[i];
+                float t;
+                vec2 barycentrics;
+                if (bvh_triangle(ray, tri, tmin, hit.t, t, barycentrics) && trace_alpha_pass(tri.triangle, barycentrics)) {
+                    hit.t = t;
+                    hit.triangle = tri.triangle;
+                    hit.barycentrics = barycentrics;
+                    if (any_hit) {
+                        return hit;
+                    }
+                }
+            }
+        }
+        if (sp == 0u) {
+            break;
+        }
+        sp--;
+        node = stack[sp];
+    }
+    return hit;
+}
+
+#endif

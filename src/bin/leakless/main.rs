@@ -1,0 +1,63 @@
+//! The `leakless` command: render a scene, benchmark the trace backends, report the device.
+//! Every subcommand drives the `leakless` library the same way the tests do.
+
+mod bench;
+mod info;
+mod render;
+
+use std::process::ExitCode;
+
+use clap::{Parser, Subcommand};
+
+#[derive(Parser)]
+#[command(name = "leakless", version, about = "Diffuse global illumination by photon splatting, without light leaks")]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Render a glTF scene to a layered EXR (and optionally a PNG and a stats file).
+    Render(render::RenderArgs),
+    /// Measure: `bench rays SCENE` (rays per second per backend).
+    #[command(subcommand)]
+    Bench(bench::BenchCommand),
+    /// Print the Vulkan devices, which one is used, what it can do, and the trace backend.
+    Info(info::InfoArgs),
+}
+
+fn main() -> ExitCode {
+    let result = match Cli::parse().command {
+        Command::Render(args) => render::run(args),
+        Command::Bench(cmd) => bench::run(cmd),
+        Command::Info(args) => info::run(args),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            // One line: the context chain joined, the way a user reads it.
+            eprintln!("error: {}", format!("{e:#}").replace('\n', " "));
+            ExitCode::FAILURE
+        }
+    }
+}
+
+/// `WIDTHxHEIGHT`.
+pub fn parse_size(s: &str) -> Result<(u32, u32), String> {
+    let bad = || format!("{s:?} is not WIDTHxHEIGHT");
+    let (w, h) = s.split_once(['x', 'X']).ok_or_else(bad)?;
+    Ok((w.trim().parse().map_err(|_| bad())?, h.trim().parse().map_err(|_| bad())?))
+}
+
+/// `auto|rayquery|compute`.
+pub fn parse_backend(s: &str) -> Result<leakless::BackendChoice, String> {
+    leakless::BackendChoice::parse(s).ok_or_else(|| format!("{s:?} is not auto, rayquery or compute"))
+}
+
+/// Opens the device the way a backend choice needs it (ray tracing unless `compute`).
+pub fn open_gpu(backend: leakless::BackendChoice) -> anyhow::Result<leakless::Gpu> {
+    use anyhow::Context;
+    let options = leakless::GpuOptions { validation: None, ray_tracing: backend.wants_ray_queries() };
+    leakless::Gpu::new(&options).context("opening the Vulkan device")
+}

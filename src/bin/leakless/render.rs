@@ -1,0 +1,123 @@
+//! `leakless render`: one frame to a layered EXR, optionally a PNG and stats.
+
+use std::path::PathBuf;
+
+use anyhow::Context;
+use leakless::output::{self, exr::ExrLayer, stats::Stats};
+use leakless::{BackendChoice, Method, RenderSettings, Renderer, Scene};
+use leakless_graph::Timing;
+
+#[derive(clap::Args)]
+pub struct RenderArgs {
+    /// The scene (.gltf or .glb).
+    scene: PathBuf,
+    /// Output EXR (default: <scene name>.exr in the current directory).
+    #[arg(long)]
+    out: Option<PathBuf>,
+    /// Also write a tonemapped PNG.
+    #[arg(long)]
+    png: Option<PathBuf>,
+    /// Output size, WIDTHxHEIGHT.
+    #[arg(long, default_value = "640x480", value_parser = crate::parse_size)]
+    size: (u32, u32),
+    /// `direct` (direct light only) or `reference` (path-traced indirect light).
+    #[arg(long, default_value = "direct", value_parser = ["direct", "reference"])]
+    method: String,
+    /// Trace backend: ray queries, the compute-shader BVH, or `auto` (ray queries if present).
+    #[arg(long, default_value = "auto", value_parser = crate::parse_backend)]
+    backend: BackendChoice,
+    /// Samples per pixel of the reference path tracer.
+    #[arg(long, default_value_t = 64)]
+    spp: u32,
+    /// Indirect bounces after the first surface.
+    #[arg(long, default_value_t = 8)]
+    max_bounces: u32,
+    /// Seed of every random sequence (a fixed seed gives an identical frame).
+    #[arg(long, default_value_t = 0)]
+    seed: u32,
+    /// Write per-pass GPU times, build costs and counts as JSON.
+    #[arg(long)]
+    stats: Option<PathBuf>,
+    /// How passes are timed: `timestamps` (one submission, GPU timestamps), `per-pass` (one
+    /// waited submission per pass, also timed on the host), or `auto`: per-pass on CPU devices
+    /// such as lavapipe, whose timestamps inside one submission do not bracket compute work.
+    #[arg(long, default_value = "auto", value_parser = ["auto", "timestamps", "per-pass"])]
+    timing: String,
+    /// PNG exposure multiplier (default: automatic).
+    #[arg(long)]
+    exposure: Option<f32>,
+}
+
+pub fn run(args: RenderArgs) -> anyhow::Result<()> {
+    let settings = RenderSettings {
+        width: args.size.0,
+        height: args.size.1,
+        backend: args.backend,
+        method: Method::parse(&args.method).expect("clap checked the value"),
+        spp: args.spp,
+        max_bounces: args.max_bounces,
+        seed: args.seed,
+    };
+    settings.validate()?;
+    let scene = Scene::load(&args.scene).with_context(|| format!("loading {}", args.scene.display()))?;
+    for w in &scene.warnings {
+        eprintln!("warning: {}: {w}", args.scene.display());
+    }
+    let gpu = crate::open_gpu(settings.backend)?;
+    let report = gpu.report().clone();
+    let mut renderer = Renderer::new(gpu, &scene, settings.clone()).context("setting up the renderer")?;
+    let cpu_device = report.device_type == leakless_device::DeviceType::Cpu;
+    if args.timing == "per-pass" || (args.timing == "auto" && cpu_device) {
+        renderer.set_timing(Timing::PerPassSubmit);
+    }
+    let frame = render_with_bar(&mut renderer, settings.method)?;
+
+    let out = args.out.unwrap_or_else(|| PathBuf::from(format!("{}.exr", scene.name)));
+    let layers = [
+        ExrLayer { name: "", pixels: &frame.radiance },
+        ExrLayer { name: "direct", pixels: &frame.direct },
+        ExrLayer { name: "indirect", pixels: &frame.indirect },
+    ];
+    let attributes = [
+        ("leakless.scene", args.scene.display().to_string()),
+        ("leakless.method", settings.method.name().to_string()),
+        ("leakless.parameters", format!("{} backend={}", settings.describe(), renderer.backend().name())),
+        ("leakless.device", report.name.clone()),
+    ];
+    output::exr::write(&out, frame.width, frame.height, &layers, &attributes)?;
+    println!("wrote {}", out.display());
+    if let Some(png) = &args.png {
+        output::png::write(png, frame.width, frame.height, &frame.radiance, args.exposure)?;
+        println!("wrote {}", png.display());
+    }
+    if let Some(path) = &args.stats {
+        let stats = Stats::new(&scene, &report, &renderer, &frame);
+        output::stats::write(path, &stats)?;
+        println!("wrote {}", path.display());
+    }
+    Ok(())
+}
+
+/// Renders, with a progress bar on a terminal while reference samples accumulate.
+fn render_with_bar(renderer: &mut Renderer, method: Method) -> anyhow::Result<leakless::RenderedFrame> {
+    use std::io::IsTerminal;
+    let bar = (method == Method::Reference && std::io::stderr().is_terminal()).then(|| {
+        let bar = indicatif::ProgressBar::new(renderer.settings().spp as u64);
+        bar.set_style(
+            indicatif::ProgressStyle::with_template("{msg} [{bar:40}] {pos}/{len} spp, {elapsed} (eta {eta})")
+                .expect("valid template")
+                .progress_chars("=> "),
+        );
+        bar.set_message("reference");
+        bar
+    });
+    let frame = renderer.render_with_progress(&mut |done, _| {
+        if let Some(bar) = &bar {
+            bar.set_position(done as u64);
+        }
+    });
+    if let Some(bar) = bar {
+        bar.finish_and_clear();
+    }
+    frame.context("rendering")
+}

@@ -1,0 +1,88 @@
+//! Tracing lists of rays on one backend: what the backend-agreement tests and `bench rays`
+//! drive. Shares the scene upload, trace structures and pass machinery with the renderer.
+
+use ash::vk;
+use glam::Vec3;
+use leakless_device::{Buffer, BufferDesc, Gpu, MemoryLocation};
+use leakless_graph::{Graph, GraphRunner, Timing};
+use leakless_scene::Scene;
+
+use crate::error::Result;
+use crate::gpu_scene::GpuScene;
+use crate::gpu_types::{GpuRay, RayHit};
+use crate::passes::raycast::RaycastPass;
+use crate::trace::{Backend, TraceScene};
+
+pub struct RayCaster<'g> {
+    gpu: &'g Gpu,
+    scene: GpuScene,
+    trace: TraceScene,
+    pass: RaycastPass,
+    runner: GraphRunner,
+}
+
+/// The hits of one batch, and how long the GPU took to trace it.
+pub struct Cast {
+    pub hits: Vec<RayHit>,
+    /// Host wall time of the raycast submission alone (upload and readback excluded).
+    pub trace_ms: f64,
+}
+
+impl<'g> RayCaster<'g> {
+    pub fn new(gpu: &'g Gpu, scene: &Scene, backend: Backend) -> Result<Self> {
+        let gpu_scene = GpuScene::upload(gpu, scene)?;
+        let trace = TraceScene::build(gpu, scene, &gpu_scene, backend)?;
+        let mut runner = GraphRunner::new(gpu, 4)?;
+        runner.set_timing(Timing::PerPassSubmit);
+        Ok(RayCaster { gpu, scene: gpu_scene, trace, pass: RaycastPass::new(gpu, backend)?, runner })
+    }
+
+    pub fn trace_scene(&self) -> &TraceScene {
+        &self.trace
+    }
+
+    /// Traces `rays`: closest hits, or occlusion (`occlusion`: triangle 0 = occluded).
+    pub fn cast(&mut self, rays: &[GpuRay], occlusion: bool) -> Result<Cast> {
+        let ray_buffer =
+            Buffer::with_data(self.gpu, "rays", vk::BufferUsageFlags::STORAGE_BUFFER, bytemuck::cast_slice(rays))?;
+        let hit_size = std::mem::size_of_val(rays) as u64 / 2;
+        let desc = BufferDesc {
+            name: "ray hits",
+            size: hit_size,
+            usage: vk::BufferUsageFlags::STORAGE_BUFFER,
+            location: MemoryLocation::GpuToCpu,
+        };
+        let hit_buffer = Buffer::new(self.gpu, &desc)?;
+        let mut graph = Graph::new();
+        let scene = self.scene.import(&mut graph);
+        let trace = self.trace.import(&mut graph);
+        let rays_h = graph.import_buffer(&ray_buffer);
+        let mut hits_h = graph.import_buffer(&hit_buffer);
+        self.pass.add(&mut graph, rays.len() as u32, occlusion, &scene, &trace, &rays_h, &mut hits_h)?;
+        let mut host = graph.pass("to host");
+        host.read(&hits_h, leakless_graph::Access::HostRead);
+        host.record(|_| Ok(()));
+        let timings = self.runner.run(self.gpu, graph)?;
+        let trace_ms = timings.iter().find(|t| t.name == "raycast").and_then(|t| t.wall_ms).unwrap_or(0.0);
+        Ok(Cast { hits: hit_buffer.read_vec(rays.len())?, trace_ms })
+    }
+}
+
+/// Moves `p` off its surface along `n` exactly as `offset_ray` in trace.glsl does (a fixed
+/// number of float ULPs, a fixed distance near the origin), so CPU-made rays start where the
+/// GPU's would.
+pub fn offset_ray(p: Vec3, n: Vec3) -> Vec3 {
+    const ORIGIN: f32 = 1.0 / 32.0;
+    const FLOAT_SCALE: f32 = 1.0 / 65536.0;
+    const INT_SCALE: f32 = 256.0;
+    let axis = |p: f32, n: f32| {
+        let of = (INT_SCALE * n) as i32;
+        let moved = f32::from_bits((p.to_bits() as i32).wrapping_add(if p < 0.0 { -of } else { of }) as u32);
+        if p.abs() < ORIGIN {
+            p + FLOAT_SCALE * n
+        } else {
+            moved
+        }
+    };
+    Vec3::new(axis(p.x, n.x), axis(p.y, n.y), axis(p.z, n.z))
+}

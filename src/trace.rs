@@ -1,0 +1,206 @@
+//! The trace backends (DESIGN.md §3): which one runs, the scene structures each needs, and how
+//! a tracing pass binds them. Shaders see one interface (`trace.glsl`); the Rust side sees
+//! [`TraceScene`], built once per scene, and [`TraceHandles`], imported once per frame.
+
+use leakless_accel::{Bvh, BvhStats, RayQueryAccel, RayQueryStats, BVH_NODE_LAYOUT, BVH_TRIANGLE_LAYOUT};
+use leakless_device::shader::ShaderInfo;
+use leakless_device::{vk, BindingDecl, Bound, Buffer, Capabilities, Gpu};
+use leakless_graph::{Access, BufferHandle, Graph, PassBuilder};
+use leakless_scene::{Scene, Vertex};
+
+use crate::error::{RenderError, Result};
+use crate::gpu_scene::GpuScene;
+
+/// What the user asked for (`--backend`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum BackendChoice {
+    /// Ray queries when the device has them, else the compute BVH.
+    #[default]
+    Auto,
+    RayQuery,
+    Compute,
+}
+
+/// The backend that runs.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Backend {
+    RayQuery,
+    Compute,
+}
+
+impl BackendChoice {
+    pub fn parse(s: &str) -> Option<Self> {
+        match s {
+            "auto" => Some(Self::Auto),
+            "rayquery" => Some(Self::RayQuery),
+            "compute" => Some(Self::Compute),
+            _ => None,
+        }
+    }
+
+    /// Whether the device must be opened with ray tracing enabled.
+    pub fn wants_ray_queries(self) -> bool {
+        self != Self::Compute
+    }
+
+    pub fn resolve(self, caps: Capabilities, device: &str) -> Result<Backend> {
+        match self {
+            Self::Auto if caps.ray_query => Ok(Backend::RayQuery),
+            Self::Auto | Self::Compute => Ok(Backend::Compute),
+            Self::RayQuery if caps.ray_query => Ok(Backend::RayQuery),
+            Self::RayQuery => Err(RenderError::Settings(format!(
+                "--backend rayquery: {device} has no VK_KHR_ray_query (use --backend compute or auto)"
+            ))),
+        }
+    }
+}
+
+impl Backend {
+    pub fn name(self) -> &'static str {
+        match self {
+            Backend::RayQuery => "rayquery",
+            Backend::Compute => "compute",
+        }
+    }
+
+    /// The variant of a tracing shader compiled for this backend.
+    pub fn pick(self, rayquery: &'static ShaderInfo, compute: &'static ShaderInfo) -> &'static ShaderInfo {
+        match self {
+            Backend::RayQuery => rayquery,
+            Backend::Compute => compute,
+        }
+    }
+
+    /// What `trace.glsl` binds on this backend.
+    pub fn bindings(self) -> &'static [BindingDecl] {
+        const RAY_QUERY: &[BindingDecl] = &[BindingDecl::acceleration_structure("tlas")];
+        const COMPUTE: &[BindingDecl] = &[
+            BindingDecl::storage_array("bvh_nodes", BVH_NODE_LAYOUT),
+            BindingDecl::storage_array("bvh_triangles", BVH_TRIANGLE_LAYOUT),
+        ];
+        match self {
+            Backend::RayQuery => RAY_QUERY,
+            Backend::Compute => COMPUTE,
+        }
+    }
+}
+
+/// Build cost of the trace structures, for `--stats`.
+#[derive(Clone, Debug)]
+pub struct TraceStats {
+    pub backend: Backend,
+    pub build_ms: f64,
+    pub bytes: u64,
+    pub detail: String,
+}
+
+// One per scene, built once and never moved in a hot path: no need to box the larger one.
+#[allow(clippy::large_enum_variant)]
+enum Structures {
+    RayQuery(RayQueryAccel),
+    Compute { nodes: Buffer, triangles: Buffer },
+}
+
+/// The scene's trace structures for one backend.
+pub struct TraceScene {
+    backend: Backend,
+    structures: Structures,
+    stats: TraceStats,
+}
+
+impl TraceScene {
+    pub fn build(gpu: &Gpu, scene: &Scene, gpu_scene: &GpuScene, backend: Backend) -> Result<TraceScene> {
+        let triangles = scene.triangle_count() as u32;
+        let (structures, stats) = match backend {
+            Backend::RayQuery => {
+                let opaque = scene.materials.iter().all(|m| m.alpha_cutoff.is_none());
+                let accel = RayQueryAccel::build(
+                    gpu,
+                    &gpu_scene.vertices,
+                    std::mem::size_of::<Vertex>() as u64,
+                    triangles,
+                    opaque,
+                )?;
+                let RayQueryStats { build_ms, blas_bytes, blas_uncompacted_bytes, tlas_bytes, scratch_bytes } =
+                    accel.stats.clone();
+                let stats = TraceStats {
+                    backend,
+                    build_ms,
+                    bytes: blas_bytes + tlas_bytes,
+                    detail: format!(
+                        "BLAS {blas_bytes} B (uncompacted {blas_uncompacted_bytes} B), TLAS {tlas_bytes} B, scratch {scratch_bytes} B"
+                    ),
+                };
+                (Structures::RayQuery(accel), stats)
+            }
+            Backend::Compute => {
+                let bvh = Bvh::build(&scene.vertices)?;
+                let BvhStats { build_ms, node_count, bytes, sah_cost, .. } = bvh.stats.clone();
+                let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
+                let nodes = Buffer::with_data(gpu, "bvh nodes", storage, bytemuck::cast_slice(&bvh.nodes))?;
+                let tris = Buffer::with_data(gpu, "bvh triangles", storage, bytemuck::cast_slice(&bvh.triangles))?;
+                let stats = TraceStats {
+                    backend,
+                    build_ms,
+                    bytes: bytes as u64,
+                    detail: format!("{node_count} nodes, {triangles} triangles, SAH cost {sah_cost:.1}"),
+                };
+                (Structures::Compute { nodes, triangles: tris }, stats)
+            }
+        };
+        Ok(TraceScene { backend, structures, stats })
+    }
+
+    pub fn backend(&self) -> Backend {
+        self.backend
+    }
+
+    pub fn stats(&self) -> &TraceStats {
+        &self.stats
+    }
+
+    pub fn import<'r>(&'r self, graph: &mut Graph<'r>) -> TraceHandles {
+        match &self.structures {
+            Structures::RayQuery(accel) => TraceHandles {
+                buffers: vec![
+                    ("tlas", graph.import_buffer(accel.tlas.buffer())),
+                    ("", graph.import_buffer(accel.blas.buffer())),
+                ],
+                tlas: Some(accel.tlas.raw()),
+            },
+            Structures::Compute { nodes, triangles } => TraceHandles {
+                buffers: vec![
+                    ("bvh_nodes", graph.import_buffer(nodes)),
+                    ("bvh_triangles", graph.import_buffer(triangles)),
+                ],
+                tlas: None,
+            },
+        }
+    }
+}
+
+/// The trace structures of one frame's graph.
+pub struct TraceHandles {
+    /// (binding name, buffer); the BLAS has no binding of its own but is read through the TLAS.
+    buffers: Vec<(&'static str, BufferHandle)>,
+    tlas: Option<vk::AccelerationStructureKHR>,
+}
+
+impl TraceHandles {
+    /// Declares that `pass` traces rays, and returns what to bind.
+    pub fn declare<'r>(&self, pass: &mut PassBuilder<'_, 'r>) -> Vec<(&'static str, Bound<'r>)> {
+        let mut bound = Vec::new();
+        for (name, handle) in &self.buffers {
+            match self.tlas {
+                Some(tlas) => {
+                    pass.read(handle, Access::RayQueryRead);
+                    if *name == "tlas" {
+                        bound.push(("tlas", Bound::Accel(tlas)));
+                    }
+                }
+                None => bound.push((*name, Bound::Buffer(pass.read(handle, Access::ComputeRead)))),
+            }
+        }
+        bound
+    }
+}
