@@ -17,18 +17,10 @@ fn leakless(args: &[&str], env: &[(&str, &str)]) -> Output {
 fn assert_one_line_error(out: &Output, needle: &str) {
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(!out.status.success(), "expected failure, stderr: {stderr}");
-    assert_eq!(
-        out.status.code(),
-        Some(1),
-        "a clean error exit, not a panic (101): {stderr}"
-    );
+    assert_eq!(out.status.code(), Some(1), "a clean error exit, not a panic (101): {stderr}");
     let errors: Vec<&str> = stderr.lines().filter(|l| l.starts_with("error:")).collect();
     assert_eq!(errors.len(), 1, "exactly one error line: {stderr}");
-    assert!(
-        errors[0].contains(needle),
-        "{:?} should mention {needle:?}",
-        errors[0]
-    );
+    assert!(errors[0].contains(needle), "{:?} should mention {needle:?}", errors[0]);
     assert!(!stderr.contains("panicked"), "{stderr}");
 }
 
@@ -40,30 +32,18 @@ fn missing_file_is_one_line() {
 
 #[test]
 fn malformed_gltf_is_one_line() {
-    assert_one_line_error(
-        &leakless(&["render", "tests/scenes/malformed.gltf"], &[]),
-        "malformed.gltf",
-    );
-    assert_one_line_error(
-        &leakless(&["render", "tests/scenes/truncated.glb"], &[]),
-        "truncated.glb",
-    );
+    assert_one_line_error(&leakless(&["render", "tests/scenes/malformed.gltf"], &[]), "malformed.gltf");
+    assert_one_line_error(&leakless(&["render", "tests/scenes/truncated.glb"], &[]), "truncated.glb");
 }
 
 #[test]
 fn scene_without_light_says_so() {
-    assert_one_line_error(
-        &leakless(&["render", "tests/scenes/no-light.gltf"], &[]),
-        "light",
-    );
+    assert_one_line_error(&leakless(&["render", "tests/scenes/no-light.gltf"], &[]), "light");
 }
 
 #[test]
 fn bad_size_is_rejected() {
-    let out = leakless(
-        &["render", "scenes/cornell-box.gltf", "--size", "0x10"],
-        &[],
-    );
+    let out = leakless(&["render", "scenes/cornell-box.gltf", "--size", "0x10"], &[]);
     assert_one_line_error(&out, "size");
     let out = leakless(&["render", "scenes/cornell-box.gltf", "--size", "big"], &[]);
     assert!(!out.status.success());
@@ -72,14 +52,8 @@ fn bad_size_is_rejected() {
 #[test]
 fn no_vulkan_device_is_one_line() {
     // Point the loader at a driver manifest that does not exist: no device at all.
-    let env = [
-        ("VK_DRIVER_FILES", "/nonexistent/icd.json"),
-        ("VK_ICD_FILENAMES", "/nonexistent/icd.json"),
-    ];
-    let out = leakless(
-        &["render", "scenes/cornell-box.gltf", "--out", "/dev/null"],
-        &env,
-    );
+    let env = [("VK_DRIVER_FILES", "/nonexistent/icd.json"), ("VK_ICD_FILENAMES", "/nonexistent/icd.json")];
+    let out = leakless(&["render", "scenes/cornell-box.gltf", "--out", "/dev/null"], &env);
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert_one_line_error(&out, "device");
     assert!(!stderr.contains("panicked"));
@@ -114,19 +88,11 @@ fn render_writes_exr_png_and_stats() {
     let read = leakless::output::exr::read(&exr).unwrap();
     assert_eq!((read.width, read.height), (40, 30));
     assert!(read.channel("direct.R").is_some());
-    assert!(read
-        .attribute("leakless.scene")
-        .unwrap()
-        .contains("cornell-box"));
+    assert!(read.attribute("leakless.scene").unwrap().contains("cornell-box"));
     let img = image::open(&png).unwrap();
     assert_eq!((img.width(), img.height()), (40, 30));
-    let json: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(&stats).unwrap()).unwrap();
-    assert!(json["passes"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .any(|p| p["pass"] == "gbuffer"));
+    let json: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&stats).unwrap()).unwrap();
+    assert!(json["passes"].as_array().unwrap().iter().any(|p| p["pass"] == "gbuffer"));
     assert!(json["frame_gpu_ms"].as_f64().unwrap() > 0.0);
 }
 
@@ -137,11 +103,7 @@ fn info_reports_the_device() {
     }
     let out = leakless(&["info"], &[]);
     let stdout = String::from_utf8_lossy(&out.stdout);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     assert!(stdout.contains("using device"), "{stdout}");
     assert!(stdout.contains("ray queries:"), "{stdout}");
 }

@@ -31,8 +31,7 @@ fn a_validation_error_is_an_error() {
         }
         other => panic!("the invalid buffer went unnoticed: {other:?}"),
     }
-    gpu.check_validation()
-        .expect("errors are drained once reported");
+    gpu.check_validation().expect("errors are drained once reported");
 }
 
 #[test]
@@ -58,17 +57,7 @@ fn buffer_writes_are_bounds_checked() {
     let b = Buffer::new(&gpu, &desc).unwrap();
     b.write(0, &[1u8; 16]).unwrap();
     let err = b.write(8, &[1u8; 16]).unwrap_err();
-    assert!(
-        matches!(
-            err,
-            DeviceError::Capacity {
-                capacity: 16,
-                requested: 24,
-                ..
-            }
-        ),
-        "{err}"
-    );
+    assert!(matches!(err, DeviceError::Capacity { capacity: 16, requested: 24, .. }), "{err}");
     let mut back = [0u8; 16];
     b.read(0, &mut back).unwrap();
     assert_eq!(back, [1u8; 16]);

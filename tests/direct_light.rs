@@ -18,17 +18,11 @@ fn floor_radiance_under_a_point_light_is_rho_i_over_pi_d2() {
     let expected = rho * intensity / (PI * d * d);
     let centre = RenderedFrame::pixel(&frame.direct, 65, 32, 32);
     for c in centre {
-        assert!(
-            (c - expected).abs() / expected < 0.01,
-            "centre radiance {c}, expected {expected}"
-        );
+        assert!((c - expected).abs() / expected < 0.01, "centre radiance {c}, expected {expected}");
     }
     // Further out, the cosine and distance fall off: radiance decreases away from the centre.
     let edge = RenderedFrame::pixel(&frame.direct, 65, 0, 32);
-    assert!(
-        edge[0] < centre[0] && edge[0] > 0.0,
-        "edge {edge:?} vs centre {centre:?}"
-    );
+    assert!(edge[0] < centre[0] && edge[0] > 0.0, "edge {edge:?} vs centre {centre:?}");
 }
 
 #[test]
@@ -49,40 +43,20 @@ fn floor_radiance_follows_the_inverse_square_law_off_axis() {
         let dist2 = d * d + r * r;
         let expected = rho * i * (d / dist2.sqrt()) / (PI * dist2);
         let got = RenderedFrame::pixel(&frame.direct, 65, x, 32)[0];
-        assert!(
-            (got - expected).abs() / expected < 0.01,
-            "x={x}: r={r}, got {got}, expected {expected}"
-        );
+        assert!((got - expected).abs() / expected < 0.01, "x={x}: r={r}, got {got}, expected {expected}");
     }
 }
 
 #[test]
 fn authored_scenes_render_finite_and_lit() {
-    for scene in [
-        "scenes/cornell-box.gltf",
-        "scenes/sphere.gltf",
-        "tests/scenes/textured-quad.gltf",
-    ] {
+    for scene in ["scenes/cornell-box.gltf", "scenes/sphere.gltf", "tests/scenes/textured-quad.gltf"] {
         let Some(frame) = common::render(scene, 64, 48) else {
             return;
         };
-        assert!(
-            common::all_finite(&frame.radiance),
-            "{scene}: NaN or Inf in the image"
-        );
-        let lit = frame
-            .radiance
-            .iter()
-            .filter(|p| p[0] + p[1] + p[2] > 0.0)
-            .count();
-        assert!(
-            lit > frame.radiance.len() / 10,
-            "{scene}: only {lit} lit pixels"
-        );
-        assert!(
-            frame.timings.iter().any(|t| t.name == "gbuffer")
-                && frame.timings.iter().any(|t| t.name == "direct")
-        );
+        assert!(common::all_finite(&frame.radiance), "{scene}: NaN or Inf in the image");
+        let lit = frame.radiance.iter().filter(|p| p[0] + p[1] + p[2] > 0.0).count();
+        assert!(lit > frame.radiance.len() / 10, "{scene}: only {lit} lit pixels");
+        assert!(frame.timings.iter().any(|t| t.name == "gbuffer") && frame.timings.iter().any(|t| t.name == "direct"));
     }
 }
 
@@ -97,11 +71,7 @@ fn sphere_interior_direct_radiance_is_uniform_and_analytic() {
     for p in &frame.direct {
         // Tessellation puts flat facets slightly inside the sphere (closer, more oblique);
         // a ≥2000-triangle sphere stays within 2%.
-        assert!(
-            (p[0] - expected).abs() / expected < 0.02,
-            "radiance {} vs {expected}",
-            p[0]
-        );
+        assert!((p[0] - expected).abs() / expected < 0.02, "radiance {} vs {expected}", p[0]);
     }
 }
 
@@ -114,26 +84,9 @@ fn texture_albedo_and_alpha_mask_reach_the_image() {
         return;
     };
     let at = |x, y| RenderedFrame::pixel(&frame.direct, 66, x, y);
-    let close =
-        |got: [f32; 3], want: [f32; 3]| got.iter().zip(want).all(|(g, w)| (g - w).abs() < 2e-3);
-    assert!(
-        close(at(16, 16), [1.0, 0.0, 0.0]),
-        "top-left red: {:?}",
-        at(16, 16)
-    );
-    assert!(
-        close(at(49, 16), [0.0, 1.0, 0.0]),
-        "top-right green: {:?}",
-        at(49, 16)
-    );
-    assert!(
-        close(at(16, 49), [0.0, 0.0, 1.0]),
-        "bottom-left blue: {:?}",
-        at(16, 49)
-    );
-    assert_eq!(
-        at(49, 49),
-        [0.0; 3],
-        "bottom-right texel has alpha 0 < cutoff: no surface"
-    );
+    let close = |got: [f32; 3], want: [f32; 3]| got.iter().zip(want).all(|(g, w)| (g - w).abs() < 2e-3);
+    assert!(close(at(16, 16), [1.0, 0.0, 0.0]), "top-left red: {:?}", at(16, 16));
+    assert!(close(at(49, 16), [0.0, 1.0, 0.0]), "top-right green: {:?}", at(49, 16));
+    assert!(close(at(16, 49), [0.0, 0.0, 1.0]), "bottom-left blue: {:?}", at(16, 49));
+    assert_eq!(at(49, 49), [0.0; 3], "bottom-right texel has alpha 0 < cutoff: no surface");
 }

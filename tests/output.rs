@@ -15,20 +15,8 @@ fn exr_layers_and_attributes_round_trip() {
         &path,
         w,
         h,
-        &[
-            exr::ExrLayer {
-                name: "",
-                pixels: &radiance,
-            },
-            exr::ExrLayer {
-                name: "direct",
-                pixels: &direct,
-            },
-        ],
-        &[
-            ("leakless.scene", "scenes/x.gltf".into()),
-            ("leakless.method", "direct".into()),
-        ],
+        &[exr::ExrLayer { name: "", pixels: &radiance }, exr::ExrLayer { name: "direct", pixels: &direct }],
+        &[("leakless.scene", "scenes/x.gltf".into()), ("leakless.method", "direct".into())],
     )
     .unwrap();
     let read = exr::read(&path).unwrap();
@@ -45,28 +33,15 @@ fn exr_layers_and_attributes_round_trip() {
 
 #[test]
 fn exr_rejects_a_layer_of_the_wrong_size() {
-    let err = exr::write(
-        &common::tmp_path("bad.exr"),
-        4,
-        4,
-        &[exr::ExrLayer {
-            name: "",
-            pixels: &[[0.0; 3]; 3],
-        }],
-        &[],
-    )
-    .unwrap_err();
+    let err =
+        exr::write(&common::tmp_path("bad.exr"), 4, 4, &[exr::ExrLayer { name: "", pixels: &[[0.0; 3]; 3] }], &[])
+            .unwrap_err();
     assert!(err.to_string().contains("3 pixels"), "{err}");
 }
 
 #[test]
 fn tonemap_maps_black_to_black_and_saturates_monotonically() {
-    let px = [
-        [0.0, 0.0, 0.0],
-        [0.1, 0.1, 0.1],
-        [1.0, 1.0, 1.0],
-        [100.0, 100.0, 100.0],
-    ];
+    let px = [[0.0, 0.0, 0.0], [0.1, 0.1, 0.1], [1.0, 1.0, 1.0], [100.0, 100.0, 100.0]];
     let out = png::tonemap(&px, 1.0);
     assert_eq!(&out[0..3], &[0, 0, 0]);
     assert!(out[3] < out[6] && out[6] < out[9]);

@@ -4,7 +4,7 @@
 
 use std::path::{Path, PathBuf};
 
-use leakless::{Gpu, GpuOptions, RenderSettings, RenderedFrame, Renderer, Scene};
+use leakless::{Backend, Gpu, GpuOptions, RenderSettings, RenderedFrame, Renderer, Scene};
 
 pub fn root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
@@ -14,35 +14,72 @@ pub fn scene(path: &str) -> Scene {
     Scene::load(&root().join(path)).unwrap_or_else(|e| panic!("loading {path}: {e}"))
 }
 
-/// Opens the Vulkan device with validation (unless LEAKLESS_VALIDATION=0). With no device,
-/// the test is skipped loudly, or fails when LEAKLESS_REQUIRE_DEVICE=1 (CI).
+/// Opens the Vulkan device with validation (unless LEAKLESS_VALIDATION=0) and ray tracing.
+/// With no device, the test is skipped loudly, or fails when LEAKLESS_REQUIRE_DEVICE=1 (CI).
 pub fn gpu() -> Option<Gpu> {
+    gpu_with(true)
+}
+
+pub fn gpu_with(ray_tracing: bool) -> Option<Gpu> {
     let validation = std::env::var("LEAKLESS_VALIDATION").map_or(true, |v| v != "0");
-    match Gpu::new(&GpuOptions {
-        validation: Some(validation),
-        ray_tracing: false,
-    }) {
+    match Gpu::new(&GpuOptions { validation: Some(validation), ray_tracing }) {
         Ok(gpu) => Some(gpu),
         Err(e) if std::env::var("LEAKLESS_REQUIRE_DEVICE").as_deref() == Ok("1") => {
             panic!("LEAKLESS_REQUIRE_DEVICE=1 but no Vulkan device: {e}")
         }
         Err(e) => {
-            eprintln!(
-                "\n*** SKIPPED: no Vulkan device ({e}); install one with tools/install-deps ***\n"
-            );
+            eprintln!("\n*** SKIPPED: no Vulkan device ({e}); install one with tools/install-deps ***\n");
             None
         }
     }
 }
 
+/// The backends to test on this device: the compute BVH always, ray queries when present.
+/// With LEAKLESS_REQUIRE_RAYQUERY=1 (CI on Mesa 25) a device without them is a failure.
+pub fn backends(gpu: &Gpu) -> Vec<Backend> {
+    if gpu.capabilities().ray_query {
+        vec![Backend::RayQuery, Backend::Compute]
+    } else if std::env::var("LEAKLESS_REQUIRE_RAYQUERY").as_deref() == Ok("1") {
+        panic!("LEAKLESS_REQUIRE_RAYQUERY=1 but {} has no ray queries", gpu.report().name)
+    } else {
+        eprintln!("\n*** ray queries unavailable on {}: testing the compute backend only ***\n", gpu.report().name);
+        vec![Backend::Compute]
+    }
+}
+
 pub fn render(path: &str, width: u32, height: u32) -> Option<RenderedFrame> {
-    let gpu = gpu()?;
+    render_with(path, RenderSettings { width, height, ..Default::default() })
+}
+
+pub fn render_with(path: &str, settings: RenderSettings) -> Option<RenderedFrame> {
+    let gpu = gpu_with(settings.backend.wants_ray_queries())?;
     let scene = scene(path);
-    let mut renderer =
-        Renderer::new(gpu, &scene, RenderSettings { width, height }).expect("renderer");
+    let mut renderer = Renderer::new(gpu, &scene, settings).expect("renderer");
     let frame = renderer.render().expect("render");
     renderer.gpu().check_validation().expect("validation clean");
     Some(frame)
+}
+
+/// Relative RMS difference of two layers: sqrt(Σ|a−b|²) / sqrt(Σ|b|²).
+pub fn relative_rms(a: &[[f32; 3]], b: &[[f32; 3]]) -> f64 {
+    let (mut num, mut den) = (0.0f64, 0.0f64);
+    for (x, y) in a.iter().zip(b) {
+        for c in 0..3 {
+            num += ((x[c] - y[c]) as f64).powi(2);
+            den += (y[c] as f64).powi(2);
+        }
+    }
+    (num / den.max(1e-30)).sqrt()
+}
+
+pub fn mean(layer: &[[f32; 3]]) -> [f64; 3] {
+    let mut m = [0.0f64; 3];
+    for p in layer {
+        for c in 0..3 {
+            m[c] += p[c] as f64;
+        }
+    }
+    m.map(|v| v / layer.len() as f64)
 }
 
 pub fn all_finite(layer: &[[f32; 3]]) -> bool {

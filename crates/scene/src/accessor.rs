@@ -24,28 +24,21 @@ pub(crate) struct Data<'a> {
 impl<'a> Data<'a> {
     /// The bytes of buffer view `view`, checked against its buffer.
     pub fn view_bytes(&self, view: usize) -> Result<&'a [u8], String> {
-        let v = self
-            .root
-            .buffer_views
-            .get(view)
-            .ok_or_else(|| format!("buffer view {view} does not exist"))?;
-        let buffer = self.buffers.get(v.buffer.value()).ok_or_else(|| {
-            format!(
-                "buffer view {view}: buffer {} does not exist",
-                v.buffer.value()
-            )
-        })?;
+        let v = self.root.buffer_views.get(view).ok_or_else(|| format!("buffer view {view} does not exist"))?;
+        let buffer = self
+            .buffers
+            .get(v.buffer.value())
+            .ok_or_else(|| format!("buffer view {view}: buffer {} does not exist", v.buffer.value()))?;
         let start = v.byte_offset.map_or(0, |o| o.0);
         let end = start.checked_add(v.byte_length.0);
-        end.and_then(|end| buffer.get(usize::try_from(start).ok()?..usize::try_from(end).ok()?))
-            .ok_or_else(|| {
-                format!(
-                    "buffer view {view} (bytes {start}..+{}) lies outside buffer {} ({} bytes)",
-                    v.byte_length.0,
-                    v.buffer.value(),
-                    buffer.len()
-                )
-            })
+        end.and_then(|end| buffer.get(usize::try_from(start).ok()?..usize::try_from(end).ok()?)).ok_or_else(|| {
+            format!(
+                "buffer view {view} (bytes {start}..+{}) lies outside buffer {} ({} bytes)",
+                v.byte_length.0,
+                v.buffer.value(),
+                buffer.len()
+            )
+        })
     }
 
     /// Reads accessor `index` as a flat list of `f32` components, requiring its
@@ -64,15 +57,8 @@ impl<'a> Data<'a> {
     pub fn indices(&self, index: usize) -> Result<Vec<u32>, String> {
         let a = self.accessor(index)?;
         let (ty, ct) = types(a, index)?;
-        if ty != Type::Scalar
-            || !matches!(
-                ct,
-                ComponentType::U8 | ComponentType::U16 | ComponentType::U32
-            )
-        {
-            return Err(format!(
-                "index accessor {index} is {ty:?} of {ct:?}, not SCALAR of unsigned integers"
-            ));
+        if ty != Type::Scalar || !matches!(ct, ComponentType::U8 | ComponentType::U16 | ComponentType::U32) {
+            return Err(format!("index accessor {index} is {ty:?} of {ct:?}, not SCALAR of unsigned integers"));
         }
         // u32 converts to f32 losslessly only below 2^24; read indices exactly.
         let mut out = Vec::new();
@@ -81,10 +67,7 @@ impl<'a> Data<'a> {
     }
 
     fn accessor(&self, index: usize) -> Result<&'a json::Accessor, String> {
-        self.root
-            .accessors
-            .get(index)
-            .ok_or_else(|| format!("accessor {index} does not exist"))
+        self.root.accessors.get(index).ok_or_else(|| format!("accessor {index} does not exist"))
     }
 
     fn read(
@@ -98,11 +81,7 @@ impl<'a> Data<'a> {
         let mut out = Vec::new();
         self.visit(a, index, ct, n, |bytes| {
             let size = component_size(ct);
-            out.extend(
-                bytes
-                    .chunks_exact(size)
-                    .map(|c| component(ct, c, normalized)),
-            );
+            out.extend(bytes.chunks_exact(size).map(|c| component(ct, c, normalized)));
         })?;
         Ok(out)
     }
@@ -123,20 +102,11 @@ impl<'a> Data<'a> {
         // Dense part: the buffer view, or zeros when the accessor has none.
         let mut dense: Vec<&[u8]> = match a.buffer_view {
             Some(view) => {
-                let bytes = self
-                    .view_bytes(view.value())
-                    .map_err(|e| format!("accessor {index}: {e}"))?;
-                let stride = match self
-                    .root
-                    .buffer_views
-                    .get(view.value())
-                    .and_then(|v| v.byte_stride)
-                {
+                let bytes = self.view_bytes(view.value()).map_err(|e| format!("accessor {index}: {e}"))?;
+                let stride = match self.root.buffer_views.get(view.value()).and_then(|v| v.byte_stride) {
                     Some(s) if s.0 < elem => {
                         let s = s.0;
-                        return Err(format!(
-                            "accessor {index}: byteStride {s} < element size {elem}"
-                        ));
+                        return Err(format!("accessor {index}: byteStride {s} < element size {elem}"));
                     }
                     Some(s) => s.0,
                     None => elem,
@@ -144,16 +114,12 @@ impl<'a> Data<'a> {
                 let offset = a.byte_offset.map_or(0, |o| o.0);
                 elements(bytes, offset, stride, elem, count).ok_or_else(|| {
                     let v = view.value();
-                    format!(
-                        "accessor {index}: {count} elements from byte {offset} overrun view {v}"
-                    )
+                    format!("accessor {index}: {count} elements from byte {offset} overrun view {v}")
                 })?
             }
             None => {
                 if count > MAX_IMPLICIT_ELEMENTS {
-                    return Err(format!(
-                        "accessor {index}: {count} elements without a buffer view"
-                    ));
+                    return Err(format!("accessor {index}: {count} elements without a buffer view"));
                 }
                 vec![&zeros[..]; count as usize]
             }
@@ -162,26 +128,22 @@ impl<'a> Data<'a> {
             let k = sparse.count.0;
             let ict = match sparse.indices.component_type {
                 Checked::Valid(c) => c.0,
-                Checked::Invalid => {
-                    return Err(format!("accessor {index}: invalid sparse index type"))
-                }
+                Checked::Invalid => return Err(format!("accessor {index}: invalid sparse index type")),
             };
             let isize_ = component_size(ict);
             let ibytes = self.view_bytes(sparse.indices.buffer_view.value())?;
             let ioff = sparse.indices.byte_offset.0;
-            let idx = elements(ibytes, ioff, isize_, isize_, k).ok_or_else(|| {
-                format!("accessor {index}: sparse indices overrun their buffer view")
-            })?;
+            let idx = elements(ibytes, ioff, isize_, isize_, k)
+                .ok_or_else(|| format!("accessor {index}: sparse indices overrun their buffer view"))?;
             let vbytes = self.view_bytes(sparse.values.buffer_view.value())?;
             let voff = sparse.values.byte_offset.0;
-            let vals = elements(vbytes, voff, elem, elem, k).ok_or_else(|| {
-                format!("accessor {index}: sparse values overrun their buffer view")
-            })?;
+            let vals = elements(vbytes, voff, elem, elem, k)
+                .ok_or_else(|| format!("accessor {index}: sparse values overrun their buffer view"))?;
             for (i, v) in idx.iter().zip(vals) {
                 let target = raw_u32(ict, i) as usize;
-                let slot = dense.get_mut(target).ok_or_else(|| {
-                    format!("accessor {index}: sparse index {target} >= count {count}")
-                })?;
+                let slot = dense
+                    .get_mut(target)
+                    .ok_or_else(|| format!("accessor {index}: sparse index {target} >= count {count}"))?;
                 *slot = v;
             }
         }
@@ -194,30 +156,17 @@ impl<'a> Data<'a> {
 
 /// Slices `count` elements of `elem` bytes, `stride` apart, from `offset` in
 /// `bytes`; `None` if any falls outside.
-fn elements(
-    bytes: &[u8],
-    offset: u64,
-    stride: usize,
-    elem: usize,
-    count: u64,
-) -> Option<Vec<&[u8]>> {
+fn elements(bytes: &[u8], offset: u64, stride: usize, elem: usize, count: u64) -> Option<Vec<&[u8]>> {
     if count == 0 {
         return Some(Vec::new());
     }
     let offset = usize::try_from(offset).ok()?;
     let count = usize::try_from(count).ok()?;
-    let last_end = (count - 1)
-        .checked_mul(stride)?
-        .checked_add(offset)?
-        .checked_add(elem)?;
+    let last_end = (count - 1).checked_mul(stride)?.checked_add(offset)?.checked_add(elem)?;
     if last_end > bytes.len() {
         return None;
     }
-    Some(
-        (0..count)
-            .map(|i| &bytes[offset + i * stride..][..elem])
-            .collect(),
-    )
+    Some((0..count).map(|i| &bytes[offset + i * stride..][..elem]).collect())
 }
 
 fn types(a: &json::Accessor, index: usize) -> Result<(Type, ComponentType), String> {
@@ -265,13 +214,9 @@ fn component(c: ComponentType, b: &[u8], normalized: bool) -> f32 {
         ComponentType::I8 => f32::from(b[0] as i8),
         ComponentType::U16 if normalized => f32::from(u16::from_le_bytes([b[0], b[1]])) / 65535.0,
         ComponentType::U16 => f32::from(u16::from_le_bytes([b[0], b[1]])),
-        ComponentType::I16 if normalized => {
-            (f32::from(i16::from_le_bytes([b[0], b[1]])) / 32767.0).max(-1.0)
-        }
+        ComponentType::I16 if normalized => (f32::from(i16::from_le_bytes([b[0], b[1]])) / 32767.0).max(-1.0),
         ComponentType::I16 => f32::from(i16::from_le_bytes([b[0], b[1]])),
-        ComponentType::U32 if normalized => {
-            u32::from_le_bytes([b[0], b[1], b[2], b[3]]) as f32 / u32::MAX as f32
-        }
+        ComponentType::U32 if normalized => u32::from_le_bytes([b[0], b[1], b[2], b[3]]) as f32 / u32::MAX as f32,
         ComponentType::U32 => u32::from_le_bytes([b[0], b[1], b[2], b[3]]) as f32,
     }
 }
@@ -313,34 +258,20 @@ mod tests {
                {{"componentType": 5126, "count": 2, "type": "VEC3", {SPARSE}}}"#
         ));
         let buffers = [buffer()];
-        let d = Data {
-            root: &r,
-            buffers: &buffers,
-        };
+        let d = Data { root: &r, buffers: &buffers };
         let dense = d.floats(0, Type::Vec3).unwrap();
         assert_eq!(dense, [0.0, 1.0, 2.0, 9.0, 9.0, 9.0, 6.0, 7.0, 8.0]);
         let implicit = d.floats(1, Type::Vec3).unwrap();
         assert_eq!(implicit, [0.0, 0.0, 0.0, 9.0, 9.0, 9.0]);
-        assert!(
-            d.floats(0, Type::Vec2).is_err(),
-            "type mismatch is an error"
-        );
+        assert!(d.floats(0, Type::Vec2).is_err(), "type mismatch is an error");
     }
 
     #[test]
     fn sparse_index_past_count_is_an_error() {
-        let sparse = SPARSE.replace(
-            r#""bufferView": 1, "#,
-            r#""bufferView": 1, "byteOffset": 2, "#,
-        );
-        let r = root(&format!(
-            r#"{{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3", {sparse}}}"#
-        ));
+        let sparse = SPARSE.replace(r#""bufferView": 1, "#, r#""bufferView": 1, "byteOffset": 2, "#);
+        let r = root(&format!(r#"{{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3", {sparse}}}"#));
         let buffers = [buffer()];
-        let d = Data {
-            root: &r,
-            buffers: &buffers,
-        };
+        let d = Data { root: &r, buffers: &buffers };
         let e = d.floats(0, Type::Vec3).unwrap_err();
         assert!(e.contains("sparse index 7"), "{e}");
     }
@@ -353,10 +284,7 @@ mod tests {
                {"bufferView": 3, "componentType": 5126, "count": 4, "type": "SCALAR"}"#,
         );
         let buffers = [buffer()];
-        let d = Data {
-            root: &r,
-            buffers: &buffers,
-        };
+        let d = Data { root: &r, buffers: &buffers };
         let uv = d.floats(0, Type::Vec2).unwrap();
         assert_eq!(uv, [0.0, 128.0 / 255.0, 1.0, 0.0]);
         assert_eq!(d.indices(1).unwrap(), [2, 1, 0, 0]);

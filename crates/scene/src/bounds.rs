@@ -21,10 +21,7 @@ impl Aabb {
             max = max.max(p);
         }
         if min.x > max.x {
-            return Aabb {
-                min: Vec3::ZERO,
-                max: Vec3::ZERO,
-            };
+            return Aabb { min: Vec3::ZERO, max: Vec3::ZERO };
         }
         Aabb { min, max }
     }

@@ -50,18 +50,10 @@ impl Camera {
         let yfov = 45f32.to_radians();
         let radius = bounds.bounding_radius();
         // A zero or absurd box (all vertices in one point) still gets a usable view.
-        let radius = if radius.is_finite() && radius > 0.0 {
-            radius
-        } else {
-            1.0
-        };
+        let radius = if radius.is_finite() && radius > 0.0 { radius } else { 1.0 };
         let distance = radius / (yfov * 0.5).sin();
         let center = bounds.center();
-        let center = if center.is_finite() {
-            center
-        } else {
-            Vec3::ZERO
-        };
+        let center = if center.is_finite() { center } else { Vec3::ZERO };
         Camera {
             world_from_camera: Mat4::from_translation(center + Vec3::Z * distance),
             yfov,
@@ -73,11 +65,7 @@ impl Camera {
 
 /// Builds the camera of a node from its glTF camera object and world transform.
 /// `Err` carries the warning saying why the camera is skipped.
-pub(crate) fn from_json(
-    index: usize,
-    camera: &json::camera::Camera,
-    world: Mat4,
-) -> Result<Camera, String> {
+pub(crate) fn from_json(index: usize, camera: &json::camera::Camera, world: Mat4) -> Result<Camera, String> {
     let label = match &camera.name {
         Some(name) => format!("camera {index} '{name}'"),
         None => format!("camera {index}"),
@@ -99,14 +87,8 @@ pub(crate) fn from_json(
         return Err(format!("{label} has an invalid znear {znear}: skipped"));
     }
     let zfar = perspective.zfar.filter(|f| f.is_finite() && *f > znear);
-    let world_from_camera =
-        rigid(world).ok_or_else(|| format!("{label} has a degenerate node transform: skipped"))?;
-    Ok(Camera {
-        world_from_camera,
-        yfov,
-        znear,
-        zfar,
-    })
+    let world_from_camera = rigid(world).ok_or_else(|| format!("{label} has a degenerate node transform: skipped"))?;
+    Ok(Camera { world_from_camera, yfov, znear, zfar })
 }
 
 /// Removes scale and shear from `m`, keeping its translation, its -Z (view) axis
@@ -121,10 +103,5 @@ fn rigid(m: Mat4) -> Option<Mat4> {
     if back == Vec3::ZERO || up == Vec3::ZERO || !t.is_finite() {
         return None;
     }
-    Some(Mat4::from_cols(
-        right.extend(0.0),
-        up.extend(0.0),
-        back.extend(0.0),
-        Vec4::new(t.x, t.y, t.z, 1.0),
-    ))
+    Some(Mat4::from_cols(right.extend(0.0), up.extend(0.0), back.extend(0.0), Vec4::new(t.x, t.y, t.z, 1.0)))
 }

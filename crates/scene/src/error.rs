@@ -35,11 +35,7 @@ pub enum SceneError {
     /// A base colour image could not be found or decoded (glTF allows only PNG
     /// and JPEG).
     #[error("{}: image {index}: {message}", path.display())]
-    Image {
-        path: PathBuf,
-        index: usize,
-        message: String,
-    },
+    Image { path: PathBuf, index: usize, message: String },
 
     /// DESIGN.md §4: a scene without a light renders black, which is never what the
     /// user meant, so it is refused.

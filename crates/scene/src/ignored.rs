@@ -11,8 +11,7 @@ use json::validation::Checked;
 
 /// Extensions the loader implements; every other one in `extensionsUsed` is
 /// reported as ignored.
-pub(crate) const IMPLEMENTED_EXTENSIONS: &[&str] =
-    &["KHR_lights_punctual", "KHR_mesh_quantization"];
+pub(crate) const IMPLEMENTED_EXTENSIONS: &[&str] = &["KHR_lights_punctual", "KHR_mesh_quantization"];
 
 /// Collects what a file has that the renderer does not use.
 #[derive(Default)]
@@ -48,9 +47,7 @@ impl Ignored {
         for p in prims() {
             for key in p.attributes.keys() {
                 let name = match key {
-                    Checked::Valid(
-                        Semantic::Positions | Semantic::Normals | Semantic::TexCoords(0),
-                    ) => continue,
+                    Checked::Valid(Semantic::Positions | Semantic::Normals | Semantic::TexCoords(0)) => continue,
                     Checked::Valid(s) => semantic_name(s),
                     Checked::Invalid => "unknown".to_string(),
                 };
@@ -79,27 +76,15 @@ impl Ignored {
             if m.occlusion_texture.is_some() {
                 ig.add("occlusion textures");
             }
-            if pbr
-                .base_color_texture
-                .as_ref()
-                .is_some_and(|t| t.tex_coord != 0)
-            {
+            if pbr.base_color_texture.as_ref().is_some_and(|t| t.tex_coord != 0) {
                 ig.add("base colour textures on texcoord sets other than 0");
             }
         }
-        if root
-            .samplers
-            .iter()
-            .any(|s| s.mag_filter.is_some() || s.min_filter.is_some())
-        {
+        if root.samplers.iter().any(|s| s.mag_filter.is_some() || s.min_filter.is_some()) {
             ig.add("sampler filters");
         }
         let repeat = |w: &Checked<WrappingMode>| matches!(w, Checked::Valid(WrappingMode::Repeat));
-        if root
-            .samplers
-            .iter()
-            .any(|s| !repeat(&s.wrap_s) || !repeat(&s.wrap_t))
-        {
+        if root.samplers.iter().any(|s| !repeat(&s.wrap_s) || !repeat(&s.wrap_t)) {
             ig.add("sampler wrap modes");
         }
         for ext in root.extensions_used.iter().chain(extra_extensions) {

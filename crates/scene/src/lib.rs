@@ -94,9 +94,7 @@ impl Scene {
     /// The file's camera, else one that frames [`Scene::bounds`]: see
     /// [`Camera::framing`].
     pub fn camera_or_framing(&self) -> Camera {
-        self.camera
-            .clone()
-            .unwrap_or_else(|| Camera::framing(&self.bounds()))
+        self.camera.clone().unwrap_or_else(|| Camera::framing(&self.bounds()))
     }
 
     /// Number of triangles (`vertices.len() / 3`).

@@ -45,10 +45,7 @@ pub struct Light {
 /// Builds the light of a node. `Err` carries the warning saying why the light is
 /// skipped (values no renderer can use: the scene would be wrong, not just ugly).
 pub(crate) fn from_json(index: usize, light: &khr::Light, world: Mat4) -> Result<Light, String> {
-    let name = light
-        .name
-        .clone()
-        .unwrap_or_else(|| format!("light {index}"));
+    let name = light.name.clone().unwrap_or_else(|| format!("light {index}"));
     let kind = match light.type_ {
         json::validation::Checked::Valid(khr::Type::Point) => LightKind::Point,
         json::validation::Checked::Valid(khr::Type::Directional) => LightKind::Directional,
@@ -58,24 +55,13 @@ pub(crate) fn from_json(index: usize, light: &khr::Light, world: Mat4) -> Result
                 .as_ref()
                 .map(|s| (s.inner_cone_angle, s.outer_cone_angle))
                 .unwrap_or((0.0, std::f32::consts::FRAC_PI_4));
-            LightKind::Spot {
-                inner_cone,
-                outer_cone,
-            }
+            LightKind::Spot { inner_cone, outer_cone }
         }
-        json::validation::Checked::Invalid => {
-            return Err(format!("light '{name}' has an unknown type: skipped"))
-        }
+        json::validation::Checked::Invalid => return Err(format!("light '{name}' has an unknown type: skipped")),
     };
-    if let LightKind::Spot {
-        inner_cone,
-        outer_cone,
-    } = kind
-    {
+    if let LightKind::Spot { inner_cone, outer_cone } = kind {
         if !(inner_cone.is_finite() && outer_cone.is_finite() && outer_cone > 0.0) {
-            return Err(format!(
-                "spot light '{name}' has invalid cone angles: skipped"
-            ));
+            return Err(format!("spot light '{name}' has invalid cone angles: skipped"));
         }
     }
     let color = Vec3::from(light.color);
@@ -84,28 +70,16 @@ pub(crate) fn from_json(index: usize, light: &khr::Light, world: Mat4) -> Result
     }
     let intensity = light.intensity;
     if !(intensity.is_finite() && intensity >= 0.0) {
-        return Err(format!(
-            "light '{name}' has an invalid intensity {intensity}: skipped"
-        ));
+        return Err(format!("light '{name}' has an invalid intensity {intensity}: skipped"));
     }
     let position = world.transform_point3(Vec3::ZERO);
     let direction = world.transform_vector3(Vec3::NEG_Z).normalize_or_zero();
     if !position.is_finite() || direction == Vec3::ZERO {
-        return Err(format!(
-            "light '{name}' has a degenerate node transform: skipped"
-        ));
+        return Err(format!("light '{name}' has a degenerate node transform: skipped"));
     }
     let range = match kind {
         LightKind::Directional => None,
         _ => light.range.filter(|r| r.is_finite() && *r > 0.0),
     };
-    Ok(Light {
-        name,
-        kind,
-        position,
-        direction,
-        color,
-        intensity,
-        range,
-    })
+    Ok(Light { name, kind, position, direction, color, intensity, range })
 }

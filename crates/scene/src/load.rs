@@ -21,42 +21,21 @@ fn ignorable_required(ext: &str) -> bool {
 pub(crate) fn load(path: &Path) -> Result<Scene, SceneError> {
     let bytes = std::fs::read(path).map_err(|e| match e.kind() {
         std::io::ErrorKind::NotFound => SceneError::NotFound { path: path.into() },
-        _ => SceneError::Read {
-            path: path.into(),
-            source: e,
-        },
+        _ => SceneError::Read { path: path.into(), source: e },
     })?;
-    let name = path
-        .file_stem()
-        .map_or_else(|| "scene".to_string(), |s| s.to_string_lossy().into_owned());
+    let name = path.file_stem().map_or_else(|| "scene".to_string(), |s| s.to_string_lossy().into_owned());
     let Parsed { root, blob, waived } = parse(path, &bytes)?;
     let base = path.parent().unwrap_or(Path::new("."));
     let buffers = uri::load_buffers(&root, blob, base).map_err(|(i, e)| match e {
         SourceError::Io(file, source) if source.kind() == std::io::ErrorKind::NotFound => {
-            SceneError::Buffer {
-                path: path.into(),
-                message: format!("buffer {i}: file {} not found", file.display()),
-            }
+            SceneError::Buffer { path: path.into(), message: format!("buffer {i}: file {} not found", file.display()) }
         }
-        e => SceneError::Buffer {
-            path: path.into(),
-            message: format!("buffer {i}: {e}"),
-        },
+        e => SceneError::Buffer { path: path.into(), message: format!("buffer {i}: {e}") },
     })?;
-    let data = Data {
-        root: &root,
-        buffers: &buffers,
-    };
+    let data = Data { root: &root, buffers: &buffers };
     let mut ignored = Ignored::scan(&root, &waived);
-    let material::Loaded {
-        mut materials,
-        textures,
-        warnings: material_warnings,
-    } = material::load(&root, &data, base).map_err(|e| SceneError::Image {
-        path: path.into(),
-        index: e.index,
-        message: e.message,
-    })?;
+    let material::Loaded { mut materials, textures, warnings: material_warnings } = material::load(&root, &data, base)
+        .map_err(|e| SceneError::Image { path: path.into(), index: e.index, message: e.message })?;
 
     let mut walk = Walk {
         geometry: Geometry::default(),
@@ -65,10 +44,7 @@ pub(crate) fn load(path: &Path) -> Result<Scene, SceneError> {
         warnings: Vec::new(),
         further_cameras: 0,
     };
-    let scene = root
-        .scene
-        .and_then(|i| root.scenes.get(i.value()))
-        .or(root.scenes.first());
+    let scene = root.scene.and_then(|i| root.scenes.get(i.value())).or(root.scenes.first());
     let roots: Vec<usize> = match scene {
         Some(s) => s.nodes.iter().map(|n| n.value()).collect(),
         // No scene at all: render every parentless node, as viewers do.
@@ -84,14 +60,10 @@ pub(crate) fn load(path: &Path) -> Result<Scene, SceneError> {
         }),
     })
     .map_err(|(mesh, e)| match e {
-        MeshError::Buffer(message) => SceneError::Buffer {
-            path: path.into(),
-            message: format!("mesh {mesh}: {message}"),
-        },
-        MeshError::NonFinite => SceneError::NonFinitePosition {
-            name: name.clone(),
-            mesh,
-        },
+        MeshError::Buffer(message) => {
+            SceneError::Buffer { path: path.into(), message: format!("mesh {mesh}: {message}") }
+        }
+        MeshError::NonFinite => SceneError::NonFinitePosition { name: name.clone(), mesh },
     })?;
     if materials.is_empty() {
         materials.push(Material::default_white());
@@ -108,21 +80,11 @@ pub(crate) fn load(path: &Path) -> Result<Scene, SceneError> {
     let mut warnings: Vec<String> = ignored.line().into_iter().collect();
     warnings.extend(material_warnings);
     if !g.skipped_modes.is_empty() {
-        let modes: Vec<String> = g
-            .skipped_modes
-            .iter()
-            .map(|(m, n)| format!("{n} {m}"))
-            .collect();
-        warnings.push(format!(
-            "skipped primitives that are not triangles: {}",
-            modes.join(", ")
-        ));
+        let modes: Vec<String> = g.skipped_modes.iter().map(|(m, n)| format!("{n} {m}")).collect();
+        warnings.push(format!("skipped primitives that are not triangles: {}", modes.join(", ")));
     }
     if g.without_positions > 0 {
-        warnings.push(format!(
-            "skipped {} primitive(s) without POSITION",
-            g.without_positions
-        ));
+        warnings.push(format!("skipped {} primitive(s) without POSITION", g.without_positions));
     }
     if g.ragged_indices > 0 {
         warnings.push(format!(
@@ -131,9 +93,7 @@ pub(crate) fn load(path: &Path) -> Result<Scene, SceneError> {
         ));
     }
     warnings.extend(walk.warnings);
-    let extras = scene
-        .and_then(|s| s.extras.as_ref())
-        .map(|r| r.get().to_string());
+    let extras = scene.and_then(|s| s.extras.as_ref()).map(|r| r.get().to_string());
     Ok(Scene {
         name,
         vertices: g.vertices,
@@ -158,10 +118,7 @@ struct Parsed {
 
 /// Parses and validates the document.
 fn parse(path: &Path, bytes: &[u8]) -> Result<Parsed, SceneError> {
-    let malformed = |message: String| SceneError::Malformed {
-        path: path.into(),
-        message,
-    };
+    let malformed = |message: String| SceneError::Malformed { path: path.into(), message };
     if bytes.starts_with(b"glTF") {
         // gltf 1.4 computes `length - 12` unchecked: guard the subtraction.
         let declared = bytes
@@ -175,8 +132,7 @@ fn parse(path: &Path, bytes: &[u8]) -> Result<Parsed, SceneError> {
             )));
         }
     }
-    let gltf =
-        gltf::Gltf::from_slice_without_validation(bytes).map_err(|e| malformed(e.to_string()))?;
+    let gltf = gltf::Gltf::from_slice_without_validation(bytes).map_err(|e| malformed(e.to_string()))?;
     let blob = gltf.blob;
     let mut root = gltf.document.into_json();
     let mut waived = Vec::new();
@@ -212,13 +168,9 @@ fn validate(root: &json::Root) -> Result<(), String> {
     use json::validation::{Checked, Validate};
     for (mi, mesh) in root.meshes.iter().enumerate() {
         for (pi, prim) in mesh.primitives.iter().enumerate() {
-            let position = prim
-                .attributes
-                .get(&Checked::Valid(json::mesh::Semantic::Positions));
+            let position = prim.attributes.get(&Checked::Valid(json::mesh::Semantic::Positions));
             if position.is_some_and(|a| a.value() >= root.accessors.len()) {
-                return Err(format!(
-                    "meshes[{mi}].primitives[{pi}].attributes[\"POSITION\"]: Index out of bounds"
-                ));
+                return Err(format!("meshes[{mi}].primitives[{pi}].attributes[\"POSITION\"]: Index out of bounds"));
             }
         }
     }
@@ -272,8 +224,7 @@ impl Walk {
     ) -> Result<(), (String, MeshError)> {
         let mut visited = vec![false; root.nodes.len()];
         let mut revisits = 0usize;
-        let mut stack: Vec<(usize, Mat4)> =
-            roots.iter().rev().map(|&n| (n, Mat4::IDENTITY)).collect();
+        let mut stack: Vec<(usize, Mat4)> = roots.iter().rev().map(|&n| (n, Mat4::IDENTITY)).collect();
         while let Some((index, parent)) = stack.pop() {
             let Some(node) = root.nodes.get(index) else {
                 continue;
@@ -285,15 +236,13 @@ impl Walk {
             let world = parent * local_matrix(node);
             let mesh = node.mesh.map(|m| m.value());
             if let Some((mi, mesh)) = mesh.and_then(|mi| root.meshes.get(mi).map(|m| (mi, m))) {
-                self.geometry
-                    .append(mesh, world, data, &mut material)
-                    .map_err(|e| {
-                        let label = match &mesh.name {
-                            Some(n) => format!("{mi} '{n}'"),
-                            None => mi.to_string(),
-                        };
-                        (label, e)
-                    })?;
+                self.geometry.append(mesh, world, data, &mut material).map_err(|e| {
+                    let label = match &mesh.name {
+                        Some(n) => format!("{mi} '{n}'"),
+                        None => mi.to_string(),
+                    };
+                    (label, e)
+                })?;
             }
             let camera = node.camera.map(|c| c.value());
             if let Some((ci, cam)) = camera.and_then(|ci| root.cameras.get(ci).map(|c| (ci, c))) {
@@ -306,11 +255,8 @@ impl Walk {
                     }
                 }
             }
-            let light_index = node
-                .extensions
-                .as_ref()
-                .and_then(|e| e.khr_lights_punctual.as_ref())
-                .map(|l| l.light.value());
+            let light_index =
+                node.extensions.as_ref().and_then(|e| e.khr_lights_punctual.as_ref()).map(|l| l.light.value());
             if let Some(li) = light_index {
                 let def = root
                     .extensions
@@ -320,9 +266,7 @@ impl Walk {
                 match def.map(|d| light::from_json(li, d, world)) {
                     Some(Ok(l)) => self.lights.push(l),
                     Some(Err(w)) => self.warnings.push(w),
-                    None => self
-                        .warnings
-                        .push(format!("node {index} references missing light {li}")),
+                    None => self.warnings.push(format!("node {index} references missing light {li}")),
                 }
             }
             for c in node.children.iter().flatten().rev() {
@@ -346,14 +290,7 @@ fn local_matrix(node: &json::scene::Node) -> Mat4 {
     }
     let t = Vec3::from(node.translation.unwrap_or([0.0; 3]));
     let s = Vec3::from(node.scale.unwrap_or([1.0; 3]));
-    let q = node
-        .rotation
-        .as_ref()
-        .map_or(Quat::IDENTITY, |r| Quat::from_array(r.0));
-    let q = if q.is_finite() && q.length_squared() > 0.0 {
-        q.normalize()
-    } else {
-        Quat::IDENTITY
-    };
+    let q = node.rotation.as_ref().map_or(Quat::IDENTITY, |r| Quat::from_array(r.0));
+    let q = if q.is_finite() && q.length_squared() > 0.0 { q.normalize() } else { Quat::IDENTITY };
     Mat4::from_scale_rotation_translation(s, q, t)
 }

@@ -107,21 +107,14 @@ pub(crate) fn load(root: &json::Root, data: &Data, base: &Path) -> Result<Loaded
             texture = Some(slot);
         }
         let alpha_cutoff = match m.alpha_mode {
-            Checked::Valid(json::material::AlphaMode::Mask) => {
-                Some(m.alpha_cutoff.as_ref().map_or(0.5, |c| c.0))
-            }
+            Checked::Valid(json::material::AlphaMode::Mask) => Some(m.alpha_cutoff.as_ref().map_or(0.5, |c| c.0)),
             Checked::Valid(json::material::AlphaMode::Blend) => {
                 blend.push(format!("'{name}'"));
                 None
             }
             _ => None,
         };
-        materials.push(Material {
-            name,
-            base_color: Vec4::from(pbr.base_color_factor.0),
-            texture,
-            alpha_cutoff,
-        });
+        materials.push(Material { name, base_color: Vec4::from(pbr.base_color_factor.0), texture, alpha_cutoff });
     }
     let mut warnings = Vec::new();
     if !blend.is_empty() {
@@ -131,25 +124,13 @@ pub(crate) fn load(root: &json::Root, data: &Data, base: &Path) -> Result<Loaded
             blend.join(", ")
         ));
     }
-    Ok(Loaded {
-        materials,
-        textures,
-        warnings,
-    })
+    Ok(Loaded { materials, textures, warnings })
 }
 
 /// Decodes image `index` (PNG or JPEG from a buffer view, a data URI or a file).
-fn decode(
-    root: &json::Root,
-    data: &Data,
-    base: &Path,
-    index: usize,
-) -> Result<Texture, ImageError> {
+fn decode(root: &json::Root, data: &Data, base: &Path, index: usize) -> Result<Texture, ImageError> {
     let err = |message: String| ImageError { index, message };
-    let image = root
-        .images
-        .get(index)
-        .ok_or_else(|| err("does not exist".into()))?;
+    let image = root.images.get(index).ok_or_else(|| err("does not exist".into()))?;
     let owned;
     let bytes: &[u8] = match (&image.buffer_view, &image.uri) {
         (Some(view), _) => data.view_bytes(view.value()).map_err(err)?,
@@ -163,14 +144,6 @@ fn decode(
         .map_err(|e| err(format!("cannot decode (glTF allows PNG and JPEG): {e}")))?
         .to_rgba8();
     let (width, height) = decoded.dimensions();
-    let texels = decoded
-        .into_raw()
-        .chunks_exact(4)
-        .map(|c| [c[0], c[1], c[2], c[3]])
-        .collect();
-    Ok(Texture {
-        width,
-        height,
-        texels,
-    })
+    let texels = decoded.into_raw().chunks_exact(4).map(|c| [c[0], c[1], c[2], c[3]]).collect();
+    Ok(Texture { width, height, texels })
 }

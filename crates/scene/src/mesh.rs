@@ -48,10 +48,7 @@ impl Geometry {
                 Checked::Valid(m) => m,
                 Checked::Invalid => Mode::Triangles,
             };
-            if !matches!(
-                mode,
-                Mode::Triangles | Mode::TriangleStrip | Mode::TriangleFan
-            ) {
+            if !matches!(mode, Mode::Triangles | Mode::TriangleStrip | Mode::TriangleFan) {
                 self.skip_mode(mode_name(mode));
                 continue;
             }
@@ -60,9 +57,7 @@ impl Geometry {
                 self.without_positions += 1;
                 continue;
             };
-            let positions = data
-                .floats(pos_acc, Type::Vec3)
-                .map_err(MeshError::Buffer)?;
+            let positions = data.floats(pos_acc, Type::Vec3).map_err(MeshError::Buffer)?;
             let n = positions.len() / 3;
             let normals = match attr(Semantic::Normals) {
                 Some(a) => Some(same_count(data.floats(a, Type::Vec3), 3, n, "NORMAL")?),
@@ -77,9 +72,7 @@ impl Geometry {
                 None => (0..n as u32).collect(),
             };
             if let Some(&bad) = list.iter().find(|&&i| i as usize >= n) {
-                return Err(MeshError::Buffer(format!(
-                    "vertex index {bad} >= vertex count {n}"
-                )));
+                return Err(MeshError::Buffer(format!("vertex index {bad} >= vertex count {n}")));
             }
             let tris = triangles(mode, &list);
             if mode == Mode::Triangles && list.len() % 3 != 0 {
@@ -92,33 +85,23 @@ impl Geometry {
                 }
                 let p = t.map(|i| {
                     let i = i as usize;
-                    world.transform_point3(Vec3::new(
-                        positions[3 * i],
-                        positions[3 * i + 1],
-                        positions[3 * i + 2],
-                    ))
+                    world.transform_point3(Vec3::new(positions[3 * i], positions[3 * i + 1], positions[3 * i + 2]))
                 });
                 if !p.iter().all(|v| v.is_finite()) {
                     return Err(MeshError::NonFinite);
                 }
                 // Degenerate triangles keep a valid (arbitrary) normal so no NaN
                 // reaches a shader; they are never hit anyway.
-                let face = (p[1] - p[0])
-                    .cross(p[2] - p[0])
-                    .try_normalize()
-                    .unwrap_or(Vec3::Y);
+                let face = (p[1] - p[0]).cross(p[2] - p[0]).try_normalize().unwrap_or(Vec3::Y);
                 for (k, &i) in t.iter().enumerate() {
                     let i = i as usize;
                     let normal = normals
                         .as_ref()
                         .and_then(|ns| {
-                            (normal_matrix * Vec3::new(ns[3 * i], ns[3 * i + 1], ns[3 * i + 2]))
-                                .try_normalize()
+                            (normal_matrix * Vec3::new(ns[3 * i], ns[3 * i + 1], ns[3 * i + 2])).try_normalize()
                         })
                         .unwrap_or(face);
-                    let uv = uvs
-                        .as_ref()
-                        .map_or(Vec2::ZERO, |u| Vec2::new(u[2 * i], u[2 * i + 1]));
+                    let uv = uvs.as_ref().map_or(Vec2::ZERO, |u| Vec2::new(u[2 * i], u[2 * i + 1]));
                     self.vertices.push(Vertex {
                         position: p[k].to_array(),
                         normal: normal.to_array(),
@@ -140,18 +123,10 @@ impl Geometry {
 }
 
 /// Requires an attribute to have as many elements as the positions.
-fn same_count(
-    r: Result<Vec<f32>, String>,
-    dims: usize,
-    n: usize,
-    what: &str,
-) -> Result<Vec<f32>, MeshError> {
+fn same_count(r: Result<Vec<f32>, String>, dims: usize, n: usize, what: &str) -> Result<Vec<f32>, MeshError> {
     let v = r.map_err(MeshError::Buffer)?;
     if v.len() != dims * n {
-        return Err(MeshError::Buffer(format!(
-            "{what} has {} elements but POSITION has {n}",
-            v.len() / dims
-        )));
+        return Err(MeshError::Buffer(format!("{what} has {} elements but POSITION has {n}", v.len() / dims)));
     }
     Ok(v)
 }
@@ -162,17 +137,9 @@ fn same_count(
 fn triangles(mode: Mode, list: &[u32]) -> Vec<[u32; 3]> {
     match mode {
         Mode::TriangleStrip => (2..list.len())
-            .map(|i| {
-                if i % 2 == 0 {
-                    [list[i - 2], list[i - 1], list[i]]
-                } else {
-                    [list[i - 1], list[i - 2], list[i]]
-                }
-            })
+            .map(|i| if i % 2 == 0 { [list[i - 2], list[i - 1], list[i]] } else { [list[i - 1], list[i - 2], list[i]] })
             .collect(),
-        Mode::TriangleFan => (2..list.len())
-            .map(|i| [list[0], list[i - 1], list[i]])
-            .collect(),
+        Mode::TriangleFan => (2..list.len()).map(|i| [list[0], list[i - 1], list[i]]).collect(),
         _ => list.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect(),
     }
 }
@@ -198,14 +165,8 @@ mod tests {
     #[test]
     fn strips_and_fans_become_triangles() {
         let l = [0, 1, 2, 3, 4];
-        assert_eq!(
-            triangles(Mode::TriangleStrip, &l),
-            vec![[0, 1, 2], [2, 1, 3], [2, 3, 4]]
-        );
-        assert_eq!(
-            triangles(Mode::TriangleFan, &l),
-            vec![[0, 1, 2], [0, 2, 3], [0, 3, 4]]
-        );
+        assert_eq!(triangles(Mode::TriangleStrip, &l), vec![[0, 1, 2], [2, 1, 3], [2, 3, 4]]);
+        assert_eq!(triangles(Mode::TriangleFan, &l), vec![[0, 1, 2], [0, 2, 3], [0, 3, 4]]);
         assert_eq!(triangles(Mode::Triangles, &l), vec![[0, 1, 2]]);
         assert!(triangles(Mode::TriangleStrip, &l[..2]).is_empty());
     }

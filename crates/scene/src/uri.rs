@@ -27,19 +27,13 @@ pub(crate) fn load_buffers(
     for (i, buffer) in root.buffers.iter().enumerate() {
         let data = match &buffer.uri {
             Some(uri) => read_uri(uri, base).map_err(|e| (i, e))?,
-            None => blob.take().ok_or_else(|| {
-                (
-                    i,
-                    SourceError::Other("has no uri and the file has no GLB BIN chunk".into()),
-                )
-            })?,
+            None => blob
+                .take()
+                .ok_or_else(|| (i, SourceError::Other("has no uri and the file has no GLB BIN chunk".into())))?,
         };
         let need = buffer.byte_length.0;
         if (data.len() as u64) < need {
-            return Err((
-                i,
-                SourceError::Other(format!("declares {need} bytes but has only {}", data.len())),
-            ));
+            return Err((i, SourceError::Other(format!("declares {need} bytes but has only {}", data.len()))));
         }
         out.push(data);
     }
@@ -53,18 +47,12 @@ pub(crate) fn read_uri(uri: &str, base: &Path) -> Result<Vec<u8>, SourceError> {
             .split_once(";base64,")
             .map(|(_, p)| p)
             .ok_or_else(|| SourceError::Other("data URI is not base64".into()))?;
-        return base64(payload)
-            .ok_or_else(|| SourceError::Other("invalid base64 in data URI".into()));
+        return base64(payload).ok_or_else(|| SourceError::Other("invalid base64 in data URI".into()));
     }
-    let relative = if let Some(rest) = uri
-        .strip_prefix("file://")
-        .or_else(|| uri.strip_prefix("file:"))
-    {
+    let relative = if let Some(rest) = uri.strip_prefix("file://").or_else(|| uri.strip_prefix("file:")) {
         rest
     } else if uri.contains(':') {
-        return Err(SourceError::Other(format!(
-            "unsupported URI scheme in '{uri}'"
-        )));
+        return Err(SourceError::Other(format!("unsupported URI scheme in '{uri}'")));
     } else {
         uri
     };

@@ -5,9 +5,7 @@ use std::path::{Path, PathBuf};
 use leakless_scene::{Scene, SceneError};
 
 fn repo(rel: &str) -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("../..")
-        .join(rel)
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../..").join(rel)
 }
 
 /// A fresh directory per test (tests run in parallel threads of one process).
@@ -49,10 +47,7 @@ fn directory_is_unreadable() {
 fn no_light_is_refused_with_advice() {
     let e = Scene::load(&repo("tests/scenes/no-light.gltf")).unwrap_err();
     assert!(matches!(e, SceneError::NoLight { .. }), "{e:?}");
-    assert_eq!(
-        one_line(&e),
-        "scene no-light has no light: add a KHR_lights_punctual light"
-    );
+    assert_eq!(one_line(&e), "scene no-light has no light: add a KHR_lights_punctual light");
 }
 
 #[test]
@@ -106,19 +101,10 @@ fn random_bytes_and_mutations_never_panic() {
     // digits, which keeps the JSON parseable and so reaches validation and the
     // loader with wrong indices, counts, offsets and enum values.
     // LEAKLESS_FUZZ_ITERATIONS=100000 runs a longer search locally.
-    let iterations: usize = std::env::var("LEAKLESS_FUZZ_ITERATIONS")
-        .ok()
-        .and_then(|v| v.parse().ok())
-        .unwrap_or(400);
-    for name in [
-        "tests/scenes/textured.glb",
-        "tests/scenes/floor-light.gltf",
-        "tests/scenes/no-light.gltf",
-    ] {
+    let iterations: usize = std::env::var("LEAKLESS_FUZZ_ITERATIONS").ok().and_then(|v| v.parse().ok()).unwrap_or(400);
+    for name in ["tests/scenes/textured.glb", "tests/scenes/floor-light.gltf", "tests/scenes/no-light.gltf"] {
         let good = std::fs::read(repo(name)).unwrap();
-        let digits: Vec<usize> = (0..good.len())
-            .filter(|&i| good[i].is_ascii_digit())
-            .collect();
+        let digits: Vec<usize> = (0..good.len()).filter(|&i| good[i].is_ascii_digit()).collect();
         for k in 0..iterations {
             let mut bad = good.clone();
             for _ in 0..1 + rng.next() % 3 {
@@ -139,16 +125,8 @@ fn random_bytes_and_mutations_never_panic() {
 
 /// A minimal scene: one triangle (positions in an external .bin), one point light.
 /// `patch` edits the JSON text before it is written.
-fn triangle_scene(
-    dir: &Path,
-    positions: [[f32; 3]; 3],
-    patch: impl Fn(String) -> String,
-) -> Result<Scene, SceneError> {
-    let bin: Vec<u8> = positions
-        .iter()
-        .flatten()
-        .flat_map(|f| f.to_le_bytes())
-        .collect();
+fn triangle_scene(dir: &Path, positions: [[f32; 3]; 3], patch: impl Fn(String) -> String) -> Result<Scene, SceneError> {
+    let bin: Vec<u8> = positions.iter().flatten().flat_map(|f| f.to_le_bytes()).collect();
     std::fs::write(dir.join("tri.bin"), &bin).unwrap();
     let json = r#"{
  "asset": {"version": "2.0"},
@@ -177,10 +155,7 @@ fn minimal_scene_loads_with_defaults() {
     assert_eq!(s.triangle_count(), 1);
     // No material in the file: the white 0.8 default.
     assert_eq!(s.materials.len(), 1);
-    assert_eq!(
-        s.materials[0].base_color,
-        glam::Vec4::new(0.8, 0.8, 0.8, 1.0)
-    );
+    assert_eq!(s.materials[0].base_color, glam::Vec4::new(0.8, 0.8, 0.8, 1.0));
     // No normals: the flat face normal (counter-clockwise seen from +Z).
     assert!(s.vertices.iter().all(|v| v.normal == [0.0, 0.0, 1.0]));
     assert_eq!(s.lights[0].intensity, 1.0);
@@ -198,10 +173,8 @@ fn missing_buffer_file_is_a_buffer_error() {
 #[test]
 fn short_buffer_is_a_buffer_error() {
     let dir = scratch("short");
-    let e = triangle_scene(&dir, TRI, |j| {
-        j.replace("\"byteLength\": 36, \"uri\"", "\"byteLength\": 48, \"uri\"")
-    })
-    .unwrap_err();
+    let e = triangle_scene(&dir, TRI, |j| j.replace("\"byteLength\": 36, \"uri\"", "\"byteLength\": 48, \"uri\""))
+        .unwrap_err();
     assert!(matches!(e, SceneError::Buffer { .. }), "{e:?}");
 }
 
@@ -211,13 +184,7 @@ fn accessor_past_its_view_is_a_buffer_error() {
     let e = triangle_scene(&dir, TRI, |j| j.replace("\"count\": 3", "\"count\": 4")).unwrap_err();
     assert!(matches!(e, SceneError::Buffer { .. }), "{e:?}");
     let e = triangle_scene(&dir, TRI, |j| j.replace("\"count\": 3", "\"count\": 0")).unwrap_err();
-    assert!(
-        matches!(
-            e,
-            SceneError::Malformed { .. } | SceneError::NoTriangles { .. }
-        ),
-        "{e:?}"
-    );
+    assert!(matches!(e, SceneError::Malformed { .. } | SceneError::NoTriangles { .. }), "{e:?}");
 }
 
 #[test]
@@ -228,20 +195,15 @@ fn non_finite_positions_are_refused() {
     assert!(matches!(e, SceneError::NonFinitePosition { .. }), "{e:?}");
     // Finite in the file, infinite after the node transform.
     let big = [[0.0, 0.0, 0.0], [3e38, 0.0, 0.0], [0.0, 1.0, 0.0]];
-    let e = triangle_scene(&dir, big, |j| {
-        j.replace("\"scale\": [1, 1, 1]", "\"scale\": [10, 1, 1]")
-    })
-    .unwrap_err();
+    let e = triangle_scene(&dir, big, |j| j.replace("\"scale\": [1, 1, 1]", "\"scale\": [10, 1, 1]")).unwrap_err();
     assert!(matches!(e, SceneError::NonFinitePosition { .. }), "{e:?}");
 }
 
 #[test]
 fn no_triangles_is_refused() {
     let dir = scratch("points");
-    let e = triangle_scene(&dir, TRI, |j| {
-        j.replace("{\"POSITION\": 0}", "{\"POSITION\": 0}, \"mode\": 0")
-    })
-    .unwrap_err();
+    let e =
+        triangle_scene(&dir, TRI, |j| j.replace("{\"POSITION\": 0}", "{\"POSITION\": 0}, \"mode\": 0")).unwrap_err();
     assert!(matches!(e, SceneError::NoTriangles { .. }), "{e:?}");
     assert_eq!(one_line(&e), "scene tri has no triangles");
 }
@@ -250,17 +212,17 @@ fn no_triangles_is_refused() {
 fn unsupported_required_extension_is_refused() {
     let dir = scratch("required");
     let e = triangle_scene(&dir, TRI, |j| {
-        j.replace(
-            "\"extensionsUsed\"",
-            "\"extensionsRequired\": [\"KHR_draco_mesh_compression\"], \"extensionsUsed\"",
-        )
+        j.replace("\"extensionsUsed\"", "\"extensionsRequired\": [\"KHR_draco_mesh_compression\"], \"extensionsUsed\"")
     })
     .unwrap_err();
     assert!(matches!(e, SceneError::Unsupported { .. }), "{e:?}");
     assert!(one_line(&e).contains("KHR_draco_mesh_compression"));
     // A required material extension only changes looks: loaded, and reported.
     let s = triangle_scene(&dir, TRI, |j| {
-        j.replace("\"extensionsUsed\": [", "\"extensionsRequired\": [\"KHR_materials_unlit\"], \"extensionsUsed\": [\"KHR_materials_unlit\", ")
+        j.replace(
+            "\"extensionsUsed\": [",
+            "\"extensionsRequired\": [\"KHR_materials_unlit\"], \"extensionsUsed\": [\"KHR_materials_unlit\", ",
+        )
     })
     .unwrap();
     assert_eq!(s.warnings, vec!["ignored: KHR_materials_unlit".to_string()]);
@@ -307,28 +269,17 @@ fn hostile_structure_never_panics() {
 #[test]
 fn cycle_is_broken_with_a_warning() {
     let dir = scratch("cycle");
-    let s = triangle_scene(&dir, TRI, |j| {
-        j.replace(
-            "\"scale\": [1, 1, 1]}",
-            "\"scale\": [1, 1, 1], \"children\": [0]}",
-        )
-    })
-    .unwrap();
+    let s =
+        triangle_scene(&dir, TRI, |j| j.replace("\"scale\": [1, 1, 1]}", "\"scale\": [1, 1, 1], \"children\": [0]}"))
+            .unwrap();
     assert_eq!(s.triangle_count(), 1);
-    assert!(
-        s.warnings.iter().any(|w| w.contains("repeat a node")),
-        "{:?}",
-        s.warnings
-    );
+    assert!(s.warnings.iter().any(|w| w.contains("repeat a node")), "{:?}", s.warnings);
 }
 
 #[test]
 fn no_scene_uses_root_nodes() {
     let dir = scratch("noscene");
-    let s = triangle_scene(&dir, TRI, |j| {
-        j.replace("\"scene\": 0,\n \"scenes\": [{\"nodes\": [0, 1]}],", "")
-    })
-    .unwrap();
+    let s = triangle_scene(&dir, TRI, |j| j.replace("\"scene\": 0,\n \"scenes\": [{\"nodes\": [0, 1]}],", "")).unwrap();
     assert_eq!((s.triangle_count(), s.lights.len()), (1, 1));
 }
 
@@ -370,15 +321,8 @@ fn alpha_mask_defaults_to_half() {
             .replace("{\"POSITION\": 0}", "{\"POSITION\": 0}, \"material\": 0")
     })
     .unwrap();
-    assert_eq!(
-        s.materials.len(),
-        1,
-        "the file's material is used, no default added"
-    );
-    assert_eq!(
-        (s.materials[0].name.as_str(), s.materials[0].alpha_cutoff),
-        ("material 0", Some(0.5))
-    );
+    assert_eq!(s.materials.len(), 1, "the file's material is used, no default added");
+    assert_eq!((s.materials[0].name.as_str(), s.materials[0].alpha_cutoff), ("material 0", Some(0.5)));
     assert_eq!(s.materials[0].base_color, glam::Vec4::ONE);
     assert!(s.warnings.is_empty(), "{:?}", s.warnings);
 }
