@@ -1,0 +1,31 @@
+// A stored photon and the node lists the splat builds. Rust twins: `Photon` in
+// src/passes/photons.rs, `ListEntry` in src/passes/splat.rs.
+#ifndef LEAKLESS_PHOTON_GLSL
+#define LEAKLESS_PHOTON_GLSL
+
+struct Photon {
+    vec3 position;
+    uint path;       // light path index (0..paths)
+    vec3 normal;     // geometric normal, facing the incoming photon
+    uint bounce;     // reflections before arriving: 1 = second hit (0 only with store_direct)
+    vec3 direction;  // ω_in: the unit direction the photon was travelling
+    uint light;      // index of the emitting light
+    vec3 flux;       // RGB flux arriving (W)
+    uint pad0;
+};
+
+const uint END_OF_LIST = 0xffffffffu;
+
+// One entry of a node's photon list: the photon, and the next entry of the same list.
+struct ListEntry {
+    uint photon;
+    uint next;
+};
+
+// The biweight kernel normalised over the disk of radius r: ∫ K dA = 1.
+float biweight(float d, float r) {
+    float t = 1.0 - (d * d) / (r * r);
+    return t <= 0.0 ? 0.0 : 3.0 / (PI * r * r) * t * t;
+}
+
+#endif

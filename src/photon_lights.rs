@@ -1,0 +1,153 @@
+//! The CPU side of photon emission: every light's emitted power, and the CDF over lights that
+//! `photons.comp` samples so that lights are chosen in proportion to their power.
+//!
+//! Powers (RGB, W), from the shader's view of a light (`gpu_types::Light`: colour × intensity):
+//! * point: 4π·I (radiant intensity I in W/sr, uniform over the sphere);
+//! * spot: I·∫f dω with glTF's smooth falloff f = clamp((cos θ − c_outer)/Δ, 0, 1)², Δ =
+//!   max(c_inner − c_outer, 1e-4) exactly as `light.glsl` evaluates it. With dω = dc dφ and
+//!   T = min(1, (1 − c_outer)/Δ): ∫f dω = 2π·(Δ·T³/3 + max(0, 1 − c_outer − Δ));
+//! * directional: E·π·R², the irradiance E (W/m²) through a disk of the radius R of the
+//!   geometry's bounding sphere (the disk the shader emits from).
+//!
+//! Lights are picked with probability p ∝ Rec.709 luminance of that power, and a path from
+//! light ℓ carries flux power_rgb(ℓ) / (N·p(ℓ)), so the expected flux of N paths is the total
+//! power, colour by colour.
+
+use std::f64::consts::PI;
+
+use ash::vk;
+use glam::Vec3;
+use leakless_device::{Buffer, Gpu};
+use leakless_graph::{BufferHandle, Graph};
+use leakless_scene::{Aabb, Scene};
+
+use crate::error::Result;
+use crate::gpu_scene::gpu_light;
+use crate::gpu_types::{Light, LIGHT_DIRECTIONAL, LIGHT_POINT, LIGHT_SPOT};
+use crate::passes::photons::PhotonLight;
+
+/// Rec.709 (sRGB primaries) luminance of linear RGB.
+pub fn luminance(rgb: [f64; 3]) -> f64 {
+    0.2126 * rgb[0] + 0.7152 * rgb[1] + 0.0722 * rgb[2]
+}
+
+/// The falloff's Δ = c_inner − c_outer as `light.glsl` and `photons.comp` compute it (in f32,
+/// at least 1e-4).
+pub fn spot_falloff_width(cos_outer: f32, cos_inner: f32) -> f32 {
+    (cos_inner - cos_outer).max(1e-4)
+}
+
+/// glTF's smooth spot falloff at cos θ = `cos_angle` (`light.glsl`).
+pub fn spot_falloff(cos_outer: f32, cos_inner: f32, cos_angle: f64) -> f64 {
+    let t = ((cos_angle - cos_outer as f64) / spot_falloff_width(cos_outer, cos_inner) as f64).clamp(0.0, 1.0);
+    t * t
+}
+
+/// ∫ falloff dω over the sphere (sr), in closed form: a spot of intensity I emits I times this.
+pub fn spot_solid_angle(cos_outer: f32, cos_inner: f32) -> f64 {
+    let c_outer = cos_outer as f64;
+    let delta = spot_falloff_width(cos_outer, cos_inner) as f64;
+    let t_max = ((1.0 - c_outer) / delta).min(1.0);
+    2.0 * PI * (delta * t_max.powi(3) / 3.0 + (1.0 - c_outer - delta).max(0.0))
+}
+
+/// Emitted power (W, RGB) of a light as the shaders see it; `scene_radius` is the radius of
+/// the bounding sphere that a directional light's emission disk covers.
+pub fn light_power(light: &Light, scene_radius: f32) -> [f64; 3] {
+    let factor = match light.kind {
+        LIGHT_POINT => 4.0 * PI,
+        LIGHT_SPOT => spot_solid_angle(light.cos_outer, light.cos_inner),
+        LIGHT_DIRECTIONAL => PI * (scene_radius as f64).powi(2),
+        _ => 0.0,
+    };
+    light.intensity.map(|c| c as f64 * factor)
+}
+
+/// The lights' powers and the selection CDF, in the scene's light order.
+#[derive(Clone, Debug)]
+pub struct LightTable {
+    /// Centre and radius of the geometry's bounding sphere (directional emission disks).
+    pub center: Vec3,
+    pub radius: f32,
+    /// Emitted power of each light (W, RGB).
+    pub powers: Vec<[f64; 3]>,
+    /// The probability with which the uploaded CDF selects each light (the width of its f32
+    /// CDF interval; ∝ luminance of the power up to rounding).
+    pub probabilities: Vec<f64>,
+    /// What the GPU gets: per light, power / p (0 for lights never selected) and the CDF.
+    pub entries: Vec<PhotonLight>,
+}
+
+impl LightTable {
+    /// The table of the scene's lights (converted exactly as `GpuScene` uploads them).
+    pub fn from_scene(scene: &Scene) -> LightTable {
+        let lights: Vec<Light> = scene.lights.iter().map(gpu_light).collect();
+        LightTable::new(&lights, &scene.bounds())
+    }
+
+    pub fn new(lights: &[Light], bounds: &Aabb) -> LightTable {
+        let (center, radius) = (bounds.center(), bounds.bounding_radius());
+        let powers: Vec<[f64; 3]> = lights.iter().map(|l| light_power(l, radius)).collect();
+        let weights: Vec<f64> = powers.iter().map(|p| luminance(*p).max(0.0)).collect();
+        let total: f64 = weights.iter().sum();
+        let last = weights.iter().rposition(|&w| w > 0.0);
+        let mut cdf = Vec::with_capacity(lights.len());
+        let mut sum = 0.0;
+        for (i, w) in weights.iter().enumerate() {
+            sum += w;
+            // From the last emitting light on, exactly 1: u < 1 always finds a light.
+            cdf.push(if last.is_some_and(|l| i >= l) { 1.0 } else { (sum / total) as f32 });
+        }
+        let probabilities: Vec<f64> =
+            (0..cdf.len()).map(|i| cdf[i] as f64 - if i == 0 { 0.0 } else { cdf[i - 1] as f64 }).collect();
+        let entries = powers
+            .iter()
+            .zip(&probabilities)
+            .zip(&cdf)
+            .map(|((power, &p), &cdf)| PhotonLight {
+                flux: if p > 0.0 { power.map(|c| (c / p) as f32) } else { [0.0; 3] },
+                cdf,
+            })
+            .collect();
+        LightTable { center, radius, powers, probabilities, entries }
+    }
+
+    /// Total emitted power (W, RGB): the expected flux of all paths together.
+    pub fn total_power(&self) -> [f64; 3] {
+        self.powers.iter().fold([0.0; 3], |a, p| [a[0] + p[0], a[1] + p[1], a[2] + p[2]])
+    }
+
+    /// Whether any light emits anything (else no path is traced).
+    pub fn emits(&self) -> bool {
+        self.probabilities.iter().any(|&p| p > 0.0)
+    }
+}
+
+/// The light table and its GPU buffer (`photon_lights` in photons.comp), built once per scene.
+pub struct PhotonLights {
+    pub table: LightTable,
+    pub buffer: Buffer,
+}
+
+impl PhotonLights {
+    pub fn upload(gpu: &Gpu, scene: &Scene) -> Result<PhotonLights> {
+        let table = LightTable::from_scene(scene);
+        let buffer = Buffer::with_data(
+            gpu,
+            "photon lights",
+            vk::BufferUsageFlags::STORAGE_BUFFER,
+            bytemuck::cast_slice(&table.entries),
+        )?;
+        Ok(PhotonLights { table, buffer })
+    }
+
+    pub fn import<'r>(&'r self, graph: &mut Graph<'r>) -> PhotonLightHandles<'r> {
+        PhotonLightHandles { table: &self.table, buffer: graph.import_buffer(&self.buffer) }
+    }
+}
+
+/// The light table in one frame's graph.
+pub struct PhotonLightHandles<'a> {
+    pub table: &'a LightTable,
+    pub buffer: BufferHandle,
+}
