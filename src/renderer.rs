@@ -5,108 +5,22 @@ use ash::vk;
 use glam::camera::rh::proj::vulkan;
 use glam::Mat4;
 use leakless_device::{Buffer, BufferDesc, Gpu, Image, ImageDesc, MemoryLocation};
-use leakless_graph::{Graph, GraphRunner, PassTiming, Timing};
+use leakless_graph::{Access, Graph, GraphRunner, PassTiming, Timing};
 use leakless_scene::{Camera, Scene};
 
-use crate::error::{RenderError, Result};
+use crate::error::Result;
 use crate::gpu_scene::GpuScene;
 use crate::gpu_types::{Frame, ReferenceParams};
 use crate::passes::compose::{ComposeImages, ComposePass};
 use crate::passes::direct::DirectPass;
 use crate::passes::gbuffer::{self, GBuffer, GBufferPass};
+use crate::passes::photons::Photon;
 use crate::passes::readback;
 use crate::passes::reference::ReferencePass;
 use crate::passes::ViewInputs;
-use crate::trace::{Backend, BackendChoice, TraceScene, TraceStats};
-
-/// What to render and how.
-#[derive(Clone, Debug)]
-pub struct RenderSettings {
-    pub width: u32,
-    pub height: u32,
-    pub backend: BackendChoice,
-    pub method: Method,
-    /// Samples per view sample of the reference path tracer.
-    pub spp: u32,
-    /// Indirect bounces after the view sample (the reference's path depth).
-    pub max_bounces: u32,
-    /// Seeds every random sequence: a fixed seed gives a bit-identical frame.
-    pub seed: u32,
-}
-
-/// What computes the indirect light (DESIGN.md §2; the photon methods come with splatting).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub enum Method {
-    /// Direct light only: no indirect layer.
-    #[default]
-    Direct,
-    /// Progressive path tracer of the same light transport, `spp` samples.
-    Reference,
-}
-
-impl Method {
-    pub fn parse(s: &str) -> Option<Self> {
-        match s {
-            "direct" => Some(Method::Direct),
-            "reference" => Some(Method::Reference),
-            _ => None,
-        }
-    }
-
-    pub fn name(self) -> &'static str {
-        match self {
-            Method::Direct => "direct",
-            Method::Reference => "reference",
-        }
-    }
-}
-
-impl Default for RenderSettings {
-    fn default() -> Self {
-        RenderSettings {
-            width: 640,
-            height: 480,
-            backend: BackendChoice::Auto,
-            method: Method::Direct,
-            spp: 64,
-            max_bounces: 8,
-            seed: 0,
-        }
-    }
-}
-
-/// Upper bounds that keep a typo from asking for hours or gigabytes.
-pub const MAX_SPP: u32 = 1 << 20;
-pub const MAX_BOUNCES: u32 = 64;
-
-/// Largest image side accepted: bounds memory (a 16k² frame of this renderer's layers would
-/// need tens of GiB).
-pub const MAX_SIDE: u32 = 8192;
-
-impl RenderSettings {
-    pub fn validate(&self) -> Result<()> {
-        let bad = |m: String| Err(RenderError::Settings(m));
-        if self.width == 0 || self.height == 0 || self.width > MAX_SIDE || self.height > MAX_SIDE {
-            return bad(format!("size {}x{} must be within 1..={MAX_SIDE} per side", self.width, self.height));
-        }
-        if self.spp == 0 || self.spp > MAX_SPP {
-            return bad(format!("--spp {} must be within 1..={MAX_SPP}", self.spp));
-        }
-        if self.max_bounces > MAX_BOUNCES {
-            return bad(format!("--max-bounces {} must be at most {MAX_BOUNCES}", self.max_bounces));
-        }
-        Ok(())
-    }
-
-    /// `name=value` pairs for EXR headers and stats.
-    pub fn describe(&self) -> String {
-        let mut s = format!("size={}x{} method={}", self.width, self.height, self.method.name());
-        if self.method == Method::Reference {
-            s += &format!(" spp={} max_bounces={} seed={}", self.spp, self.max_bounces, self.seed);
-        }
-        s
-    }
-}
+use crate::settings::{Method, RenderSettings};
+use crate::splatting::{PhotonSplatting, SplatStats};
+use crate::trace::{Backend, TraceScene, TraceStats};
 
 /// The layers of one rendered frame, linear radiance, row-major from the top-left pixel.
 #[derive(Clone, Debug)]
@@ -122,6 +36,8 @@ pub struct RenderedFrame {
     pub timings: Vec<PassTiming>,
     /// Host wall-clock time of the whole frame.
     pub wall_ms: f64,
+    /// What the photon method counted, for methods that splat.
+    pub splat: Option<SplatStats>,
 }
 
 impl RenderedFrame {
@@ -175,6 +91,8 @@ pub struct Renderer {
     targets: Targets,
     readback: Buffer,
     passes: Passes,
+    /// The photon part of the frame, for methods that splat.
+    splatting: Option<PhotonSplatting>,
     runner: GraphRunner,
     // Dropped last: every resource above belongs to this device.
     gpu: Gpu,
@@ -212,7 +130,13 @@ impl Renderer {
             reference: ReferencePass::new(&gpu, backend)?,
             compose: ComposePass::new(&gpu)?,
         };
-        let runner = GraphRunner::new(&gpu, 64)?;
+        let splatting = if settings.method.splats() {
+            let s = &settings;
+            Some(PhotonSplatting::new(&gpu, scene, backend, s.width, s.height, &s.splat, s.max_bounces, s.seed)?)
+        } else {
+            None
+        };
+        let runner = GraphRunner::new(&gpu, 128)?;
         gpu.check_validation()?;
         Ok(Renderer {
             settings,
@@ -224,6 +148,7 @@ impl Renderer {
             targets,
             readback,
             passes,
+            splatting,
             runner,
             gpu,
         })
@@ -231,6 +156,11 @@ impl Renderer {
 
     pub fn gpu(&self) -> &Gpu {
         &self.gpu
+    }
+
+    /// The view-sample hierarchy, for methods that splat (tests and tools inspect it).
+    pub fn hierarchy(&self) -> Option<&crate::passes::hierarchy::Hierarchy> {
+        self.splatting.as_ref().map(|s| &s.hierarchy)
     }
 
     pub fn backend(&self) -> Backend {
@@ -311,7 +241,11 @@ impl Renderer {
             done += chunk;
             progress(done, total);
         }
-        let scale = if total > 0 { 1.0 / total as f32 } else { 0.0 };
+        let scale = match self.settings.method {
+            Method::Reference => 1.0 / total as f32,
+            Method::Splat => 1.0,
+            Method::Direct => 0.0,
+        };
         timings.add(self.run(false, done, 0, Some(scale))?);
 
         let texels: Vec<[f32; 4]> = self.readback.read_vec(LAYERS as usize * (width * height) as usize)?;
@@ -329,6 +263,7 @@ impl Renderer {
             indirect: layer(2),
             timings: timings.0,
             wall_ms: start.elapsed().as_secs_f64() * 1e3,
+            splat: self.splatting.as_ref().map(|s| s.read_stats()).transpose()?,
         })
     }
 
@@ -360,6 +295,9 @@ impl Renderer {
         let view = ViewInputs { frame: &frame, scene: &scene, trace: &trace, gbuffer: &gbuffer };
         if view_samples {
             self.passes.direct.add(&mut graph, &view, &mut direct);
+            if let Some(splatting) = &self.splatting {
+                splatting.add(&mut graph, &frame, &scene, &trace, &gbuffer, &mut indirect_sum)?;
+            }
         }
         if sample_count > 0 {
             let params = ReferenceParams {
@@ -383,6 +321,68 @@ impl Renderer {
             readback::add(&mut graph, &[&radiance, &direct, &indirect], &mut readback);
         }
         Ok(self.runner.run(&self.gpu, graph)?)
+    }
+}
+
+/// The view samples and photons of the last frame, read back for tests and tools.
+pub struct Capture {
+    pub position: Vec<[f32; 4]>,
+    pub normal: Vec<[f32; 4]>,
+    pub albedo: Vec<[f32; 4]>,
+    pub photons: Vec<Photon>,
+}
+
+impl Renderer {
+    /// Reads back the G-buffer and (for methods that splat) the photons of the last frame.
+    pub fn capture(&mut self) -> Result<Capture> {
+        let n = (self.settings.width * self.settings.height) as usize;
+        let (photon_buffer, photon_count) = match &self.splatting {
+            Some(s) => {
+                let (b, count) = s.photons()?;
+                (Some(b), count)
+            }
+            None => (None, 0),
+        };
+        let photon_bytes = photon_count as u64 * std::mem::size_of::<Photon>() as u64;
+        let host = Buffer::new(
+            &self.gpu,
+            &BufferDesc {
+                name: "photon capture",
+                size: photon_bytes,
+                usage: vk::BufferUsageFlags::TRANSFER_DST,
+                location: MemoryLocation::GpuToCpu,
+            },
+        )?;
+        let mut graph = Graph::new();
+        let t = &self.targets;
+        let images = [
+            graph.import_image(&t.gbuffer.position),
+            graph.import_image(&t.gbuffer.normal),
+            graph.import_image(&t.gbuffer.albedo),
+        ];
+        let mut readback = graph.import_buffer(&self.readback);
+        readback::add(&mut graph, &[&images[0], &images[1], &images[2]], &mut readback);
+        if let Some(photons) = photon_buffer.filter(|_| photon_bytes > 0) {
+            let src = graph.import_buffer(photons);
+            let mut dst = graph.import_buffer(&host);
+            let mut copy = graph.pass("capture photons");
+            let (from, to) = (copy.read(&src, Access::TransferRead), copy.write(&mut dst, Access::TransferWrite));
+            copy.record(move |cmd| {
+                cmd.copy_buffer(from, to, photon_bytes);
+                Ok(())
+            });
+            let mut to_host = graph.pass("photons to host");
+            to_host.read(&dst, Access::HostRead);
+            to_host.record(|_| Ok(()));
+        }
+        self.runner.run(&self.gpu, graph)?;
+        let texels: Vec<[f32; 4]> = self.readback.read_vec(3 * n)?;
+        Ok(Capture {
+            position: texels[..n].to_vec(),
+            normal: texels[n..2 * n].to_vec(),
+            albedo: texels[2 * n..].to_vec(),
+            photons: if photon_count > 0 { host.read_vec(photon_count as usize)? } else { vec![] },
+        })
     }
 }
 

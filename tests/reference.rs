@@ -14,8 +14,16 @@ use leakless::{BackendChoice, Method, RenderSettings, RenderedFrame};
 pub const GROUND_TRUTH_SPP: u32 = 4096;
 
 pub fn cornell_reference(backend: BackendChoice, seed: u32, spp: u32) -> Option<RenderedFrame> {
-    let settings =
-        RenderSettings { width: 64, height: 48, backend, method: Method::Reference, spp, max_bounces: 8, seed };
+    let settings = RenderSettings {
+        width: 64,
+        height: 48,
+        backend,
+        method: Method::Reference,
+        spp,
+        max_bounces: 8,
+        seed,
+        ..Default::default()
+    };
     common::render_with("scenes/cornell-box.gltf", settings)
 }
 

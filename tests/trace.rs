@@ -181,6 +181,7 @@ fn reference_converges_to_the_sphere_closed_form() {
             spp: 32,
             max_bounces: k,
             seed: 1,
+            ..Default::default()
         };
         let frame = common::render_with("scenes/sphere.gltf", settings).unwrap();
         assert!(common::all_finite(&frame.radiance));

@@ -39,6 +39,9 @@ pub struct Stats {
     pub triangles: usize,
     pub lights: usize,
     pub trace_build: TraceBuild,
+    /// Photon counts, for methods that splat.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub splat: Option<crate::splatting::SplatStats>,
     pub passes: Vec<PassTime>,
     pub frame_gpu_ms: f64,
     /// Host wall-clock time of the whole frame (submission to completion).
@@ -71,6 +74,7 @@ impl Stats {
                 bytes: t.bytes,
                 detail: t.detail.clone(),
             },
+            splat: frame.splat.clone(),
             frame_gpu_ms: frame.timings.iter().map(|t| t.ms).sum(),
             frame_wall_ms: frame.wall_ms,
             passes: frame

@@ -3,10 +3,15 @@
 
 pub mod compose;
 pub mod direct;
+pub mod gather;
 pub mod gbuffer;
+pub mod hierarchy;
+pub mod photons;
 pub mod raycast;
 pub mod readback;
 pub mod reference;
+pub mod sort;
+pub mod splat;
 pub mod uniform;
 
 use leakless_device::{BindingDecl, Bound};

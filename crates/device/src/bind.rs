@@ -40,6 +40,10 @@ impl BindingDecl {
     pub const fn storage_array(name: &'static str, element: RustLayout) -> Self {
         Self { name, kind: BindingKind::StorageBuffer, contents: Contents::Array(element) }
     }
+    /// A storage buffer holding one fixed-size block (counters, bounds).
+    pub const fn storage_block(name: &'static str, layout: RustLayout) -> Self {
+        Self { name, kind: BindingKind::StorageBuffer, contents: Contents::Block(layout) }
+    }
     pub const fn storage_words(name: &'static str) -> Self {
         Self { name, kind: BindingKind::StorageBuffer, contents: Contents::Unchecked }
     }

@@ -252,6 +252,7 @@ fn create_device(instance: &ash::Instance, report: &DeviceReport, ray_tracing: b
     }
     let base = vk::PhysicalDeviceFeatures::default()
         .shader_storage_image_write_without_format(true)
+        .shader_int64(true)
         .fragment_stores_and_atomics(false);
     let mut f12 = vk::PhysicalDeviceVulkan12Features::default()
         .host_query_reset(true)

@@ -120,6 +120,10 @@ fn describe(instance: &ash::Instance, index: usize, pd: vk::PhysicalDevice) -> R
     if f12.host_query_reset != vk::TRUE {
         missing.push("hostQueryReset".into());
     }
+    if base.shader_int64 != vk::TRUE {
+        // The gather's order-independent fixed-point sums.
+        missing.push("shaderInt64".into());
+    }
     if base.shader_storage_image_write_without_format != vk::TRUE {
         missing.push("shaderStorageImageWriteWithoutFormat".into());
     }

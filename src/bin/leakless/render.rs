@@ -4,7 +4,7 @@ use std::path::PathBuf;
 
 use anyhow::Context;
 use leakless::output::{self, exr::ExrLayer, stats::Stats};
-use leakless::{BackendChoice, Method, RenderSettings, Renderer, Scene};
+use leakless::{BackendChoice, Method, RenderSettings, Renderer, Scene, SplatSettings};
 use leakless_graph::Timing;
 
 #[derive(clap::Args)]
@@ -20,9 +20,25 @@ pub struct RenderArgs {
     /// Output size, WIDTHxHEIGHT.
     #[arg(long, default_value = "640x480", value_parser = crate::parse_size)]
     size: (u32, u32),
-    /// `direct` (direct light only) or `reference` (path-traced indirect light).
-    #[arg(long, default_value = "direct", value_parser = ["direct", "reference"])]
+    /// `splat` (photon splatting, Moreau et al.), `reference` (path-traced indirect light) or
+    /// `direct` (direct light only).
+    #[arg(long, default_value = "splat", value_parser = ["splat", "reference", "direct"])]
     method: String,
+    /// Light paths traced per frame by the photon methods.
+    #[arg(long, default_value_t = 10_000)]
+    paths: u32,
+    /// Photon gather radius in scene units (default: 5% of the scene's bounding radius).
+    #[arg(long)]
+    radius: Option<f32>,
+    /// Branching factor of the view-sample hierarchy.
+    #[arg(long, default_value_t = 8)]
+    branching: u32,
+    /// Walk to the leaves instead of listing photons on enveloped nodes (same image).
+    #[arg(long)]
+    no_trivial_accept: bool,
+    /// Node-list entries per frame (default: 16 per photon); more are dropped and reported.
+    #[arg(long)]
+    list_capacity: Option<u32>,
     /// Trace backend: ray queries, the compute-shader BVH, or `auto` (ray queries if present).
     #[arg(long, default_value = "auto", value_parser = crate::parse_backend)]
     backend: BackendChoice,
@@ -57,6 +73,13 @@ pub fn run(args: RenderArgs) -> anyhow::Result<()> {
         spp: args.spp,
         max_bounces: args.max_bounces,
         seed: args.seed,
+        splat: SplatSettings {
+            paths: args.paths,
+            radius: args.radius,
+            branching: args.branching,
+            trivial_accept: !args.no_trivial_accept,
+            list_capacity: args.list_capacity,
+        },
     };
     settings.validate()?;
     let scene = Scene::load(&args.scene).with_context(|| format!("loading {}", args.scene.display()))?;
@@ -71,6 +94,14 @@ pub fn run(args: RenderArgs) -> anyhow::Result<()> {
         renderer.set_timing(Timing::PerPassSubmit);
     }
     let frame = render_with_bar(&mut renderer, settings.method)?;
+    if let Some(s) = &frame.splat {
+        if s.photons_dropped > 0 || s.list_entries_dropped > 0 {
+            eprintln!(
+                "warning: capacity exceeded: {} photons and {} node-list entries dropped (raise --list-capacity); the indirect light is incomplete",
+                s.photons_dropped, s.list_entries_dropped
+            );
+        }
+    }
 
     let out = args.out.unwrap_or_else(|| PathBuf::from(format!("{}.exr", scene.name)));
     let layers = [

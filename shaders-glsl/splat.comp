@@ -1,0 +1,103 @@
+#version 460
+// Splat: one thread per photon walks the view-sample hierarchy from the root. A node is
+// culled when the photon's sphere misses its bounds or its normal cone faces away from the
+// photon. With trivial accept, a node inside the sphere whose cone faces the photon takes the
+// photon onto its list and the walk stops there (the gather still evaluates it per sample);
+// otherwise the walk descends and a leaf takes the photon onto its list.
+#include "common.glsl"
+#include "hierarchy.glsl"
+#include "photon.glsl"
+
+layout(local_size_x = 64) in;
+
+layout(set = 0, binding = 0, std430) readonly buffer Photons { Photon photons[]; } photons;
+layout(set = 0, binding = 1, std430) readonly buffer PhotonCounters { uint stored; uint overflowed; } photon_counters;
+layout(set = 0, binding = 2, std430) readonly buffer Levels { Level levels[]; } levels;
+layout(set = 0, binding = 3, std430) readonly buffer Nodes { Node nodes[]; } nodes;
+layout(set = 0, binding = 4, std430) buffer NodeHeads { uint heads[]; } node_heads;
+layout(set = 0, binding = 5, std430) writeonly buffer ListEntries { ListEntry entries[]; } list_entries;
+layout(set = 0, binding = 6, std430) buffer SplatCounters {
+    uint entries_used;      // list entries written (and attempted beyond capacity)
+    uint entries_dropped;   // entries that did not fit: their contributions are lost
+    uint nodes_visited;     // node tests made by all photons
+    uint pad0;
+} splat_counters;
+layout(set = 0, binding = 7) uniform SplatParams {
+    float radius;
+    uint trivial_accept;
+    uint root;
+    uint capacity;          // entries the list buffer holds
+    uint photon_capacity;   // photons the photon buffer holds
+    uint pad0;
+    uint pad1;
+    uint pad2;
+} params;
+
+// Deep enough for levels·(B−1)+1 pending nodes; the Rust side checks the hierarchy fits.
+#define SPLAT_STACK 192
+
+// The angle between the node's cone axis and the direction toward the photon's source side.
+float cone_gap(Node node, vec3 toward_light) {
+    return acos(clamp(dot(node.cone_axis, toward_light), -1.0, 1.0));
+}
+
+void append(uint node, uint photon) {
+    uint slot = atomicAdd(splat_counters.entries_used, 1u);
+    if (slot >= params.capacity) {
+        atomicAdd(splat_counters.entries_dropped, 1u);
+        return;
+    }
+    list_entries.entries[slot].photon = photon;
+    list_entries.entries[slot].next = atomicExchange(node_heads.heads[node], slot);
+}
+
+void main() {
+    uint photon_index = gl_GlobalInvocationID.x;
+    if (photon_index >= min(photon_counters.stored, params.photon_capacity)) {
+        return;
+    }
+    Photon ph = photons.photons[photon_index];
+    float r = params.radius;
+    vec3 toward_light = -ph.direction;
+    uint stack[SPLAT_STACK];
+    uint top = 0u;
+    stack[top++] = params.root;
+    uint visited = 0u;
+    while (top > 0u) {
+        uint index = stack[--top];
+        Node node = nodes.nodes[index];
+        visited += 1u;
+        if (node.valid_samples == 0u) {
+            continue;
+        }
+        // Sphere against box: the squared distance from the photon to the box.
+        vec3 nearest = clamp(ph.position, node.bounds_min, node.bounds_max);
+        vec3 to_near = ph.position - nearest;
+        if (dot(to_near, to_near) >= r * r) {
+            continue;
+        }
+        // Every normal of the node within cone_angle of the axis: the gather's facing test
+        // dot(n, −ω_in) > 0 fails for all of them when the cone lies beyond 90°.
+        float gap = cone_gap(node, toward_light);
+        if (gap - node.cone_angle >= 0.5 * PI) {
+            continue;
+        }
+        if (params.trivial_accept != 0u) {
+            vec3 far = max(abs(ph.position - node.bounds_min), abs(ph.position - node.bounds_max));
+            bool enveloped = dot(far, far) < r * r;
+            bool facing = gap + node.cone_angle < 0.5 * PI;
+            if (enveloped && facing) {
+                append(index, photon_index);
+                continue;
+            }
+        }
+        if (node.level == 0u) {
+            append(index, photon_index);
+            continue;
+        }
+        for (uint c = 0u; c < node.child_count && top < SPLAT_STACK; ++c) {
+            stack[top++] = node.first_child + c;
+        }
+    }
+    atomicAdd(splat_counters.nodes_visited, visited);
+}

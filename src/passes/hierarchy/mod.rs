@@ -1,0 +1,200 @@
+//! The view-sample cluster hierarchy (Moreau et al. 2016), rebuilt every frame from the
+//! G-buffer: the bounds of the view samples, their Morton codes, a radix sort, then the node
+//! levels bottom up. Every pixel is a sample (pixels without a surface sort last and leave
+//! their nodes empty), so the tree's shape depends only on the image size and the branching
+//! factor, and is known on the CPU.
+
+mod build;
+mod morton;
+mod sample_bounds;
+
+use ash::vk;
+use bytemuck::{Pod, Zeroable};
+use leakless_device::{rust_layout, Buffer, BufferDesc, Gpu, MemoryLocation, RustLayout};
+use leakless_graph::{BufferHandle, Graph};
+
+use crate::error::{RenderError, Result};
+use crate::passes::gbuffer::GBufferHandles;
+use crate::passes::sort::SortPass;
+use build::BuildPass;
+use morton::MortonPass;
+use sample_bounds::SampleBoundsPass;
+
+/// `struct Node` of hierarchy.glsl.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct Node {
+    pub bounds_min: [f32; 3],
+    pub first_child: u32,
+    pub bounds_max: [f32; 3],
+    pub child_count: u32,
+    pub cone_axis: [f32; 3],
+    pub cone_angle: f32,
+    pub level: u32,
+    pub valid_samples: u32,
+    pub pad0: u32,
+    pub pad1: u32,
+}
+
+pub const NODE_LAYOUT: RustLayout = rust_layout!(Node {
+    bounds_min,
+    first_child,
+    bounds_max,
+    child_count,
+    cone_axis,
+    cone_angle,
+    level,
+    valid_samples,
+    pad0,
+    pad1
+});
+
+/// `struct Level` of hierarchy.glsl.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Pod, Zeroable)]
+pub struct Level {
+    pub offset: u32,
+    pub count: u32,
+    pub span: u32,
+    pub pad0: u32,
+}
+
+pub const LEVEL_LAYOUT: RustLayout = rust_layout!(Level { offset, count, span, pad0 });
+
+/// Pending nodes the splat's stack holds (`SPLAT_STACK` in splat.comp).
+pub const SPLAT_STACK: u32 = 192;
+
+/// The tree's shape for `sample_count` samples and branching factor B.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Shape {
+    pub branching: u32,
+    pub sample_count: u32,
+    /// Level 0 = leaves; the last level holds the root alone.
+    pub levels: Vec<Level>,
+}
+
+impl Shape {
+    pub fn new(sample_count: u32, branching: u32) -> Result<Shape> {
+        if !(2..=64).contains(&branching) {
+            return Err(RenderError::Settings(format!("--branching {branching} must be within 2..=64")));
+        }
+        let mut levels = Vec::new();
+        let (mut count, mut span, mut offset) = (sample_count.div_ceil(branching).max(1), branching as u64, 0u32);
+        loop {
+            levels.push(Level { offset, count, span: span.min(u32::MAX as u64) as u32, pad0: 0 });
+            offset += count;
+            if count == 1 {
+                break;
+            }
+            count = count.div_ceil(branching);
+            span *= branching as u64;
+        }
+        let shape = Shape { branching, sample_count, levels };
+        let pending = shape.levels.len() as u32 * (branching - 1) + 1;
+        if pending > SPLAT_STACK {
+            return Err(RenderError::Settings(format!(
+                "a {}-level hierarchy of branching {branching} needs {pending} stack entries in the splat; it has {SPLAT_STACK}",
+                shape.levels.len()
+            )));
+        }
+        Ok(shape)
+    }
+
+    pub fn node_count(&self) -> u32 {
+        self.levels.iter().map(|l| l.count).sum()
+    }
+
+    pub fn root(&self) -> u32 {
+        self.node_count() - 1
+    }
+}
+
+/// The hierarchy's buffers, kept between frames.
+pub struct Hierarchy {
+    pub shape: Shape,
+    keys: Buffer,
+    samples: Buffer,
+    bounds: Buffer,
+    levels: Buffer,
+    nodes: Buffer,
+    sample_bounds: SampleBoundsPass,
+    morton: MortonPass,
+    sort: SortPass,
+    build: BuildPass,
+}
+
+/// The hierarchy in one frame's graph.
+pub struct HierarchyHandles {
+    /// Morton keys in sorted order (`INVALID_SAMPLE_KEY` last).
+    pub keys: BufferHandle,
+    /// Pixel index of each sorted sample.
+    pub samples: BufferHandle,
+    pub bounds: BufferHandle,
+    pub levels: BufferHandle,
+    pub nodes: BufferHandle,
+}
+
+fn storage(gpu: &Gpu, name: &str, size: u64) -> Result<Buffer> {
+    let usage =
+        vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_DST | vk::BufferUsageFlags::TRANSFER_SRC;
+    Ok(Buffer::new(gpu, &BufferDesc { name, size, usage, location: MemoryLocation::GpuOnly })?)
+}
+
+impl Hierarchy {
+    pub fn new(gpu: &Gpu, width: u32, height: u32, branching: u32) -> Result<Hierarchy> {
+        let n = width * height;
+        let shape = Shape::new(n, branching)?;
+        let levels = Buffer::with_data(
+            gpu,
+            "hierarchy levels",
+            vk::BufferUsageFlags::STORAGE_BUFFER,
+            bytemuck::cast_slice(&shape.levels),
+        )?;
+        Ok(Hierarchy {
+            keys: storage(gpu, "morton keys", 4 * n as u64)?,
+            samples: storage(gpu, "sorted samples", 4 * n as u64)?,
+            bounds: storage(gpu, "sample bounds", 24)?,
+            nodes: storage(gpu, "hierarchy nodes", shape.node_count() as u64 * std::mem::size_of::<Node>() as u64)?,
+            levels,
+            sample_bounds: SampleBoundsPass::new(gpu)?,
+            morton: MortonPass::new(gpu)?,
+            sort: SortPass::new(gpu, n)?,
+            build: BuildPass::new(gpu, shape.levels.len())?,
+            shape,
+        })
+    }
+
+    pub fn import<'r>(&'r self, graph: &mut Graph<'r>) -> HierarchyHandles {
+        HierarchyHandles {
+            keys: graph.import_buffer(&self.keys),
+            samples: graph.import_buffer(&self.samples),
+            bounds: graph.import_buffer(&self.bounds),
+            levels: graph.import_buffer(&self.levels),
+            nodes: graph.import_buffer(&self.nodes),
+        }
+    }
+
+    /// Adds the passes that rebuild the hierarchy from the G-buffer.
+    pub fn add<'r>(
+        &'r self,
+        graph: &mut Graph<'r>,
+        frame: &BufferHandle,
+        gbuffer: &GBufferHandles,
+        h: &mut HierarchyHandles,
+    ) -> Result<()> {
+        self.sample_bounds.add(graph, frame, gbuffer, &mut h.bounds);
+        self.morton.add(graph, frame, gbuffer, &h.bounds, &mut h.keys, &mut h.samples);
+        self.sort.add(graph, self.shape.sample_count, 30, &mut h.keys, &mut h.samples)?;
+        self.build.add(graph, &self.shape, gbuffer, h)
+    }
+
+    /// The nodes (tests and tools read them back).
+    pub fn nodes_buffer(&self) -> &Buffer {
+        &self.nodes
+    }
+
+    /// The sorted Morton keys (tests and tools read them back).
+    pub fn keys_buffer(&self) -> &Buffer {
+        &self.keys
+    }
+}

@@ -1,0 +1,114 @@
+//! What to render and how: the settings every front end (CLI, tests, benchmarks, the app)
+//! fills in and the renderer validates.
+
+use crate::error::{RenderError, Result};
+pub use crate::splatting::SplatSettings;
+use crate::trace::BackendChoice;
+
+/// What to render and how.
+#[derive(Clone, Debug)]
+pub struct RenderSettings {
+    pub width: u32,
+    pub height: u32,
+    pub backend: BackendChoice,
+    pub method: Method,
+    /// Samples per view sample of the reference path tracer.
+    pub spp: u32,
+    /// Indirect bounces after the view sample (the reference's path depth).
+    pub max_bounces: u32,
+    /// Seeds every random sequence: a fixed seed gives a bit-identical frame.
+    pub seed: u32,
+    /// The photon methods' parameters.
+    pub splat: SplatSettings,
+}
+
+/// What computes the indirect light (DESIGN.md §2).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Method {
+    /// Direct light only: no indirect layer.
+    Direct,
+    /// Moreau et al.: hierarchy splat with trivial accept, no visibility (the baseline that
+    /// leaks).
+    #[default]
+    Splat,
+    /// Progressive path tracer of the same light transport, `spp` samples.
+    Reference,
+}
+
+impl Method {
+    pub const ALL: [Method; 3] = [Method::Direct, Method::Splat, Method::Reference];
+
+    pub fn parse(s: &str) -> Option<Self> {
+        Self::ALL.into_iter().find(|m| m.name() == s)
+    }
+
+    pub fn name(self) -> &'static str {
+        match self {
+            Method::Direct => "direct",
+            Method::Splat => "splat",
+            Method::Reference => "reference",
+        }
+    }
+
+    /// Whether the method traces photons and splats them.
+    pub fn splats(self) -> bool {
+        self == Method::Splat
+    }
+}
+
+impl Default for RenderSettings {
+    fn default() -> Self {
+        RenderSettings {
+            width: 640,
+            height: 480,
+            backend: BackendChoice::Auto,
+            method: Method::Splat,
+            spp: 64,
+            max_bounces: 8,
+            seed: 0,
+            splat: SplatSettings::default(),
+        }
+    }
+}
+
+/// Upper bounds that keep a typo from asking for hours or gigabytes.
+pub const MAX_SPP: u32 = 1 << 20;
+pub const MAX_BOUNCES: u32 = 64;
+
+/// Largest image side accepted: bounds memory (a 16k² frame of this renderer's layers would
+/// need tens of GiB).
+pub const MAX_SIDE: u32 = 8192;
+
+impl RenderSettings {
+    pub fn validate(&self) -> Result<()> {
+        let bad = |m: String| Err(RenderError::Settings(m));
+        if self.width == 0 || self.height == 0 || self.width > MAX_SIDE || self.height > MAX_SIDE {
+            return bad(format!("size {}x{} must be within 1..={MAX_SIDE} per side", self.width, self.height));
+        }
+        if self.spp == 0 || self.spp > MAX_SPP {
+            return bad(format!("--spp {} must be within 1..={MAX_SPP}", self.spp));
+        }
+        if self.max_bounces > MAX_BOUNCES {
+            return bad(format!("--max-bounces {} must be at most {MAX_BOUNCES}", self.max_bounces));
+        }
+        Ok(())
+    }
+
+    /// `name=value` pairs for EXR headers and stats.
+    pub fn describe(&self) -> String {
+        let mut s = format!("size={}x{} method={}", self.width, self.height, self.method.name());
+        match self.method {
+            Method::Reference => s += &format!(" spp={} max_bounces={} seed={}", self.spp, self.max_bounces, self.seed),
+            Method::Splat => {
+                let p = &self.splat;
+                let radius = p.radius.map_or("auto".to_string(), |r| r.to_string());
+                s += &format!(
+                    " paths={} radius={radius} branching={} trivial_accept={} max_bounces={} seed={}",
+                    p.paths, p.branching, p.trivial_accept, self.max_bounces, self.seed
+                );
+            }
+            Method::Direct => {}
+        }
+        s
+    }
+}

@@ -1,0 +1,194 @@
+//! Photon splatting on the view-sample hierarchy: the hierarchy changes which photons are
+//! tested, never the result; the energy is right; error falls with more photons and smaller
+//! radii; a seed fixes the frame.
+
+mod common;
+
+use std::f64::consts::PI;
+
+use leakless::{BackendChoice, Method, RenderSettings, RenderedFrame, Renderer, SplatSettings};
+
+fn settings(width: u32, height: u32, splat: SplatSettings, max_bounces: u32, seed: u32) -> RenderSettings {
+    RenderSettings {
+        width,
+        height,
+        backend: BackendChoice::Auto,
+        method: Method::Splat,
+        max_bounces,
+        seed,
+        splat,
+        ..Default::default()
+    }
+}
+
+/// Every photon against every view sample, in f64: what the hierarchy must reproduce.
+fn brute_force(capture: &leakless::Capture, radius: f32) -> Vec<[f64; 3]> {
+    let r = radius as f64;
+    capture
+        .position
+        .iter()
+        .zip(&capture.normal)
+        .zip(&capture.albedo)
+        .map(|((p, n), a)| {
+            if p[3] <= 0.0 {
+                return [0.0; 3];
+            }
+            let mut e = [0.0f64; 3];
+            for ph in &capture.photons {
+                let d = (0..3).map(|i| (p[i] as f64 - ph.position[i] as f64).powi(2)).sum::<f64>().sqrt();
+                let facing = -(0..3).map(|i| n[i] as f64 * ph.direction[i] as f64).sum::<f64>();
+                if d < r && facing > 0.0 {
+                    let t = 1.0 - d * d / (r * r);
+                    let k = 3.0 / (PI * r * r) * t * t;
+                    for (ec, flux) in e.iter_mut().zip(ph.flux) {
+                        *ec += flux as f64 * k;
+                    }
+                }
+            }
+            [0, 1, 2].map(|c| a[c] as f64 / PI * e[c])
+        })
+        .collect()
+}
+
+#[test]
+fn hierarchy_gather_equals_brute_force_with_and_without_trivial_accept() {
+    // A radius large against the leaves, so that trivial accept really lists photons on
+    // interior nodes (checked below through the entry counts).
+    let radius = 0.25;
+    for branching in [4, 8] {
+        let mut entries = Vec::new();
+        for trivial_accept in [true, false] {
+            let Some(gpu) = common::gpu() else { return };
+            let scene = common::scene("scenes/cornell-box.gltf");
+            let splat = SplatSettings {
+                paths: 3000,
+                radius: Some(radius),
+                branching,
+                trivial_accept,
+                list_capacity: Some(1 << 22),
+            };
+            let mut renderer = Renderer::new(gpu, &scene, settings(96, 72, splat, 4, 1)).unwrap();
+            let frame = renderer.render().unwrap();
+            let capture = renderer.capture().unwrap();
+            let stats = frame.splat.clone().unwrap();
+            assert_eq!((stats.photons_dropped, stats.list_entries_dropped), (0, 0));
+            assert!(capture.photons.len() > 1000, "{} photons", capture.photons.len());
+            let expected = brute_force(&capture, radius);
+            let peak = expected.iter().flatten().fold(0.0f64, |m, v| m.max(v.abs()));
+            for (i, (got, want)) in frame.indirect.iter().zip(&expected).enumerate() {
+                for c in 0..3 {
+                    let err = (got[c] as f64 - want[c]).abs();
+                    assert!(
+                        err <= 1e-5 * want[c].abs().max(1e-3 * peak),
+                        "trivial_accept={trivial_accept} B={branching} pixel {i}: {} vs brute force {}",
+                        got[c],
+                        want[c]
+                    );
+                }
+            }
+            eprintln!(
+                "trivial_accept={trivial_accept} B={branching}: {} candidate tests vs {} brute force ({:.2}%), {} list entries, {} node tests",
+                stats.candidate_tests,
+                stats.brute_force_tests,
+                100.0 * stats.candidate_tests as f64 / stats.brute_force_tests as f64,
+                stats.list_entries,
+                stats.nodes_visited
+            );
+            assert!(stats.candidate_tests < stats.brute_force_tests, "{stats:?}");
+            entries.push((stats.list_entries, stats.nodes_visited));
+            renderer.gpu().check_validation().unwrap();
+        }
+        assert!(entries[0].0 < entries[1].0, "trivial accept listed no photon on an inner node: {entries:?}");
+        assert!(entries[0].1 < entries[1].1, "trivial accept saved no node tests: {entries:?}");
+    }
+}
+
+/// Closed sphere (R = 1, ρ = 0.5, I = 1 W/sr at the centre): the photons stored on the wall
+/// carry Φ·Σ_{k=1..K} ρ^k spread evenly over 4πR², so the indirect radiance is
+/// L = ρ/π · I Σ_{k=1..K} ρ^k / R². Setting: 20k paths, K = 4, radius 0.2 R.
+#[test]
+fn sphere_indirect_energy_matches_the_closed_form() {
+    let (rho, k) = (0.5f64, 4);
+    let expected = rho / PI * (1..=k).map(|j| rho.powi(j)).sum::<f64>();
+    let splat = SplatSettings { paths: 20_000, radius: Some(0.2), ..Default::default() };
+    let Some(frame) = common::render_with("scenes/sphere.gltf", settings(48, 48, splat, k as u32, 3)) else { return };
+    let mean = common::mean(&frame.indirect);
+    for c in mean {
+        assert!((c - expected).abs() / expected < 0.03, "mean indirect {c} vs {expected}");
+    }
+}
+
+/// Error against the reference ground truth falls as paths grow and the radius shrinks.
+#[test]
+fn error_against_the_reference_falls_with_paths_and_radius() {
+    let reference = {
+        let s = RenderSettings {
+            width: 64,
+            height: 48,
+            method: Method::Reference,
+            spp: 4096,
+            max_bounces: 8,
+            seed: 1,
+            ..Default::default()
+        };
+        let Some(frame) = common::render_with("scenes/cornell-box.gltf", s) else { return };
+        frame
+    };
+    let mut errors = Vec::new();
+    for (paths, radius) in [(2_000, 0.12), (8_000, 0.07), (32_000, 0.04), (128_000, 0.025)] {
+        let splat = SplatSettings { paths, radius: Some(radius), ..Default::default() };
+        let frame = common::render_with("scenes/cornell-box.gltf", settings(64, 48, splat, 8, 1)).unwrap();
+        let err = common::relative_rms(&frame.indirect, &reference.indirect);
+        eprintln!("paths {paths}, radius {radius}: relative RMS error of the indirect layer {err:.4}");
+        errors.push(err);
+    }
+    assert!(errors.windows(2).all(|w| w[1] < w[0]), "errors do not fall: {errors:?}");
+}
+
+#[test]
+fn a_seed_fixes_the_frame() {
+    let run = |seed| {
+        let splat = SplatSettings { paths: 4000, ..Default::default() };
+        common::render_with("scenes/cornell-box.gltf", settings(40, 30, splat, 4, seed))
+    };
+    let Some(a) = run(7) else { return };
+    let b = run(7).unwrap();
+    let c = run(8).unwrap();
+    assert!(a.indirect == b.indirect && a.radiance == b.radiance, "same seed, different frames");
+    assert!(a.indirect != c.indirect, "different seeds, same frame");
+    let _ = RenderedFrame::pixel(&a.indirect, 40, 0, 0);
+}
+
+#[test]
+#[ignore]
+fn debug_hierarchy_extents() {
+    let Some(gpu) = common::gpu() else { return };
+    let scene = common::scene("scenes/cornell-box.gltf");
+    let splat = SplatSettings {
+        paths: 3000,
+        radius: Some(0.2),
+        branching: 4,
+        trivial_accept: true,
+        list_capacity: Some(1 << 22),
+    };
+    let mut renderer = Renderer::new(gpu, &scene, settings(160, 120, splat, 4, 1)).unwrap();
+    renderer.render().unwrap();
+    let h = renderer.hierarchy().unwrap();
+    let nodes: Vec<leakless::passes::hierarchy::Node> =
+        h.nodes_buffer().read_vec(h.shape.node_count() as usize).unwrap();
+    for (l, level) in h.shape.levels.iter().enumerate() {
+        let ns = &nodes[level.offset as usize..(level.offset + level.count) as usize];
+        let valid: Vec<_> = ns.iter().filter(|n| n.valid_samples > 0).collect();
+        let ext: f32 = valid
+            .iter()
+            .map(|n| (0..3).map(|i| (n.bounds_max[i] - n.bounds_min[i]).powi(2)).sum::<f32>().sqrt())
+            .sum::<f32>()
+            / valid.len() as f32;
+        let cone: f32 = valid.iter().map(|n| n.cone_angle).sum::<f32>() / valid.len() as f32;
+        if l == 0 {
+            let keys: Vec<u32> = h.keys_buffer().read_vec(h.shape.sample_count as usize).unwrap();
+            eprintln!("keys sorted: {}", keys.windows(2).all(|w| w[0] <= w[1]));
+        }
+        eprintln!("level {l}: {} nodes, {} valid, mean diagonal {ext:.4}, mean cone {cone:.4}", ns.len(), valid.len());
+    }
+}
