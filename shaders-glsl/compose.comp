@@ -1,6 +1,7 @@
 #version 460
 // Final image: radiance = direct + indirect, where the indirect layer is a running sum scaled
-// by `indirect_scale` (1/spp for the reference; 0 when the method has no indirect light yet).
+// by `indirect_scale` (1/spp for the reference; 0 when the method has no indirect light), and a
+// zero leaked layer for methods that do not trace visibility.
 #include "common.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
@@ -12,10 +13,11 @@ layout(set = 0, binding = 3, rgba32f) uniform writeonly image2D indirect;
 layout(set = 0, binding = 4, rgba32f) uniform writeonly image2D radiance;
 layout(set = 0, binding = 5) uniform ComposeParams {
     float indirect_scale;
-    uint pad0;
+    uint leaked_written;  // 0: no gather wrote the leaked layer this frame; it becomes zero
     uint pad1;
     uint pad2;
 } params;
+layout(set = 0, binding = 6, rgba32f) uniform image2D leaked;
 
 void main() {
     ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
@@ -27,4 +29,7 @@ void main() {
     vec3 l_direct = imageLoad(direct, pixel).rgb;
     imageStore(indirect, pixel, vec4(l_indirect, 1.0));
     imageStore(radiance, pixel, vec4(l_direct + l_indirect, 1.0));
+    if (params.leaked_written == 0u) {
+        imageStore(leaked, pixel, vec4(0.0));
+    }
 }

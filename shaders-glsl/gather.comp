@@ -4,9 +4,15 @@
 // ancestor, and for each photon within the radius whose incoming direction faces the sample
 // adds flux × kernel to the irradiance; the indirect radiance is ρ/π · E.
 //
-// The sum is kept in 64-bit fixed point: the splat appends to the lists with atomics, so
-// their order changes from run to run, and only an order-independent sum makes a frame
+// Leakage removal (`visibility`): before a photon counts, a visibility segment is traced from
+// the sample to the photon, both lifted off their surfaces; a hit means the light leaked
+// through geometry: it is dropped from the indirect layer and added to the `leaked` layer.
+// With `cap`, at most `cap` photons are gathered per sample (the thesis' per-pixel cap).
+//
+// Sums are kept in 64-bit fixed point: the splat appends to the lists with atomics, so their
+// order changes from run to run, and only an order-independent sum makes a frame
 // bit-identical for a fixed seed.
+#include "trace.glsl"
 #include "common.glsl"
 #include "hierarchy.glsl"
 #include "photon.glsl"
@@ -23,27 +29,50 @@ layout(set = 0, binding = 6, std430) readonly buffer Photons { Photon photons[];
 layout(set = 0, binding = 7, std430) readonly buffer NodeHeads { uint heads[]; } node_heads;
 layout(set = 0, binding = 8, std430) readonly buffer ListEntries { ListEntry entries[]; } list_entries;
 layout(set = 0, binding = 9, std430) buffer GatherCounters {
-    uint candidates_lo;   // photons examined, 64-bit
+    uint candidates_lo;   // photons examined (64-bit totals as lo/hi words)
     uint candidates_hi;
-    uint accepted_lo;     // photons within the radius and facing, 64-bit
+    uint accepted_lo;     // within the radius and facing: visibility rays when tracing
     uint accepted_hi;
+    uint occluded_lo;     // of those, blocked: leaks removed
+    uint occluded_hi;
     uint valid_samples;   // view samples with a surface
-    uint pad0;
-    uint pad1;
-    uint pad2;
+    uint capped_samples;  // samples that reached the cap
 } gather_counters;
 layout(set = 0, binding = 10, rgba32f) uniform writeonly image2D indirect_sum;
-layout(set = 0, binding = 11) uniform GatherParams {
+layout(set = 0, binding = 11, rgba32f) uniform writeonly image2D leaked;
+layout(set = 0, binding = 12) uniform GatherParams {
     float radius;
     float fixed_scale;  // fixed-point units per W/m²; chosen so no sum can overflow
     uint level_count;
     uint sample_count;
     uint image_width;
+    uint visibility;    // 1: trace a visibility segment to every photon
+    uint cap;           // 0: no cap; else gather at most this many photons per sample
     uint pad0;
-    uint pad1;
-    uint pad2;
 } params;
 
+// Adds to a 64-bit counter kept as two words (no 64-bit atomics needed).
+#define ADD64(LO, HI, VALUE)                          \
+    {                                                 \
+        uint before_ = atomicAdd(LO, VALUE);          \
+        if (before_ + (VALUE) < before_) {            \
+            atomicAdd(HI, 1u);                        \
+        }                                             \
+    }
+
+// Whether the segment from the sample to the photon is free of geometry.
+bool photon_visible(vec3 x, vec3 ng_x, Photon ph) {
+    vec3 from = offset_ray(x, ng_x);
+    vec3 to = offset_ray(ph.position, ph.normal);
+    vec3 d = to - from;
+    float dist = length(d);
+    if (dist <= 0.0) {
+        return true;
+    }
+    // Stop a relative 2^-12 short of the photon: scale-free, so a scene scaled ×1000 decides
+    // the same way, and never counting the photon's own surface.
+    return !traceOccluded(from, d / dist, 0.0, dist * (1.0 - 1.0 / 4096.0));
+}
 
 void main() {
     uint s = gl_GlobalInvocationID.x;
@@ -54,38 +83,56 @@ void main() {
     ivec2 xy = ivec2(pixel % params.image_width, pixel / params.image_width);
     if (sorted_keys.keys[s] == INVALID_SAMPLE_KEY) {
         imageStore(indirect_sum, xy, vec4(0.0));
+        imageStore(leaked, xy, vec4(0.0));
         return;
     }
-    vec3 x = imageLoad(gbuffer_position, xy).xyz;
+    vec4 position = imageLoad(gbuffer_position, xy);
+    vec3 x = position.xyz;
     vec3 n = imageLoad(gbuffer_normal, xy).xyz;
+    vec3 ng = vec3(0.0);
+    if (params.visibility != 0u) {
+        ng = triangle_geometric_normal(uint(position.w) - 1u);
+        ng = dot(ng, n) < 0.0 ? -ng : ng;
+    }
     float r = params.radius;
-    i64vec3 sum = i64vec3(0);
+    i64vec3 kept = i64vec3(0);
+    i64vec3 lost = i64vec3(0);
     uint candidates = 0u;
     uint accepted = 0u;
-    for (uint l = 0u; l < params.level_count; ++l) {
+    uint occluded = 0u;
+    bool capped = false;
+    for (uint l = 0u; l < params.level_count && !capped; ++l) {
         Level lv = levels.levels[l];
         uint node = lv.offset + s / lv.span;
         for (uint e = node_heads.heads[node]; e != END_OF_LIST; e = list_entries.entries[e].next) {
             Photon ph = photons.photons[list_entries.entries[e].photon];
             candidates += 1u;
             float d = distance(x, ph.position);
-            if (d < r && dot(n, -ph.direction) > 0.0) {
-                accepted += 1u;
-                sum += i64vec3(ph.flux * (biweight(d, r) * params.fixed_scale));
+            if (d >= r || dot(n, -ph.direction) <= 0.0) {
+                continue;
+            }
+            if (params.cap != 0u && accepted == params.cap) {
+                capped = true;
+                break;
+            }
+            accepted += 1u;
+            i64vec3 contribution = i64vec3(ph.flux * (biweight(d, r) * params.fixed_scale));
+            if (params.visibility == 0u || photon_visible(x, ng, ph)) {
+                kept += contribution;
+            } else {
+                occluded += 1u;
+                lost += contribution;
             }
         }
     }
-    vec3 irradiance = vec3(sum) / params.fixed_scale;
-    vec3 albedo = imageLoad(gbuffer_albedo, xy).rgb;
-    imageStore(indirect_sum, xy, vec4(albedo / PI * irradiance, 1.0));
+    vec3 albedo_over_pi = imageLoad(gbuffer_albedo, xy).rgb / PI;
+    imageStore(indirect_sum, xy, vec4(albedo_over_pi * vec3(kept) / params.fixed_scale, 1.0));
+    imageStore(leaked, xy, vec4(albedo_over_pi * vec3(lost) / params.fixed_scale, 1.0));
     atomicAdd(gather_counters.valid_samples, 1u);
-    // Counters: one atomic pair per thread (64-bit totals without 64-bit atomics).
-    uint lo = atomicAdd(gather_counters.candidates_lo, candidates);
-    if (lo + candidates < lo) {
-        atomicAdd(gather_counters.candidates_hi, 1u);
+    if (capped) {
+        atomicAdd(gather_counters.capped_samples, 1u);
     }
-    lo = atomicAdd(gather_counters.accepted_lo, accepted);
-    if (lo + accepted < lo) {
-        atomicAdd(gather_counters.accepted_hi, 1u);
-    }
+    ADD64(gather_counters.candidates_lo, gather_counters.candidates_hi, candidates);
+    ADD64(gather_counters.accepted_lo, gather_counters.accepted_hi, accepted);
+    ADD64(gather_counters.occluded_lo, gather_counters.occluded_hi, occluded);
 }

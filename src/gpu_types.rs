@@ -80,12 +80,13 @@ pub const REFERENCE_PARAMS_LAYOUT: RustLayout =
 #[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
 pub struct ComposeParams {
     pub indirect_scale: f32,
-    pub pad0: u32,
+    pub leaked_written: u32,
     pub pad1: u32,
     pub pad2: u32,
 }
 
-pub const COMPOSE_PARAMS_LAYOUT: RustLayout = rust_layout!(ComposeParams { indirect_scale, pad0, pad1, pad2 });
+pub const COMPOSE_PARAMS_LAYOUT: RustLayout =
+    rust_layout!(ComposeParams { indirect_scale, leaked_written, pad1, pad2 });
 
 /// `struct Ray` of raycast.comp.
 #[repr(C)]

@@ -13,6 +13,7 @@ use crate::gpu_scene::GpuScene;
 use crate::gpu_types::{Frame, ReferenceParams};
 use crate::passes::compose::{ComposeImages, ComposePass};
 use crate::passes::direct::DirectPass;
+use crate::passes::gather::GatherOutputs;
 use crate::passes::gbuffer::{self, GBuffer, GBufferPass};
 use crate::passes::photons::Photon;
 use crate::passes::readback;
@@ -31,6 +32,8 @@ pub struct RenderedFrame {
     pub radiance: Vec<[f32; 3]>,
     pub direct: Vec<[f32; 3]>,
     pub indirect: Vec<[f32; 3]>,
+    /// Indirect light the visibility test removed (zero for methods without it).
+    pub leaked: Vec<[f32; 3]>,
     /// Per-pass times, summed over the submissions of the frame (a reference frame runs its
     /// path tracer in several).
     pub timings: Vec<PassTiming>,
@@ -41,6 +44,18 @@ pub struct RenderedFrame {
 }
 
 impl RenderedFrame {
+    /// Fills the splat stats' leaked energy fraction from the layers.
+    fn with_leaked_fraction(mut self) -> Self {
+        if let Some(stats) = &mut self.splat {
+            let lum = |l: &[[f32; 3]]| {
+                l.iter().map(|p| 0.2126 * p[0] as f64 + 0.7152 * p[1] as f64 + 0.0722 * p[2] as f64).sum::<f64>()
+            };
+            let (lost, kept) = (lum(&self.leaked), lum(&self.indirect));
+            stats.leaked_energy_fraction = if lost + kept > 0.0 { lost / (lost + kept) } else { 0.0 };
+        }
+        self
+    }
+
     pub fn pixel(layer: &[[f32; 3]], width: u32, x: u32, y: u32) -> [f32; 3] {
         layer[(y * width + x) as usize]
     }
@@ -59,6 +74,7 @@ struct Targets {
     direct: Image,
     indirect_sum: Image,
     indirect: Image,
+    leaked: Image,
     radiance: Image,
 }
 
@@ -73,13 +89,14 @@ impl Targets {
             direct: image("direct")?,
             indirect_sum: image("indirect sum")?,
             indirect: image("indirect")?,
+            leaked: image("leaked")?,
             radiance: image("radiance")?,
         })
     }
 }
 
-/// The three layers read back: radiance, direct, indirect.
-const LAYERS: u64 = 3;
+/// The layers read back: radiance, direct, indirect, leaked.
+const LAYERS: u64 = 4;
 
 pub struct Renderer {
     settings: RenderSettings,
@@ -130,11 +147,12 @@ impl Renderer {
             reference: ReferencePass::new(&gpu, backend)?,
             compose: ComposePass::new(&gpu)?,
         };
-        let splatting = if settings.method.splats() {
-            let s = &settings;
-            Some(PhotonSplatting::new(&gpu, scene, backend, s.width, s.height, &s.splat, s.max_bounces, s.seed)?)
-        } else {
-            None
+        let splatting = match settings.photon_settings() {
+            Some(photons) => {
+                let s = &settings;
+                Some(PhotonSplatting::new(&gpu, scene, backend, s.width, s.height, &photons, s.max_bounces, s.seed)?)
+            }
+            None => None,
         };
         let runner = GraphRunner::new(&gpu, 128)?;
         gpu.check_validation()?;
@@ -207,7 +225,23 @@ impl Renderer {
     }
 
     /// Renders one frame; `progress(done, total)` is called as reference samples accumulate.
+    /// A splat frame whose node lists overflowed is rendered once more with lists large
+    /// enough (unless the capacity was fixed by the user or is at its maximum, in which case
+    /// the drops are reported in the frame's stats).
     pub fn render_with_progress(&mut self, progress: &mut dyn FnMut(u32, u32)) -> Result<RenderedFrame> {
+        let frame = self.render_once(progress)?;
+        let grew = match &mut self.splatting {
+            Some(s) => s.grow_lists_after_drops(&self.gpu)?,
+            None => false,
+        };
+        if grew {
+            self.render_once(progress)
+        } else {
+            Ok(frame)
+        }
+    }
+
+    fn render_once(&mut self, progress: &mut dyn FnMut(u32, u32)) -> Result<RenderedFrame> {
         let start = std::time::Instant::now();
         let (width, height) = (self.settings.width, self.settings.height);
         let frame = Frame {
@@ -243,7 +277,7 @@ impl Renderer {
         }
         let scale = match self.settings.method {
             Method::Reference => 1.0 / total as f32,
-            Method::Splat => 1.0,
+            Method::Splat | Method::LeakLessCapped | Method::LeakLess => 1.0,
             Method::Direct => 0.0,
         };
         timings.add(self.run(false, done, 0, Some(scale))?);
@@ -261,10 +295,12 @@ impl Renderer {
             radiance: layer(0),
             direct: layer(1),
             indirect: layer(2),
+            leaked: layer(3),
             timings: timings.0,
             wall_ms: start.elapsed().as_secs_f64() * 1e3,
             splat: self.splatting.as_ref().map(|s| s.read_stats()).transpose()?,
-        })
+        }
+        .with_leaked_fraction())
     }
 
     /// One submission: optionally the view samples and direct light, then `sample_count`
@@ -287,6 +323,7 @@ impl Renderer {
         let mut indirect_sum = graph.import_image(&t.indirect_sum);
         let mut indirect = graph.import_image(&t.indirect);
         let mut radiance = graph.import_image(&t.radiance);
+        let mut leaked = graph.import_image(&t.leaked);
         let mut readback = graph.import_buffer(&self.readback);
 
         if view_samples {
@@ -296,7 +333,8 @@ impl Renderer {
         if view_samples {
             self.passes.direct.add(&mut graph, &view, &mut direct);
             if let Some(splatting) = &self.splatting {
-                splatting.add(&mut graph, &frame, &scene, &trace, &gbuffer, &mut indirect_sum)?;
+                let out = GatherOutputs { indirect_sum: &mut indirect_sum, leaked: &mut leaked };
+                splatting.add(&mut graph, &frame, &scene, &trace, &gbuffer, out)?;
             }
         }
         if sample_count > 0 {
@@ -316,9 +354,10 @@ impl Renderer {
                 indirect_sum: &indirect_sum,
                 indirect: &mut indirect,
                 radiance: &mut radiance,
+                leaked: &mut leaked,
             };
-            self.passes.compose.add(&mut graph, scale, &frame, images)?;
-            readback::add(&mut graph, &[&radiance, &direct, &indirect], &mut readback);
+            self.passes.compose.add(&mut graph, scale, self.splatting.is_some(), &frame, images)?;
+            readback::add(&mut graph, &[&radiance, &direct, &indirect, &leaked], &mut readback);
         }
         Ok(self.runner.run(&self.gpu, graph)?)
     }

@@ -29,14 +29,20 @@ pub enum Method {
     Direct,
     /// Moreau et al.: hierarchy splat with trivial accept, no visibility (the baseline that
     /// leaks).
-    #[default]
     Splat,
+    /// The thesis as presented: visibility to every gathered photon, trivial accept off, at
+    /// most `cap` photons gathered per pixel.
+    LeakLessCapped,
+    /// Ours: trivial accept kept, every candidate photon's visibility tested, no cap.
+    #[default]
+    LeakLess,
     /// Progressive path tracer of the same light transport, `spp` samples.
     Reference,
 }
 
 impl Method {
-    pub const ALL: [Method; 3] = [Method::Direct, Method::Splat, Method::Reference];
+    pub const ALL: [Method; 5] =
+        [Method::Direct, Method::Splat, Method::LeakLessCapped, Method::LeakLess, Method::Reference];
 
     pub fn parse(s: &str) -> Option<Self> {
         Self::ALL.into_iter().find(|m| m.name() == s)
@@ -46,13 +52,15 @@ impl Method {
         match self {
             Method::Direct => "direct",
             Method::Splat => "splat",
+            Method::LeakLessCapped => "leakless-capped",
+            Method::LeakLess => "leakless",
             Method::Reference => "reference",
         }
     }
 
     /// Whether the method traces photons and splats them.
     pub fn splats(self) -> bool {
-        self == Method::Splat
+        matches!(self, Method::Splat | Method::LeakLessCapped | Method::LeakLess)
     }
 }
 
@@ -62,7 +70,7 @@ impl Default for RenderSettings {
             width: 640,
             height: 480,
             backend: BackendChoice::Auto,
-            method: Method::Splat,
+            method: Method::LeakLess,
             spp: 64,
             max_bounces: 8,
             seed: 0,
@@ -70,6 +78,9 @@ impl Default for RenderSettings {
         }
     }
 }
+
+/// The thesis' per-pixel photon cap.
+pub const DEFAULT_CAP: u32 = 25;
 
 /// Upper bounds that keep a typo from asking for hours or gigabytes.
 pub const MAX_SPP: u32 = 1 << 20;
@@ -94,18 +105,44 @@ impl RenderSettings {
         Ok(())
     }
 
+    /// What the photon part of the frame does for this method (`None` for methods without
+    /// photons): the method fixes visibility, the cap and (for the thesis) trivial accept.
+    pub fn photon_settings(&self) -> Option<SplatSettings> {
+        let mut s = self.splat.clone();
+        match self.method {
+            Method::Splat => {
+                s.visibility = false;
+                s.cap = None;
+            }
+            Method::LeakLess => {
+                s.visibility = true;
+                s.cap = None;
+            }
+            Method::LeakLessCapped => {
+                s.visibility = true;
+                s.trivial_accept = false;
+                s.cap = Some(self.splat.cap.unwrap_or(DEFAULT_CAP));
+            }
+            Method::Direct | Method::Reference => return None,
+        }
+        Some(s)
+    }
+
     /// `name=value` pairs for EXR headers and stats.
     pub fn describe(&self) -> String {
         let mut s = format!("size={}x{} method={}", self.width, self.height, self.method.name());
         match self.method {
             Method::Reference => s += &format!(" spp={} max_bounces={} seed={}", self.spp, self.max_bounces, self.seed),
-            Method::Splat => {
-                let p = &self.splat;
+            Method::Splat | Method::LeakLessCapped | Method::LeakLess => {
+                let p = self.photon_settings().expect("a photon method");
                 let radius = p.radius.map_or("auto".to_string(), |r| r.to_string());
                 s += &format!(
-                    " paths={} radius={radius} branching={} trivial_accept={} max_bounces={} seed={}",
-                    p.paths, p.branching, p.trivial_accept, self.max_bounces, self.seed
+                    " paths={} radius={radius} branching={} trivial_accept={} visibility={} max_bounces={} seed={}",
+                    p.paths, p.branching, p.trivial_accept, p.visibility, self.max_bounces, self.seed
                 );
+                if let Some(cap) = p.cap {
+                    s += &format!(" cap={cap}");
+                }
             }
             Method::Direct => {}
         }

@@ -4,13 +4,13 @@
 //! frames and its counts read back for `--stats`.
 
 use leakless_device::{Buffer, BufferDesc, Gpu, MemoryLocation};
-use leakless_graph::{Access, BufferHandle, Graph, ImageHandle};
+use leakless_graph::{Access, BufferHandle, Graph};
 use leakless_scene::Scene;
 use serde::Serialize;
 
 use crate::error::{RenderError, Result};
 use crate::gpu_scene::SceneHandles;
-use crate::passes::gather::{self, GatherInputs, GatherPass};
+use crate::passes::gather::{self, GatherInputs, GatherOutputs, GatherPass};
 use crate::passes::gbuffer::GBufferHandles;
 use crate::passes::hierarchy::Hierarchy;
 use crate::passes::photons::{
@@ -33,11 +33,24 @@ pub struct SplatSettings {
     pub trivial_accept: bool,
     /// Node-list entries per frame; more are counted as dropped, never written.
     pub list_capacity: Option<u32>,
+    /// Trace a visibility segment from each sample to each photon (leakage removal); set by
+    /// the method.
+    pub visibility: bool,
+    /// Gather at most this many photons per pixel (`leakless-capped`; `--cap`).
+    pub cap: Option<u32>,
 }
 
 impl Default for SplatSettings {
     fn default() -> Self {
-        SplatSettings { paths: 10_000, radius: None, branching: 8, trivial_accept: true, list_capacity: None }
+        SplatSettings {
+            paths: 10_000,
+            radius: None,
+            branching: 8,
+            trivial_accept: true,
+            list_capacity: None,
+            visibility: false,
+            cap: None,
+        }
     }
 }
 
@@ -54,10 +67,19 @@ pub struct SplatStats {
     pub list_entries_dropped: u32,
     pub list_capacity: u32,
     pub nodes_visited: u32,
-    /// Photons the gather examined (the visibility tests a leakless gather makes).
+    /// Photons the gather examined.
     pub candidate_tests: u64,
-    /// Of those, within the radius and facing the sample.
+    /// Of those, within the radius and facing the sample (gathered).
     pub accepted: u64,
+    /// Visibility segments traced (the gathered photons, when the method traces).
+    pub visibility_rays: u64,
+    /// Gathered photons whose segment hit geometry: leaks removed.
+    pub leaks_culled: u64,
+    /// Samples that reached the per-pixel cap.
+    pub capped_samples: u32,
+    /// Leaked / (leaked + kept) indirect energy over the image (luminance), filled in by the
+    /// renderer from the layers.
+    pub leaked_energy_fraction: f64,
     /// Valid view samples × photons: what a splat without hierarchy would test.
     pub brute_force_tests: u64,
 }
@@ -131,7 +153,7 @@ impl PhotonSplatting {
             hierarchy,
             lists,
             splat: SplatPass::new(gpu)?,
-            gather: GatherPass::new(gpu)?,
+            gather: GatherPass::new(gpu, backend)?,
         })
     }
 
@@ -139,8 +161,25 @@ impl PhotonSplatting {
         self.radius
     }
 
-    /// Adds the frame's photon passes: photons, hierarchy, splat and gather into
-    /// `indirect_sum` (radiance, scale 1).
+    /// After a frame that dropped list entries, grows the lists to hold all of them (up to
+    /// [`MAX_LIST_CAPACITY`]) unless the user fixed the capacity; true if it grew, so the
+    /// caller can render the frame again.
+    pub fn grow_lists_after_drops(&mut self, gpu: &Gpu) -> Result<bool> {
+        let counters = self.lists.read_counters()?;
+        if counters.entries_dropped == 0
+            || self.settings.list_capacity.is_some()
+            || self.lists.capacity >= MAX_LIST_CAPACITY
+        {
+            return Ok(false);
+        }
+        // `entries_used` counts every attempted append: exactly what the frame needed.
+        let needed = (counters.entries_used as u64 * 5 / 4).min(MAX_LIST_CAPACITY as u64) as u32;
+        self.lists = NodeLists::new(gpu, self.hierarchy.shape.node_count(), needed)?;
+        Ok(true)
+    }
+
+    /// Adds the frame's photon passes: photons, hierarchy, splat and gather into the
+    /// indirect sum (radiance, scale 1) and the leaked layer.
     #[allow(clippy::too_many_arguments)]
     pub fn add<'r>(
         &'r self,
@@ -149,7 +188,7 @@ impl PhotonSplatting {
         scene: &SceneHandles,
         trace: &TraceHandles,
         gbuffer: &GBufferHandles,
-        indirect_sum: &mut ImageHandle,
+        out: GatherOutputs<'_>,
     ) -> Result<()> {
         let mut photons = graph.import_buffer(&self.photons);
         let mut photon_counters = graph.import_buffer(&self.photon_counters);
@@ -174,8 +213,14 @@ impl PhotonSplatting {
             trivial_accept: self.settings.trivial_accept,
         };
         self.splat.add(graph, &self.hierarchy.shape, input, &h, &mut lists, self.lists.capacity)?;
-        let input = GatherInputs { photons: &photons, radius: self.radius, fixed_scale: self.fixed_scale };
-        let counters = self.gather.add(graph, &self.hierarchy.shape, input, gbuffer, &h, &lists, indirect_sum)?;
+        let input = GatherInputs {
+            photons: &photons,
+            radius: self.radius,
+            fixed_scale: self.fixed_scale,
+            visibility: self.settings.visibility,
+            cap: self.settings.cap,
+        };
+        let counters = self.gather.add(graph, &self.hierarchy.shape, input, gbuffer, scene, trace, &h, &lists, out)?;
 
         // The counters are read on the host once the frame completed.
         let mut host = graph.pass("splat counters to host");
@@ -210,14 +255,22 @@ impl PhotonSplatting {
             nodes_visited: lists.nodes_visited,
             candidate_tests: gather.candidates(),
             accepted: gather.accepted(),
+            visibility_rays: if self.settings.visibility { gather.accepted() } else { 0 },
+            leaks_culled: gather.occluded(),
+            capped_samples: gather.capped_samples,
+            leaked_energy_fraction: 0.0,
             brute_force_tests: valid_samples * photons.stored as u64,
         })
     }
 }
 
-/// Node-list entries for a frame: a photon lands on about one node per sample it reaches at
-/// the leaves, fewer with trivial accept; 16 entries per photon, at least one per pixel, and
-/// never more than 2^27 (1 GiB of entries): beyond that entries are dropped and reported.
+/// Most node-list entries a frame may use: 2^27 entries, 1 GiB. Beyond it entries are
+/// dropped and reported, so memory stays bounded whatever the radius and photon count.
+pub const MAX_LIST_CAPACITY: u32 = 1 << 27;
+
+/// Node-list entries to start with: a photon lands on the leaves within its radius (fewer
+/// nodes with trivial accept); 16 per photon, at least one per pixel. A frame that needs more
+/// grows the lists and is rendered again (`grow_lists_after_drops`).
 fn default_list_capacity(photons: u32, pixels: u32) -> u32 {
-    (photons as u64 * 16).max(pixels as u64).min(1 << 27) as u32
+    (photons as u64 * 16).max(pixels as u64).min(MAX_LIST_CAPACITY as u64) as u32
 }

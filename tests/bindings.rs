@@ -1,7 +1,7 @@
 //! Every pass's declared bindings agree with its shaders' reflection, on both trace backends
 //! (no GPU needed: this is the build-time reflection against the Rust declarations).
 
-use leakless::passes::{compose, direct, gbuffer, raycast, reference, view_bindings};
+use leakless::passes::{compose, direct, gather, gbuffer, photons, raycast, reference, splat, view_bindings};
 use leakless::shaders;
 use leakless::Backend;
 use leakless_device::check_bindings;
@@ -25,12 +25,35 @@ fn every_tracing_pass_matches_both_variants() {
                 backend.pick(&shaders::RAYCAST_COMP_RAYQUERY, &shaders::RAYCAST_COMP_COMPUTE),
                 raycast::bindings(backend),
             ),
+            (
+                "photons",
+                backend.pick(&shaders::PHOTONS_COMP_RAYQUERY, &shaders::PHOTONS_COMP_COMPUTE),
+                photons::bindings(backend),
+            ),
+            (
+                "gather",
+                backend.pick(&shaders::GATHER_COMP_RAYQUERY, &shaders::GATHER_COMP_COMPUTE),
+                gather::bindings(backend),
+            ),
         ];
         for (pass, shader, decls) in passes {
             check_bindings(shader, pass, &decls).unwrap_or_else(|e| panic!("{backend:?}: {e}"));
         }
     }
     check_bindings(&shaders::COMPOSE_COMP, "compose", compose::BINDINGS).unwrap();
+}
+
+#[test]
+fn every_splatting_pass_matches_its_shader() {
+    use leakless::passes::hierarchy;
+    let passes: [(&str, &leakless_device::shader::ShaderInfo, &[leakless_device::BindingDecl]); 3] = [
+        ("splat", &shaders::SPLAT_COMP, splat::BINDINGS),
+        ("hierarchy build", &shaders::HIERARCHY_BUILD_COMP, hierarchy::BUILD_BINDINGS),
+        ("morton", &shaders::MORTON_COMP, hierarchy::MORTON_BINDINGS),
+    ];
+    for (pass, shader, decls) in passes {
+        check_bindings(shader, pass, decls).unwrap();
+    }
 }
 
 #[test]

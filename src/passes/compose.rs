@@ -16,6 +16,7 @@ pub const BINDINGS: &[BindingDecl] = &[
     BindingDecl::storage_image("indirect"),
     BindingDecl::storage_image("radiance"),
     BindingDecl::uniform("params", COMPOSE_PARAMS_LAYOUT),
+    BindingDecl::storage_image("leaked"),
 ];
 
 pub struct ComposePass {
@@ -29,6 +30,7 @@ pub struct ComposeImages<'a> {
     pub indirect_sum: &'a ImageHandle,
     pub indirect: &'a mut ImageHandle,
     pub radiance: &'a mut ImageHandle,
+    pub leaked: &'a mut ImageHandle,
 }
 
 impl ComposePass {
@@ -43,10 +45,15 @@ impl ComposePass {
         &'r self,
         graph: &mut Graph<'r>,
         indirect_scale: f32,
+        leaked_written: bool,
         frame: &BufferHandle,
         images: ComposeImages<'_>,
     ) -> Result<()> {
-        self.params.set(&ComposeParams { indirect_scale, ..Default::default() })?;
+        self.params.set(&ComposeParams {
+            indirect_scale,
+            leaked_written: leaked_written as u32,
+            ..Default::default()
+        })?;
         let params = graph.import_buffer(&self.params.buffer);
         let mut pass = graph.pass("compose");
         let mut bound = vec![
@@ -55,6 +62,7 @@ impl ComposePass {
             ("direct", Bound::Image(pass.read(images.direct, Access::ComputeRead))),
             ("indirect_sum", Bound::Image(pass.read(images.indirect_sum, Access::ComputeRead))),
             ("indirect", Bound::Image(pass.write(images.indirect, Access::ComputeWrite))),
+            ("leaked", Bound::Image(pass.write(images.leaked, Access::ComputeReadWrite))),
         ];
         let out = pass.write(images.radiance, Access::ComputeWrite);
         bound.push(("radiance", Bound::Image(out)));

@@ -18,11 +18,42 @@ pub enum BenchCommand {
         #[arg(long, default_value_t = 3)]
         repeats: u32,
     },
+    /// Leakage removal: frame time of splat, leakless-capped and leakless at the same
+    /// settings, what trivial accept saves, and visibility rays per second against the
+    /// device's occlusion-ray rate.
+    Leak {
+        /// The scene (.gltf or .glb).
+        scene: PathBuf,
+        #[arg(long, default_value = "320x240", value_parser = crate::parse_size)]
+        size: (u32, u32),
+        #[arg(long, default_value_t = 10_000)]
+        paths: u32,
+        /// Gather radius (default: 5% of the scene's bounding radius).
+        #[arg(long)]
+        radius: Option<f32>,
+        /// Trace backend.
+        #[arg(long, default_value = "auto", value_parser = crate::parse_backend)]
+        backend: BackendChoice,
+    },
+    /// Photon splatting: per-pass times, hierarchy tests against brute force, growth with
+    /// paths and resolution, and the branching factor B.
+    Splat {
+        /// The scene (.gltf or .glb).
+        scene: PathBuf,
+        /// Base image size (the resolution sweep halves and doubles it).
+        #[arg(long, default_value = "320x240", value_parser = crate::parse_size)]
+        size: (u32, u32),
+        /// Base number of light paths.
+        #[arg(long, default_value_t = 10_000)]
+        paths: u32,
+    },
 }
 
 pub fn run(cmd: BenchCommand) -> anyhow::Result<()> {
     match cmd {
         BenchCommand::Rays { scene, size, repeats } => rays(scene, size, repeats),
+        BenchCommand::Splat { scene, size, paths } => splat(scene, size, paths),
+        BenchCommand::Leak { scene, size, paths, radius, backend } => leak(scene, size, paths, radius, backend),
     }
 }
 
@@ -61,6 +92,191 @@ fn rays(path: PathBuf, size: (u32, u32), repeats: u32) -> anyhow::Result<()> {
         println!("no ray queries on this device: compute backend only");
     } else {
         println!("speed ratio compute/rayquery: {}", ratios.join(", "));
+    }
+    Ok(())
+}
+
+fn splat(path: PathBuf, (w, h): (u32, u32), paths: u32) -> anyhow::Result<()> {
+    use leakless::SplatSettings;
+    let scene = Scene::load(&path).with_context(|| format!("loading {}", path.display()))?;
+    let auto = 0.05 * scene.bounds().bounding_radius();
+    let open = || Ok(leakless::Gpu::new(&leakless::GpuOptions { validation: None, ray_tracing: true })?);
+    let s =
+        |paths, radius: f32, branching| SplatSettings { paths, radius: Some(radius), branching, ..Default::default() };
+    let gpu_name = open()?.report().name.clone();
+    println!("bench splat {} on {gpu_name}; wall time of each pass submitted alone, second frame", path.display());
+
+    let table =
+        |title: &str, configs: Vec<(u32, u32, SplatSettings)>| -> anyhow::Result<Vec<leakless::bench::SplatRow>> {
+            let rows = leakless::bench::splat(&open, &scene, &configs)?;
+            println!("\n{title}");
+            println!(
+                "{:>9} {:>7} {:>7} {:>2} {:>8} {:>9} {:>9} {:>9} {:>9} {:>9} {:>11} {:>8}",
+                "size",
+                "paths",
+                "radius",
+                "B",
+                "photons",
+                "photon ms",
+                "hier. ms",
+                "splat ms",
+                "gather ms",
+                "entries",
+                "tests",
+                "vs brute"
+            );
+            for r in &rows {
+                let st = &r.stats;
+                println!(
+                    "{:>9} {:>7} {:>7.4} {:>2} {:>8} {:>9.1} {:>9.1} {:>9.1} {:>9.1} {:>9} {:>11} {:>7.3}%",
+                    format!("{}x{}", r.width, r.height),
+                    st.paths,
+                    st.radius,
+                    st.branching,
+                    st.photons_stored,
+                    r.photons_ms(),
+                    r.hierarchy_ms(),
+                    r.splat_ms(),
+                    r.gather_ms(),
+                    st.list_entries,
+                    st.candidate_tests,
+                    100.0 * st.candidate_tests as f64 / st.brute_force_tests.max(1) as f64
+                );
+                if st.list_entries_dropped > 0 {
+                    println!("          ({} list entries dropped: raise --list-capacity)", st.list_entries_dropped);
+                }
+            }
+            Ok(rows)
+        };
+    table(
+        "(paths, radius): gather tests against a brute-force splat",
+        vec![
+            (w, h, s(paths, auto, 8)),
+            (w, h, s(paths, 2.0 * auto, 8)),
+            (w, h, s(4 * paths, auto, 8)),
+            (w, h, s(4 * paths, 0.5 * auto, 8)),
+        ],
+    )?;
+    let grow = table("growth with paths", (0..4).map(|i| (w, h, s(paths << i, auto, 8))).collect())?;
+    let ratio = |a: f64, b: f64| if a > 0.0 { b / a } else { f64::NAN };
+    println!(
+        "splat time x{:.2} and gather time x{:.2} for x8 paths",
+        ratio(grow[0].splat_ms(), grow[3].splat_ms()),
+        ratio(grow[0].gather_ms(), grow[3].gather_ms())
+    );
+    let res = table(
+        "growth with resolution",
+        [(w / 2, h / 2), (w, h), (2 * w, 2 * h)].into_iter().map(|(a, b)| (a, b, s(paths, auto, 8))).collect(),
+    )?;
+    println!(
+        "hierarchy x{:.2}, splat x{:.2}, gather x{:.2} for x16 pixels",
+        ratio(res[0].hierarchy_ms(), res[2].hierarchy_ms()),
+        ratio(res[0].splat_ms(), res[2].splat_ms()),
+        ratio(res[0].gather_ms(), res[2].gather_ms())
+    );
+    let b = table("branching factor B", [4, 8, 16, 32].into_iter().map(|b| (w, h, s(paths, auto, b))).collect())?;
+    let best = b
+        .iter()
+        .min_by(|x, y| {
+            (x.hierarchy_ms() + x.splat_ms() + x.gather_ms())
+                .total_cmp(&(y.hierarchy_ms() + y.splat_ms() + y.gather_ms()))
+        })
+        .expect("four rows");
+    println!("fastest hierarchy + splat + gather: B = {}", best.stats.branching);
+    Ok(())
+}
+
+fn leak(
+    path: PathBuf,
+    (w, h): (u32, u32),
+    paths: u32,
+    radius: Option<f32>,
+    backend: BackendChoice,
+) -> anyhow::Result<()> {
+    use leakless::{Method, RenderSettings, SplatSettings};
+    let scene = Scene::load(&path).with_context(|| format!("loading {}", path.display()))?;
+    let open = || {
+        Ok(leakless::Gpu::new(&leakless::GpuOptions { validation: None, ray_tracing: backend.wants_ray_queries() })?)
+    };
+    let gpu = open()?;
+    let resolved = backend.resolve(gpu.capabilities(), &gpu.report().name)?;
+    println!(
+        "bench leak {} ({}x{}, {paths} paths) on {}, {} backend; wall time of each pass submitted alone, second frame",
+        path.display(),
+        w,
+        h,
+        gpu.report().name,
+        resolved.name()
+    );
+    let run = |method, trivial_accept| RenderSettings {
+        width: w,
+        height: h,
+        backend,
+        method,
+        splat: SplatSettings { paths, radius, trivial_accept, ..Default::default() },
+        ..Default::default()
+    };
+    let runs = vec![
+        ("splat".to_string(), run(Method::Splat, true)),
+        ("leakless-capped".to_string(), run(Method::LeakLessCapped, false)),
+        ("leakless".to_string(), run(Method::LeakLess, true)),
+        ("leakless, trivial accept off".to_string(), run(Method::LeakLess, false)),
+    ];
+    let rows = leakless::bench::leak(&open, &scene, &runs)?;
+    println!(
+        "{:<29} {:>9} {:>9} {:>9} {:>11} {:>11} {:>10} {:>8}",
+        "method", "frame ms", "splat ms", "gather ms", "node tests", "vis. rays", "culled", "leaked"
+    );
+    for r in &rows {
+        let s = &r.stats;
+        println!(
+            "{:<29} {:>9.1} {:>9.1} {:>9.1} {:>11} {:>11} {:>10} {:>7.2}%",
+            r.label,
+            r.frame_ms(),
+            r.ms(&["splat"]),
+            r.ms(&["gather"]),
+            s.nodes_visited,
+            s.visibility_rays,
+            s.leaks_culled,
+            100.0 * s.leaked_energy_fraction
+        );
+    }
+    let (splat, capped, ours, no_ta) = (&rows[0], &rows[1], &rows[2], &rows[3]);
+    println!(
+        "frame time: leakless-capped / splat = {:.2}, leakless / splat = {:.2}, leakless / leakless-capped = {:.2}",
+        capped.frame_ms() / splat.frame_ms(),
+        ours.frame_ms() / splat.frame_ms(),
+        ours.frame_ms() / capped.frame_ms()
+    );
+    println!(
+        "trivial accept in leakless: splat pass {:.1} ms vs {:.1} ms without ({} vs {} node tests, {} vs {} list entries); images identical: {}",
+        ours.ms(&["splat"]),
+        no_ta.ms(&["splat"]),
+        ours.stats.nodes_visited,
+        no_ta.stats.nodes_visited,
+        ours.stats.list_entries,
+        no_ta.stats.list_entries,
+        if ours.frame.radiance == no_ta.frame.radiance { "yes (bit for bit)" } else { "NO" }
+    );
+    // The visibility rays' share of the gather: leakless gather minus the same gather without
+    // visibility (splat's).
+    let vis_ms = (ours.ms(&["gather"]) - splat.ms(&["gather"])).max(1e-3);
+    let vis_rate = ours.stats.visibility_rays as f64 / (vis_ms * 1e3);
+    let rates = leakless::bench::rays(&gpu, &scene, w, h, 3)?;
+    let occl = |set: &str| {
+        rates.iter().find(|r| r.backend == resolved && r.set == set && r.query == "occluded").map(|r| r.mrays_per_s())
+    };
+    println!(
+        "visibility rays: {} in {:.1} ms of gather beyond splat's = {:.2} Mrays/s",
+        ours.stats.visibility_rays, vis_ms, vis_rate
+    );
+    if let (Some(c), Some(i)) = (occl("coherent"), occl("incoherent")) {
+        println!(
+            "device occlusion rays ({}): coherent {c:.2} Mrays/s, incoherent {i:.2} Mrays/s -> visibility rays run at {:.0}% / {:.0}% of them",
+            resolved.name(),
+            100.0 * vis_rate / c,
+            100.0 * vis_rate / i
+        );
     }
     Ok(())
 }

@@ -20,10 +20,14 @@ pub struct RenderArgs {
     /// Output size, WIDTHxHEIGHT.
     #[arg(long, default_value = "640x480", value_parser = crate::parse_size)]
     size: (u32, u32),
-    /// `splat` (photon splatting, Moreau et al.), `reference` (path-traced indirect light) or
-    /// `direct` (direct light only).
-    #[arg(long, default_value = "splat", value_parser = ["splat", "reference", "direct"])]
+    /// `leakless` (ours: splatting with a visibility ray to every photon), `leakless-capped`
+    /// (the thesis: no trivial accept, at most --cap photons per pixel), `splat` (Moreau et
+    /// al., leaks), `reference` (path-traced indirect light) or `direct` (direct light only).
+    #[arg(long, default_value = "leakless", value_parser = ["leakless", "leakless-capped", "splat", "reference", "direct"])]
     method: String,
+    /// Photons gathered per pixel at most by `leakless-capped` (the thesis used 25).
+    #[arg(long)]
+    cap: Option<u32>,
     /// Light paths traced per frame by the photon methods.
     #[arg(long, default_value_t = 10_000)]
     paths: u32,
@@ -79,6 +83,9 @@ pub fn run(args: RenderArgs) -> anyhow::Result<()> {
             branching: args.branching,
             trivial_accept: !args.no_trivial_accept,
             list_capacity: args.list_capacity,
+            // Both follow from the method (RenderSettings::photon_settings).
+            visibility: false,
+            cap: args.cap,
         },
     };
     settings.validate()?;
@@ -108,6 +115,7 @@ pub fn run(args: RenderArgs) -> anyhow::Result<()> {
         ExrLayer { name: "", pixels: &frame.radiance },
         ExrLayer { name: "direct", pixels: &frame.direct },
         ExrLayer { name: "indirect", pixels: &frame.indirect },
+        ExrLayer { name: "leaked", pixels: &frame.leaked },
     ];
     let attributes = [
         ("leakless.scene", args.scene.display().to_string()),

@@ -8,6 +8,10 @@ mod build;
 mod morton;
 mod sample_bounds;
 
+pub use build::BINDINGS as BUILD_BINDINGS;
+pub use morton::BINDINGS as MORTON_BINDINGS;
+pub use sample_bounds::BINDINGS as SAMPLE_BOUNDS_BINDINGS;
+
 use ash::vk;
 use bytemuck::{Pod, Zeroable};
 use leakless_device::{rust_layout, Buffer, BufferDesc, Gpu, MemoryLocation, RustLayout};
