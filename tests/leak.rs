@@ -1,0 +1,171 @@
+//! Leakage removal: what leaks is removed, nothing else is, on both backends, at any scale.
+
+mod common;
+
+use glam::{Mat4, Vec3};
+use leakless::{BackendChoice, Method, RenderSettings, RenderedFrame, Renderer, Scene, SplatSettings};
+use leakless_scene::{Camera, Light, LightKind, Material, Vertex};
+
+fn settings(method: Method, width: u32, height: u32, splat: SplatSettings) -> RenderSettings {
+    RenderSettings { width, height, method, max_bounces: 4, seed: 1, splat, ..Default::default() }
+}
+
+fn render_scene(scene: &Scene, settings: RenderSettings) -> Option<RenderedFrame> {
+    let gpu = common::gpu_with(settings.backend.wants_ray_queries())?;
+    let mut renderer = Renderer::new(gpu, scene, settings).expect("renderer");
+    let frame = renderer.render().expect("render");
+    renderer.gpu().check_validation().expect("validation clean");
+    Some(frame)
+}
+
+fn quad(a: Vec3, b: Vec3, c: Vec3, d: Vec3, normal: Vec3) -> Vec<Vertex> {
+    let v = |p: Vec3| Vertex { position: p.to_array(), normal: normal.to_array(), uv: [0.0; 2] };
+    vec![v(a), v(b), v(c), v(a), v(c), v(d)]
+}
+
+/// An open concave corner: a floor, one wall, a point light above; nothing can occlude a
+/// segment between two of its points.
+fn corner() -> Scene {
+    let mut vertices = quad(
+        Vec3::new(0.0, 0.0, -1.0),
+        Vec3::new(2.0, 0.0, -1.0),
+        Vec3::new(2.0, 0.0, 1.0),
+        Vec3::new(0.0, 0.0, 1.0),
+        Vec3::Y,
+    );
+    vertices.extend(quad(Vec3::new(0.0, 0.0, -1.0), Vec3::new(0.0, 0.0, 1.0), Vec3::new(0.0, 2.0, 1.0), Vec3::new(0.0, 2.0, -1.0), Vec3::X));
+    let eye = Vec3::new(2.5, 1.6, 0.3);
+    Scene {
+        name: "corner".into(),
+        triangle_material: vec![0; vertices.len() / 3],
+        vertices,
+        materials: vec![Material::default_white()],
+        textures: vec![],
+        camera: Some(Camera {
+            world_from_camera: glam::camera::rh::view::look_at_mat4(eye, Vec3::new(0.0, 0.3, 0.0), Vec3::Y).inverse(),
+            yfov: 1.0,
+            znear: 0.01,
+            zfar: None,
+        }),
+        lights: vec![Light {
+            name: "bulb".into(),
+            kind: LightKind::Point,
+            position: Vec3::new(1.0, 1.2, 0.0),
+            direction: Vec3::NEG_Y,
+            color: Vec3::ONE,
+            intensity: 1.0,
+            range: None,
+        }],
+        warnings: vec![],
+        extras: None,
+    }
+}
+
+#[test]
+fn nothing_is_culled_where_nothing_occludes() {
+    let scene = corner();
+    for backend in [BackendChoice::RayQuery, BackendChoice::Compute] {
+        let Some(gpu) = common::gpu() else { return };
+        if backend == BackendChoice::RayQuery && !gpu.capabilities().ray_query {
+            continue;
+        }
+        drop(gpu);
+        let splat = SplatSettings { paths: 20_000, radius: Some(0.15), ..Default::default() };
+        let frame = render_scene(&scene, RenderSettings { backend, ..settings(Method::LeakLess, 64, 48, splat) }).unwrap();
+        let s = frame.splat.unwrap();
+        assert!(s.visibility_rays > 10_000, "{s:?}");
+        assert_eq!(s.leaks_culled, 0, "{backend:?}: segments inside an open corner were reported occluded");
+        assert_eq!(s.leaked_energy_fraction, 0.0);
+        assert!(frame.leaked.iter().all(|p| *p == [0.0; 3]));
+        assert!(common::mean(&frame.indirect)[0] > 0.0);
+    }
+}
+
+#[test]
+fn leakless_images_agree_across_backends() {
+    let Some(gpu) = common::gpu() else { return };
+    if common::backends(&gpu).len() < 2 {
+        return;
+    }
+    drop(gpu);
+    let scene = common::scene("scenes/cornell-box.gltf");
+    let splat = SplatSettings { paths: 20_000, radius: Some(0.05), ..Default::default() };
+    let rq = render_scene(&scene, RenderSettings { backend: BackendChoice::RayQuery, ..settings(Method::LeakLess, 64, 48, splat.clone()) }).unwrap();
+    let cs = render_scene(&scene, RenderSettings { backend: BackendChoice::Compute, ..settings(Method::LeakLess, 64, 48, splat) }).unwrap();
+    let diff = common::relative_rms(&rq.radiance, &cs.radiance);
+    let diff_indirect = common::relative_rms(&rq.indirect, &cs.indirect);
+    eprintln!("leakless rayquery vs compute: relative RMS {diff:.2e} (image), {diff_indirect:.2e} (indirect)");
+    assert!(diff < 1e-4, "image relative RMS {diff}");
+}
+
+/// Pixels where the G-buffer's normal or depth jumps between neighbours.
+fn edge_pixels(capture: &leakless::Capture, width: usize, height: usize, eye: Vec3) -> Vec<bool> {
+    let at = |x: usize, y: usize| y * width + x;
+    let depth = |i: usize| {
+        let p = capture.position[i];
+        if p[3] <= 0.0 {
+            f32::INFINITY
+        } else {
+            (Vec3::new(p[0], p[1], p[2]) - eye).length()
+        }
+    };
+    let normal = |i: usize| Vec3::new(capture.normal[i][0], capture.normal[i][1], capture.normal[i][2]);
+    let mut edges = vec![false; width * height];
+    for y in 0..height {
+        for x in 0..width {
+            let i = at(x, y);
+            for (nx, ny) in [(x + 1, y), (x, y + 1)] {
+                if nx >= width || ny >= height {
+                    continue;
+                }
+                let j = at(nx, ny);
+                let (di, dj) = (depth(i), depth(j));
+                let depth_jump = di.is_finite() != dj.is_finite() || (di - dj).abs() > 0.1 * di.min(dj);
+                if depth_jump || normal(i).dot(normal(j)) < 0.5 {
+                    edges[i] = true;
+                    edges[j] = true;
+                }
+            }
+        }
+    }
+    edges
+}
+
+/// The thesis' cap starves pixels that many photons reach: at a radius where edge pixels
+/// gather more than K photons, leakless-capped errs more there than leakless.
+#[test]
+fn the_cap_makes_edge_artefacts_that_leakless_does_not() {
+    let reference = {
+        let s = RenderSettings { width: 64, height: 48, method: Method::Reference, spp: 2048, max_bounces: 4, seed: 1, ..Default::default() };
+        let Some(frame) = common::render_with("scenes/cornell-box.gltf", s) else { return };
+        frame
+    };
+    let scene = common::scene("scenes/cornell-box.gltf");
+    let splat = SplatSettings { paths: 8_000, radius: Some(0.05), cap: Some(25), ..Default::default() };
+    let gpu = common::gpu().unwrap();
+    let mut renderer = Renderer::new(gpu, &scene, settings(Method::LeakLessCapped, 64, 48, splat.clone())).unwrap();
+    let capped = renderer.render().unwrap();
+    let capture = renderer.capture().unwrap();
+    let edges = edge_pixels(&capture, 64, 48, scene.camera_or_framing().position());
+    let ours = common::render_with("scenes/cornell-box.gltf", settings(Method::LeakLess, 64, 48, splat)).unwrap();
+    let stats = capped.splat.clone().unwrap();
+    assert!(stats.capped_samples > 0, "the cap never bit: {stats:?}");
+    let edge_error = |frame: &RenderedFrame| {
+        let (mut num, mut den) = (0.0f64, 0.0f64);
+        for i in (0..edges.len()).filter(|&i| edges[i]) {
+            for c in 0..3 {
+                num += ((frame.indirect[i][c] - reference.indirect[i][c]) as f64).powi(2);
+                den += (reference.indirect[i][c] as f64).powi(2);
+            }
+        }
+        (num / den).sqrt()
+    };
+    let (e_capped, e_ours) = (edge_error(&capped), edge_error(&ours));
+    eprintln!(
+        "{} edge pixels of {}, {} capped samples: relative RMS error on edges {e_capped:.3} (leakless-capped) vs {e_ours:.3} (leakless)",
+        edges.iter().filter(|&&e| e).count(),
+        edges.len(),
+        stats.capped_samples
+    );
+    assert!(e_capped > 1.5 * e_ours, "capped {e_capped} vs leakless {e_ours}");
+}
