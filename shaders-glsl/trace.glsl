@@ -20,6 +20,15 @@ const uint NO_HIT = 0xffffffffu;
 
 #define TRACE_BINDING 16
 
+// The scene's size (its bounding radius), so that ray offsets scale with the scene: a scene
+// scaled ×1000 traces the same rays. Bound by every tracing pass on both backends.
+layout(set = 0, binding = TRACE_BINDING + 3) uniform TraceScale {
+    float scene_scale;
+    float pad0;
+    float pad1;
+    float pad2;
+} trace_scale;
+
 // False when an alpha-masked material cuts the surface away at this point: such candidates
 // neither occlude nor count as hits, on both backends.
 bool trace_alpha_pass(uint triangle, vec2 barycentrics) {
@@ -81,13 +90,14 @@ bool traceOccluded(vec3 origin, vec3 dir, float tmin, float tmax) {
 }
 
 // Moves a ray origin on a surface off it along the geometric normal `n` (pointing to the side
-// the ray leaves on), by an amount that scales with the position's magnitude: a fixed number
-// of float ULPs far from the origin, a fixed tiny distance near it. This makes self-
-// intersection impossible at any scene scale without a scene-dependent epsilon (Wächter and
-// Binder, "A Fast and Robust Method for Avoiding Self-Intersection", Ray Tracing Gems, 2019).
+// the ray leaves on): a fixed number of float ULPs of the position, which scales with its
+// magnitude, and near the world origin, where ULPs vanish, a fixed fraction of the scene's
+// size (Wächter and Binder, "A Fast and Robust Method for Avoiding Self-Intersection", Ray
+// Tracing Gems, 2019, with their constants made relative to the scene so that the offsets
+// scale with it).
 vec3 offset_ray(vec3 p, vec3 n) {
-    const float origin = 1.0 / 32.0;
-    const float float_scale = 1.0 / 65536.0;
+    float origin = trace_scale.scene_scale / 32.0;
+    float float_scale = trace_scale.scene_scale / 65536.0;
     const float int_scale = 256.0;
     ivec3 of_i = ivec3(int_scale * n);
     vec3 p_i = vec3(intBitsToFloat(floatBitsToInt(p.x) + ((p.x < 0.0) ? -of_i.x : of_i.x)),

@@ -69,17 +69,17 @@ impl<'g> RayCaster<'g> {
 }
 
 /// Moves `p` off its surface along `n` exactly as `offset_ray` in trace.glsl does (a fixed
-/// number of float ULPs, a fixed distance near the origin), so CPU-made rays start where the
-/// GPU's would.
-pub fn offset_ray(p: Vec3, n: Vec3) -> Vec3 {
-    const ORIGIN: f32 = 1.0 / 32.0;
-    const FLOAT_SCALE: f32 = 1.0 / 65536.0;
+/// number of float ULPs, a fixed fraction of `scene_scale` near the origin), so CPU-made rays
+/// start where the GPU's would.
+pub fn offset_ray(p: Vec3, n: Vec3, scene_scale: f32) -> Vec3 {
+    let origin = scene_scale / 32.0;
+    let float_scale = scene_scale / 65536.0;
     const INT_SCALE: f32 = 256.0;
     let axis = |p: f32, n: f32| {
         let of = (INT_SCALE * n) as i32;
         let moved = f32::from_bits((p.to_bits() as i32).wrapping_add(if p < 0.0 { -of } else { of }) as u32);
-        if p.abs() < ORIGIN {
-            p + FLOAT_SCALE * n
+        if p.abs() < origin {
+            p + float_scale * n
         } else {
             moved
         }

@@ -72,6 +72,7 @@ pub fn facing_normal(scene: &Scene, t: usize, dir: Vec3) -> Vec3 {
 /// the ray's side of the surface: incoherent secondary rays, starting on surfaces.
 pub fn hemisphere_rays(scene: &Scene, primary: &[GpuRay], hits: &[RayHit], seed: u64) -> Vec<GpuRay> {
     let mut rng = SplitMix::new(seed);
+    let scale = crate::trace::scene_scale(scene);
     primary
         .iter()
         .zip(hits)
@@ -84,7 +85,7 @@ pub fn hemisphere_rays(scene: &Scene, primary: &[GpuRay], hits: &[RayHit], seed:
             if dir.dot(n) < 0.0 {
                 dir = -dir;
             }
-            GpuRay { origin: offset_ray(p, n).to_array(), tmin: 0.0, dir: dir.to_array(), tmax: FAR }
+            GpuRay { origin: offset_ray(p, n, scale).to_array(), tmin: 0.0, dir: dir.to_array(), tmax: FAR }
         })
         .collect()
 }

@@ -34,8 +34,8 @@ mod tests {
         assert_eq!(s.workgroup_size, [8, 8, 1]);
         assert_eq!(s.spirv[0], 0x0723_0203, "SPIR-V magic number");
         let b = s.reflection.expect("naga parses direct.comp:compute");
-        // Its own six, the trace backend's two (16, 17) and the scene's four (20..=23).
-        assert_eq!(b.len(), 12);
+        // Its own six, the trace backend's three (16, 17, 19) and the scene's four (20..=23).
+        assert_eq!(b.len(), 13);
 
         use BindingKind::*;
         assert_eq!(id(&b[0]), ("frame", 0, 0, UniformBuffer));
@@ -74,6 +74,7 @@ mod tests {
         let expected = [
             ("bvh_nodes", 16),
             ("bvh_triangles", 17),
+            ("trace_scale", 19),
             ("scene_vertices", 20),
             ("triangle_materials", 21),
             ("materials", 22),

@@ -73,16 +73,36 @@ impl Backend {
 
     /// What `trace.glsl` binds on this backend.
     pub fn bindings(self) -> &'static [BindingDecl] {
-        const RAY_QUERY: &[BindingDecl] = &[BindingDecl::acceleration_structure("tlas")];
+        const SCALE: BindingDecl = BindingDecl::uniform("trace_scale", TRACE_SCALE_LAYOUT);
+        const RAY_QUERY: &[BindingDecl] = &[BindingDecl::acceleration_structure("tlas"), SCALE];
         const COMPUTE: &[BindingDecl] = &[
             BindingDecl::storage_array("bvh_nodes", BVH_NODE_LAYOUT),
             BindingDecl::storage_array("bvh_triangles", BVH_TRIANGLE_LAYOUT),
+            SCALE,
         ];
         match self {
             Backend::RayQuery => RAY_QUERY,
             Backend::Compute => COMPUTE,
         }
     }
+}
+
+/// The `TraceScale` block of trace.glsl.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct TraceScale {
+    pub scene_scale: f32,
+    pub pad0: f32,
+    pub pad1: f32,
+    pub pad2: f32,
+}
+
+pub const TRACE_SCALE_LAYOUT: leakless_device::RustLayout =
+    leakless_device::rust_layout!(TraceScale { scene_scale, pad0, pad1, pad2 });
+
+/// The size offsets are relative to: the scene's bounding radius.
+pub fn scene_scale(scene: &Scene) -> f32 {
+    scene.bounds().bounding_radius().max(f32::MIN_POSITIVE)
 }
 
 /// Build cost of the trace structures, for `--stats`.
@@ -105,6 +125,8 @@ enum Structures {
 pub struct TraceScene {
     backend: Backend,
     structures: Structures,
+    /// The `trace_scale` uniform.
+    scale: Buffer,
     stats: TraceStats,
 }
 
@@ -148,7 +170,10 @@ impl TraceScene {
                 (Structures::Compute { nodes, triangles: tris }, stats)
             }
         };
-        Ok(TraceScene { backend, structures, stats })
+        let scale = TraceScale { scene_scale: scene_scale(scene), ..Default::default() };
+        let scale =
+            Buffer::with_data(gpu, "trace scale", vk::BufferUsageFlags::UNIFORM_BUFFER, bytemuck::bytes_of(&scale))?;
+        Ok(TraceScene { backend, structures, scale, stats })
     }
 
     pub fn backend(&self) -> Backend {
@@ -167,6 +192,7 @@ impl TraceScene {
                     ("", graph.import_buffer(accel.blas.buffer())),
                 ],
                 tlas: Some(accel.tlas.raw()),
+                scale: graph.import_buffer(&self.scale),
             },
             Structures::Compute { nodes, triangles } => TraceHandles {
                 buffers: vec![
@@ -174,6 +200,7 @@ impl TraceScene {
                     ("bvh_triangles", graph.import_buffer(triangles)),
                 ],
                 tlas: None,
+                scale: graph.import_buffer(&self.scale),
             },
         }
     }
@@ -184,12 +211,13 @@ pub struct TraceHandles {
     /// (binding name, buffer); the BLAS has no binding of its own but is read through the TLAS.
     buffers: Vec<(&'static str, BufferHandle)>,
     tlas: Option<vk::AccelerationStructureKHR>,
+    scale: BufferHandle,
 }
 
 impl TraceHandles {
     /// Declares that `pass` traces rays, and returns what to bind.
     pub fn declare<'r>(&self, pass: &mut PassBuilder<'_, 'r>) -> Vec<(&'static str, Bound<'r>)> {
-        let mut bound = Vec::new();
+        let mut bound = vec![("trace_scale", Bound::Buffer(pass.read(&self.scale, Access::ComputeRead)))];
         for (name, handle) in &self.buffers {
             match self.tlas {
                 Some(tlas) => {

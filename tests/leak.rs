@@ -2,7 +2,7 @@
 
 mod common;
 
-use glam::{Mat4, Vec3};
+use glam::Vec3;
 use leakless::{BackendChoice, Method, RenderSettings, RenderedFrame, Renderer, Scene, SplatSettings};
 use leakless_scene::{Camera, Light, LightKind, Material, Vertex};
 
@@ -33,7 +33,13 @@ fn corner() -> Scene {
         Vec3::new(0.0, 0.0, 1.0),
         Vec3::Y,
     );
-    vertices.extend(quad(Vec3::new(0.0, 0.0, -1.0), Vec3::new(0.0, 0.0, 1.0), Vec3::new(0.0, 2.0, 1.0), Vec3::new(0.0, 2.0, -1.0), Vec3::X));
+    vertices.extend(quad(
+        Vec3::new(0.0, 0.0, -1.0),
+        Vec3::new(0.0, 0.0, 1.0),
+        Vec3::new(0.0, 2.0, 1.0),
+        Vec3::new(0.0, 2.0, -1.0),
+        Vec3::X,
+    ));
     let eye = Vec3::new(2.5, 1.6, 0.3);
     Scene {
         name: "corner".into(),
@@ -71,7 +77,8 @@ fn nothing_is_culled_where_nothing_occludes() {
         }
         drop(gpu);
         let splat = SplatSettings { paths: 20_000, radius: Some(0.15), ..Default::default() };
-        let frame = render_scene(&scene, RenderSettings { backend, ..settings(Method::LeakLess, 64, 48, splat) }).unwrap();
+        let frame =
+            render_scene(&scene, RenderSettings { backend, ..settings(Method::LeakLess, 64, 48, splat) }).unwrap();
         let s = frame.splat.unwrap();
         assert!(s.visibility_rays > 10_000, "{s:?}");
         assert_eq!(s.leaks_culled, 0, "{backend:?}: segments inside an open corner were reported occluded");
@@ -90,8 +97,16 @@ fn leakless_images_agree_across_backends() {
     drop(gpu);
     let scene = common::scene("scenes/cornell-box.gltf");
     let splat = SplatSettings { paths: 20_000, radius: Some(0.05), ..Default::default() };
-    let rq = render_scene(&scene, RenderSettings { backend: BackendChoice::RayQuery, ..settings(Method::LeakLess, 64, 48, splat.clone()) }).unwrap();
-    let cs = render_scene(&scene, RenderSettings { backend: BackendChoice::Compute, ..settings(Method::LeakLess, 64, 48, splat) }).unwrap();
+    let rq = render_scene(
+        &scene,
+        RenderSettings { backend: BackendChoice::RayQuery, ..settings(Method::LeakLess, 64, 48, splat.clone()) },
+    )
+    .unwrap();
+    let cs = render_scene(
+        &scene,
+        RenderSettings { backend: BackendChoice::Compute, ..settings(Method::LeakLess, 64, 48, splat) },
+    )
+    .unwrap();
     let diff = common::relative_rms(&rq.radiance, &cs.radiance);
     let diff_indirect = common::relative_rms(&rq.indirect, &cs.indirect);
     eprintln!("leakless rayquery vs compute: relative RMS {diff:.2e} (image), {diff_indirect:.2e} (indirect)");
@@ -136,7 +151,15 @@ fn edge_pixels(capture: &leakless::Capture, width: usize, height: usize, eye: Ve
 #[test]
 fn the_cap_makes_edge_artefacts_that_leakless_does_not() {
     let reference = {
-        let s = RenderSettings { width: 64, height: 48, method: Method::Reference, spp: 2048, max_bounces: 4, seed: 1, ..Default::default() };
+        let s = RenderSettings {
+            width: 64,
+            height: 48,
+            method: Method::Reference,
+            spp: 2048,
+            max_bounces: 4,
+            seed: 1,
+            ..Default::default()
+        };
         let Some(frame) = common::render_with("scenes/cornell-box.gltf", s) else { return };
         frame
     };

