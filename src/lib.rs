@@ -5,6 +5,7 @@
 //! file per pass, next to its shader in `shaders-glsl/`.
 
 pub mod bench;
+pub mod chart;
 pub mod error;
 pub mod gpu_scene;
 pub mod gpu_types;

@@ -2,6 +2,7 @@
 //! Every subcommand drives the `leakless` library the same way the tests do.
 
 mod bench;
+mod chart;
 mod info;
 mod render;
 
@@ -23,6 +24,9 @@ enum Command {
     /// Measure: `bench rays SCENE` (rays per second per backend).
     #[command(subcommand)]
     Bench(bench::BenchCommand),
+    /// Chart speed against accuracy: each method at several (paths, radius) settings on each
+    /// backend, error against the path-traced reference over frame time (CSV, SVG, PNG).
+    Chart(chart::ChartArgs),
     /// Print the Vulkan devices, which one is used, what it can do, and the trace backend.
     Info(info::InfoArgs),
 }
@@ -31,6 +35,7 @@ fn main() -> ExitCode {
     let result = match Cli::parse().command {
         Command::Render(args) => render::run(args),
         Command::Bench(cmd) => bench::run(cmd),
+        Command::Chart(args) => chart::run(args),
         Command::Info(args) => info::run(args),
     };
     match result {

@@ -1,0 +1,439 @@
+//! `leakless chart`: speed against accuracy. Each method is rendered at several (paths, radius)
+//! settings on each trace backend, timed, and compared with the path-traced reference; the
+//! points go to a CSV and to log–log charts of error against frame time.
+//!
+//! The CLI and the tests drive the same three steps: [`measure`] one scene, then [`write_csv`]
+//! and [`plot::plot`] (or [`write_outputs`] for all of a scene's files).
+
+pub mod metrics;
+pub mod plot;
+
+use std::io::Write;
+use std::path::{Path, PathBuf};
+
+use leakless_device::{DeviceType, Gpu};
+use leakless_graph::Timing;
+use leakless_scene::Scene;
+
+use crate::error::{RenderError, Result};
+use crate::splatting::SplatStats;
+use crate::trace::{Backend, BackendChoice};
+use crate::{Method, RenderSettings, Renderer, SplatSettings};
+
+pub use metrics::Errors;
+
+/// The methods charted by default: those of DESIGN.md §2 that this build knows.
+pub fn default_methods() -> Vec<Method> {
+    ["splat", "leakless-capped", "leakless"].into_iter().filter_map(Method::parse).collect()
+}
+
+/// The gather radii to chart.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Radii {
+    /// Multiples of the scene's automatic radius (5% of its bounding-sphere radius).
+    Auto(Vec<f32>),
+    /// Radii in scene units.
+    Absolute(Vec<f32>),
+}
+
+impl Radii {
+    /// The radii in scene units, given the scene's automatic radius.
+    pub fn resolve(&self, auto: f32) -> Vec<f32> {
+        match self {
+            Radii::Auto(scales) => scales.iter().map(|s| s * auto).collect(),
+            Radii::Absolute(r) => r.clone(),
+        }
+    }
+}
+
+/// What to measure on each scene.
+#[derive(Clone, Debug)]
+pub struct ChartConfig {
+    pub width: u32,
+    pub height: u32,
+    /// Samples per pixel of the reference.
+    pub ref_spp: u32,
+    /// Indirect bounces, the same for the reference and the methods.
+    pub max_bounces: u32,
+    pub seed: u32,
+    pub methods: Vec<Method>,
+    /// Light paths per frame.
+    pub paths: Vec<u32>,
+    pub radii: Radii,
+    /// Trace backends; empty = every backend the device has (ray queries first).
+    pub backends: Vec<Backend>,
+    /// Timed frames after the warm-up frame; the fastest counts (1: the second frame).
+    pub repeats: u32,
+    /// Dark pixels: reference indirect light at most this fraction of its mean
+    /// ([`metrics::dark_mask`]).
+    pub dark_fraction: f64,
+}
+
+impl Default for ChartConfig {
+    fn default() -> Self {
+        ChartConfig {
+            width: 160,
+            height: 120,
+            ref_spp: 1024,
+            max_bounces: RenderSettings::default().max_bounces,
+            seed: 0,
+            methods: default_methods(),
+            paths: vec![5_000, 20_000, 80_000],
+            radii: Radii::Auto(vec![0.5, 1.0, 2.0]),
+            backends: vec![],
+            repeats: 1,
+            dark_fraction: metrics::DARK_FRACTION,
+        }
+    }
+}
+
+impl ChartConfig {
+    pub fn validate(&self) -> Result<()> {
+        let bad = |m: &str| Err(RenderError::Settings(m.to_string()));
+        if self.methods.is_empty() {
+            return bad("no method to chart");
+        }
+        if self.methods.contains(&Method::Reference) {
+            return bad("the reference is what the chart compares with, not a method to chart");
+        }
+        if self.ref_spp == 0 || self.ref_spp > crate::settings::MAX_SPP {
+            return Err(RenderError::Settings(format!(
+                "--ref-spp {} must be within 1..={}",
+                self.ref_spp,
+                crate::settings::MAX_SPP
+            )));
+        }
+        if !(self.dark_fraction.is_finite() && self.dark_fraction >= 0.0) {
+            return bad("--dark-fraction must be a number ≥ 0");
+        }
+        if !(1..=100).contains(&self.repeats) {
+            return bad("--repeats must be within 1..=100");
+        }
+        if self.paths.is_empty() || self.paths.contains(&0) {
+            return bad("--paths needs at least one count, each at least 1");
+        }
+        let radii = match &self.radii {
+            Radii::Auto(r) | Radii::Absolute(r) => r,
+        };
+        if radii.is_empty() || radii.iter().any(|r| !(r.is_finite() && *r > 0.0)) {
+            return bad("--radius needs at least one radius, each a positive number");
+        }
+        // The reference's and the methods' own limits.
+        RenderSettings {
+            width: self.width,
+            height: self.height,
+            spp: self.ref_spp,
+            max_bounces: self.max_bounces,
+            ..Default::default()
+        }
+        .validate()
+    }
+
+    /// Renders per scene on `backends`: the reference, then each method at each setting.
+    pub fn renders_per_scene(&self, backends: usize) -> usize {
+        let settings = self.paths.len()
+            * match &self.radii {
+                Radii::Auto(r) | Radii::Absolute(r) => r.len(),
+            };
+        1 + backends * self.methods.iter().map(|m| if m.splats() { settings } else { 1 }).sum::<usize>()
+    }
+}
+
+/// The backends a device offers, ray queries first.
+pub fn available_backends(gpu: &Gpu) -> Vec<Backend> {
+    if gpu.capabilities().ray_query {
+        vec![Backend::RayQuery, Backend::Compute]
+    } else {
+        vec![Backend::Compute]
+    }
+}
+
+/// One measured (method, backend, paths, radius).
+#[derive(Clone, Debug)]
+pub struct Point {
+    pub scene: String,
+    pub method: Method,
+    pub backend: Backend,
+    /// Light paths and gather radius (scene units); `None` for methods that do not splat.
+    pub paths: Option<u32>,
+    pub radius: Option<f32>,
+    /// Sum of the per-pass wall times of the second frame (the fastest of frames 2 to
+    /// `repeats + 1`), each pass submitted and waited for alone (on a CPU device such as
+    /// lavapipe: CPU time).
+    pub frame_ms: f64,
+    pub errors: Errors,
+    pub photons: Option<u32>,
+    pub candidate_tests: Option<u64>,
+    /// Share of the indirect energy removed as leaked ([`leaked_fraction`]).
+    pub leaked_fraction: Option<f64>,
+}
+
+/// Everything measured on one scene.
+#[derive(Clone, Debug)]
+pub struct SceneChart {
+    pub scene: String,
+    pub device: String,
+    /// A CPU device (lavapipe): frame times are CPU times.
+    pub cpu_device: bool,
+    pub width: u32,
+    pub height: u32,
+    pub ref_spp: u32,
+    /// Host wall time of the reference render.
+    pub reference_ms: f64,
+    /// Mean of the reference's final radiance over every pixel and channel (0: black, and
+    /// relative errors are undefined).
+    pub reference_mean: f64,
+    /// 5% of the scene's bounding radius, the unit of [`Radii::Auto`].
+    pub auto_radius: f32,
+    /// Pixels with a surface, and the dark ones among them ([`metrics::dark_mask`] with
+    /// `dark_fraction`).
+    pub covered_pixels: usize,
+    pub dark_fraction: f64,
+    pub dark_pixels: usize,
+    pub points: Vec<Point>,
+}
+
+/// Where [`measure`] is.
+#[derive(Clone, Debug)]
+pub struct Progress {
+    /// Renders finished, of `total` ([`ChartConfig::renders_per_scene`]).
+    pub done: usize,
+    pub total: usize,
+    /// What runs now, e.g. `reference 256/1024 spp` or `leakless compute 20000 paths r=0.05`.
+    pub message: String,
+}
+
+/// [`measure_with_progress`] without progress reports.
+pub fn measure(open: &dyn Fn(bool) -> Result<Gpu>, scene: &Scene, config: &ChartConfig) -> Result<SceneChart> {
+    measure_with_progress(open, scene, config, &mut |_| {})
+}
+
+/// Renders the reference once, then every method at every (paths, radius) on every backend,
+/// each on a fresh device from `open(ray_tracing)`: the second frame of each renderer is timed
+/// (the first compiles pipelines and sizes the node lists; with `repeats` > 1 the fastest of
+/// the frames after it), every pass submitted and timed on its own, and its final radiance
+/// compared with the reference's.
+pub fn measure_with_progress(
+    open: &dyn Fn(bool) -> Result<Gpu>,
+    scene: &Scene,
+    config: &ChartConfig,
+    progress: &mut dyn FnMut(&Progress),
+) -> Result<SceneChart> {
+    config.validate()?;
+    let first = open(true)?;
+    let available = available_backends(&first);
+    let backends = if config.backends.is_empty() { available.clone() } else { config.backends.clone() };
+    if let Some(b) = backends.iter().find(|b| !available.contains(b)) {
+        return Err(RenderError::Settings(format!(
+            "backend {}: {} has no VK_KHR_ray_query (use --backends compute)",
+            b.name(),
+            first.report().name
+        )));
+    }
+    let device = first.report().name.clone();
+    let cpu_device = first.report().device_type == DeviceType::Cpu;
+    let total = config.renders_per_scene(backends.len());
+    let mut done = 0;
+    let mut report = |done: usize, message: String| progress(&Progress { done, total, message });
+
+    // The reference, on the first backend (both give the same image).
+    report(done, format!("reference 0/{} spp", config.ref_spp));
+    let settings = RenderSettings {
+        width: config.width,
+        height: config.height,
+        backend: choice(backends[0]),
+        method: Method::Reference,
+        spp: config.ref_spp,
+        max_bounces: config.max_bounces,
+        seed: config.seed,
+        ..Default::default()
+    };
+    let start = std::time::Instant::now();
+    let gpu = if backends[0] == Backend::RayQuery { first } else { open(false)? };
+    let mut renderer = Renderer::new(gpu, scene, settings)?;
+    renderer.set_timing(Timing::PerPassSubmit);
+    let reference = renderer
+        .render_with_progress(&mut |spp, total_spp| report(done, format!("reference {spp}/{total_spp} spp")))?;
+    renderer.gpu().check_validation()?;
+    let covered: Vec<bool> = renderer.capture()?.position.iter().map(|p| p[3] > 0.0).collect();
+    let reference_ms = start.elapsed().as_secs_f64() * 1e3;
+    drop(renderer);
+    let dark = metrics::dark_mask(&reference.indirect, Some(&covered), config.dark_fraction);
+    done += 1;
+
+    let auto_radius = 0.05 * scene.bounds().bounding_radius();
+    let radii = config.radii.resolve(auto_radius);
+    let mut points = Vec::new();
+    for &backend in &backends {
+        for &method in &config.methods {
+            let settings: Vec<(Option<u32>, Option<f32>)> = if method.splats() {
+                config.paths.iter().flat_map(|&p| radii.iter().map(move |&r| (Some(p), Some(r)))).collect()
+            } else {
+                vec![(None, None)]
+            };
+            for (paths, radius) in settings {
+                let mut what = format!("{} {}", method.name(), backend.name());
+                if let (Some(p), Some(r)) = (paths, radius) {
+                    what += &format!(" {p} paths r={r:.4}");
+                }
+                report(done, what);
+                let render = RenderSettings {
+                    width: config.width,
+                    height: config.height,
+                    backend: choice(backend),
+                    method,
+                    max_bounces: config.max_bounces,
+                    seed: config.seed,
+                    splat: SplatSettings {
+                        paths: paths.unwrap_or(SplatSettings::default().paths),
+                        radius,
+                        ..Default::default()
+                    },
+                    ..Default::default()
+                };
+                let mut renderer = Renderer::new(open(backend == Backend::RayQuery)?, scene, render)?;
+                renderer.set_timing(Timing::PerPassSubmit);
+                renderer.render()?;
+                let mut frame = renderer.render()?;
+                let ms = |f: &crate::RenderedFrame| f.timings.iter().map(|t| t.wall_ms.unwrap_or(t.ms)).sum::<f64>();
+                let mut frame_ms = ms(&frame);
+                for _ in 1..config.repeats {
+                    // Same seed, same image: only the time differs.
+                    frame = renderer.render()?;
+                    frame_ms = frame_ms.min(ms(&frame));
+                }
+                renderer.gpu().check_validation()?;
+                let stats = frame.splat.as_ref();
+                points.push(Point {
+                    scene: scene.name.clone(),
+                    method,
+                    backend,
+                    paths,
+                    radius: stats.map(|s| s.radius).or(radius),
+                    frame_ms,
+                    errors: metrics::errors(&frame.radiance, &reference.radiance, &dark),
+                    photons: stats.map(|s| s.photons_stored),
+                    candidate_tests: stats.map(|s| s.candidate_tests),
+                    leaked_fraction: stats.and_then(leaked_fraction),
+                });
+                done += 1;
+            }
+        }
+    }
+    report(done, "done".into());
+    Ok(SceneChart {
+        scene: scene.name.clone(),
+        device,
+        cpu_device,
+        width: config.width,
+        height: config.height,
+        ref_spp: config.ref_spp,
+        reference_ms,
+        reference_mean: metrics::mean_value(&reference.radiance),
+        auto_radius,
+        covered_pixels: covered.iter().filter(|c| **c).count(),
+        dark_fraction: config.dark_fraction,
+        dark_pixels: dark.iter().filter(|d| **d).count(),
+        points,
+    })
+}
+
+fn choice(backend: Backend) -> BackendChoice {
+    match backend {
+        Backend::RayQuery => BackendChoice::RayQuery,
+        Backend::Compute => BackendChoice::Compute,
+    }
+}
+
+/// The share of the indirect energy the visibility tests removed as leaked, for the methods
+/// that trace them (`leaked_energy_fraction`: leaked / (leaked + kept), luminance over the
+/// image); `None` for the others.
+pub fn leaked_fraction(stats: &SplatStats) -> Option<f64> {
+    (stats.visibility_rays > 0).then_some(stats.leaked_energy_fraction)
+}
+
+/// The columns of [`write_csv`], in order.
+pub const CSV_COLUMNS: [&str; 13] = [
+    "scene",
+    "method",
+    "backend",
+    "paths",
+    "radius",
+    "frame_ms",
+    "relmse",
+    "rmse",
+    "relmse_dark",
+    "rmse_dark",
+    "photons",
+    "candidate_tests",
+    "leaked_fraction",
+];
+
+/// One row per point, columns [`CSV_COLUMNS`]; what a point lacks is left empty.
+pub fn write_csv(points: &[Point], path: &Path) -> Result<()> {
+    let mut out = String::from(&CSV_COLUMNS.join(","));
+    out.push('\n');
+    let opt = |v: Option<String>| v.unwrap_or_default();
+    let float = |v: f64| if v.is_finite() { format!("{v:.6e}") } else { String::new() };
+    for p in points {
+        let fields = [
+            csv_field(&p.scene),
+            p.method.name().to_string(),
+            p.backend.name().to_string(),
+            opt(p.paths.map(|v| v.to_string())),
+            opt(p.radius.map(|v| format!("{v}"))),
+            format!("{:.3}", p.frame_ms),
+            opt(p.errors.relmse.map(float)),
+            opt(p.errors.rmse.map(float)),
+            opt(p.errors.relmse_dark.map(float)),
+            opt(p.errors.rmse_dark.map(float)),
+            opt(p.photons.map(|v| v.to_string())),
+            opt(p.candidate_tests.map(|v| v.to_string())),
+            opt(p.leaked_fraction.map(float)),
+        ];
+        out += &fields.join(",");
+        out.push('\n');
+    }
+    let fail = |e: std::io::Error| RenderError::Output { path: path.display().to_string(), message: e.to_string() };
+    std::fs::File::create(path).and_then(|mut f| f.write_all(out.as_bytes())).map_err(fail)
+}
+
+/// Quotes a CSV field that needs it (RFC 4180).
+fn csv_field(s: &str) -> String {
+    if s.contains([',', '"', '\n', '\r']) {
+        format!("\"{}\"", s.replace('"', "\"\""))
+    } else {
+        s.to_string()
+    }
+}
+
+/// A scene name as a file-name part: letters, digits, `-`, `_` and `.` kept, the rest `-`.
+pub fn file_stem(scene: &str) -> String {
+    let s: String =
+        scene.chars().map(|c| if c.is_ascii_alphanumeric() || "-_.".contains(c) { c } else { '-' }).collect();
+    if s.is_empty() {
+        "scene".into()
+    } else {
+        s
+    }
+}
+
+/// Writes `PREFIX-<scene>.csv` and, for each metric of [`plot::Metric::ALL`],
+/// `PREFIX-<scene>-<metric>.svg` and `.png` of `size` pixels; returns the paths written.
+pub fn write_outputs(chart: &SceneChart, prefix: &Path, size: (u32, u32)) -> Result<Vec<PathBuf>> {
+    let base = format!("{}-{}", prefix.display(), file_stem(&chart.scene));
+    if let Some(dir) = Path::new(&base).parent().filter(|d| !d.as_os_str().is_empty()) {
+        std::fs::create_dir_all(dir)
+            .map_err(|e| RenderError::Output { path: dir.display().to_string(), message: e.to_string() })?;
+    }
+    let csv = PathBuf::from(format!("{base}.csv"));
+    write_csv(&chart.points, &csv)?;
+    let mut written = vec![csv];
+    for metric in plot::Metric::ALL {
+        let svg = PathBuf::from(format!("{base}-{}.svg", metric.file_suffix()));
+        let png = svg.with_extension("png");
+        plot::plot(chart, metric, &svg, &png, size)?;
+        written.extend([svg, png]);
+    }
+    Ok(written)
+}
