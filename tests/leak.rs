@@ -10,14 +10,6 @@ fn settings(method: Method, width: u32, height: u32, splat: SplatSettings) -> Re
     RenderSettings { width, height, method, max_bounces: 4, seed: 1, splat, ..Default::default() }
 }
 
-fn render_scene(scene: &Scene, settings: RenderSettings) -> Option<RenderedFrame> {
-    let gpu = common::gpu_with(settings.backend.wants_ray_queries())?;
-    let mut renderer = Renderer::new(gpu, scene, settings).expect("renderer");
-    let frame = renderer.render().expect("render");
-    renderer.gpu().check_validation().expect("validation clean");
-    Some(frame)
-}
-
 fn quad(a: Vec3, b: Vec3, c: Vec3, d: Vec3, normal: Vec3) -> Vec<Vertex> {
     let v = |p: Vec3| Vertex { position: p.to_array(), normal: normal.to_array(), uv: [0.0; 2] };
     vec![v(a), v(b), v(c), v(a), v(c), v(d)]
@@ -78,7 +70,8 @@ fn nothing_is_culled_where_nothing_occludes() {
         drop(gpu);
         let splat = SplatSettings { paths: 20_000, radius: Some(0.15), ..Default::default() };
         let frame =
-            render_scene(&scene, RenderSettings { backend, ..settings(Method::LeakLess, 64, 48, splat) }).unwrap();
+            common::render_scene(&scene, RenderSettings { backend, ..settings(Method::LeakLess, 64, 48, splat) })
+                .unwrap();
         let s = frame.splat.unwrap();
         assert!(s.visibility_rays > 10_000, "{s:?}");
         assert_eq!(s.leaks_culled, 0, "{backend:?}: segments inside an open corner were reported occluded");
@@ -97,12 +90,12 @@ fn leakless_images_agree_across_backends() {
     drop(gpu);
     let scene = common::scene("scenes/cornell-box.gltf");
     let splat = SplatSettings { paths: 20_000, radius: Some(0.05), ..Default::default() };
-    let rq = render_scene(
+    let rq = common::render_scene(
         &scene,
         RenderSettings { backend: BackendChoice::RayQuery, ..settings(Method::LeakLess, 64, 48, splat.clone()) },
     )
     .unwrap();
-    let cs = render_scene(
+    let cs = common::render_scene(
         &scene,
         RenderSettings { backend: BackendChoice::Compute, ..settings(Method::LeakLess, 64, 48, splat) },
     )

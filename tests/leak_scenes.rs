@@ -3,23 +3,11 @@
 
 mod common;
 
-use leakless::{BackendChoice, Method, RenderSettings, RenderedFrame, Renderer, Scene, SplatSettings};
+use leakless::{BackendChoice, Method, RenderSettings, RenderedFrame, Scene, SplatSettings};
 use leakless_scene::LightKind;
 
-fn choices() -> Vec<BackendChoice> {
-    let Some(gpu) = common::gpu() else { return vec![] };
-    common::backends(&gpu)
-        .into_iter()
-        .map(|b| if b == leakless::Backend::RayQuery { BackendChoice::RayQuery } else { BackendChoice::Compute })
-        .collect()
-}
-
 fn render(scene: &Scene, settings: RenderSettings) -> RenderedFrame {
-    let gpu = common::gpu_with(settings.backend.wants_ray_queries()).expect("checked by choices()");
-    let mut renderer = Renderer::new(gpu, scene, settings).expect("renderer");
-    let frame = renderer.render().expect("render");
-    renderer.gpu().check_validation().expect("validation clean");
-    frame
+    common::render_scene(scene, settings).expect("checked by common::choices()")
 }
 
 fn photons(method: Method, backend: BackendChoice, paths: u32, radius: f32) -> RenderSettings {
@@ -61,7 +49,7 @@ fn scaled(scene: &Scene, s: f32) -> Scene {
 #[test]
 fn sealed_rooms_leak_with_splat_and_not_with_leakless() {
     let scene = common::scene("scenes/two-rooms.gltf");
-    for backend in choices() {
+    for backend in common::choices() {
         let splat = render(&scene, photons(Method::Splat, backend, 20_000, 0.3));
         let leaky = splat.indirect.iter().filter(|p| p.iter().any(|&c| c > 0.0)).count();
         assert!(leaky > 100, "{backend:?}: splat should leak into room B, {leaky} lit pixels");
@@ -86,7 +74,7 @@ fn sealed_rooms_leak_with_splat_and_not_with_leakless() {
 /// Leakless decides the same at any scale: the offsets and the segment's end are relative.
 #[test]
 fn sealed_rooms_stay_sealed_and_the_doorway_renders_the_same_at_any_scale() {
-    let Some(&backend) = choices().first() else { return };
+    let Some(&backend) = common::choices().first() else { return };
     let sealed = common::scene("scenes/two-rooms.gltf");
     let door = common::scene("scenes/doorway.gltf");
     let base = render(&door, photons(Method::LeakLess, backend, 10_000, 0.3));
@@ -105,7 +93,7 @@ fn sealed_rooms_stay_sealed_and_the_doorway_renders_the_same_at_any_scale() {
 #[test]
 fn doorway_leakless_is_closer_to_the_reference_than_splat() {
     let scene = common::scene("scenes/doorway.gltf");
-    let Some(&backend) = choices().first() else { return };
+    let Some(&backend) = common::choices().first() else { return };
     let reference = render(
         &scene,
         RenderSettings {

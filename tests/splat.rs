@@ -21,15 +21,6 @@ fn settings(width: u32, height: u32, splat: SplatSettings, max_bounces: u32, see
     }
 }
 
-/// The backends to run on, as render-setting choices.
-fn choices() -> Vec<BackendChoice> {
-    let Some(gpu) = common::gpu() else { return vec![] };
-    common::backends(&gpu)
-        .into_iter()
-        .map(|b| if b == leakless::Backend::RayQuery { BackendChoice::RayQuery } else { BackendChoice::Compute })
-        .collect()
-}
-
 /// Every photon against every view sample, in f64: what the hierarchy must reproduce.
 fn brute_force(capture: &leakless::Capture, radius: f32) -> Vec<[f64; 3]> {
     let r = radius as f64;
@@ -120,7 +111,7 @@ fn hierarchy_gather_equals_brute_force_with_and_without_trivial_accept() {
 fn sphere_indirect_energy_matches_the_closed_form() {
     let (rho, k) = (0.5f64, 4);
     let expected = rho / PI * (1..=k).map(|j| rho.powi(j)).sum::<f64>();
-    for backend in choices() {
+    for backend in common::choices() {
         let splat = SplatSettings { paths: 20_000, radius: Some(0.2), ..Default::default() };
         let frame = common::render_with(
             "scenes/sphere.gltf",
@@ -164,7 +155,7 @@ fn error_against_the_reference_falls_with_paths_and_radius() {
 
 #[test]
 fn a_seed_fixes_the_frame() {
-    for backend in choices() {
+    for backend in common::choices() {
         let run = |seed| {
             let splat = SplatSettings { paths: 4000, ..Default::default() };
             common::render_with(

@@ -20,6 +20,32 @@ pub fn gpu() -> Option<Gpu> {
     gpu_with(true)
 }
 
+/// The backends to test on, as render-setting choices (see [`backends`]).
+pub fn choices() -> Vec<leakless::BackendChoice> {
+    let Some(gpu) = gpu() else { return vec![] };
+    backends(&gpu)
+        .into_iter()
+        .map(
+            |b| {
+                if b == Backend::RayQuery {
+                    leakless::BackendChoice::RayQuery
+                } else {
+                    leakless::BackendChoice::Compute
+                }
+            },
+        )
+        .collect()
+}
+
+/// Renders an in-memory scene once, with validation checked.
+pub fn render_scene(scene: &Scene, settings: RenderSettings) -> Option<RenderedFrame> {
+    let gpu = gpu_with(settings.backend.wants_ray_queries())?;
+    let mut renderer = Renderer::new(gpu, scene, settings).expect("renderer");
+    let frame = renderer.render().expect("render");
+    renderer.gpu().check_validation().expect("validation clean");
+    Some(frame)
+}
+
 pub fn gpu_with(ray_tracing: bool) -> Option<Gpu> {
     let validation = std::env::var("LEAKLESS_VALIDATION").map_or(true, |v| v != "0");
     match Gpu::new(&GpuOptions { validation: Some(validation), ray_tracing }) {
