@@ -58,21 +58,44 @@ pub fn rays(gpu: &Gpu, scene: &Scene, width: u32, height: u32, repeats: u32) -> 
     Ok(rates)
 }
 
-/// One measured splatting configuration.
+/// A renderer's second frame (the first compiles shaders), every pass submitted and timed
+/// on its own: what `bench splat`, `bench leak` and `chart` compare.
 #[derive(Clone, Debug)]
-pub struct SplatRow {
-    pub width: u32,
-    pub height: u32,
-    pub settings: crate::SplatSettings,
-    pub stats: crate::splatting::SplatStats,
+pub struct Measured {
+    pub label: String,
+    pub settings: crate::RenderSettings,
+    pub frame: crate::RenderedFrame,
     /// Host wall time of each pass's own submission, ms, in frame order.
     pub passes: Vec<(String, f64)>,
 }
 
-impl SplatRow {
+impl Measured {
+    /// Renders `scene` with `settings` twice and keeps the second frame.
+    pub fn run(
+        open: &dyn Fn() -> Result<Gpu>,
+        scene: &Scene,
+        label: &str,
+        settings: &crate::RenderSettings,
+    ) -> Result<Measured> {
+        let mut renderer = crate::Renderer::new(open()?, scene, settings.clone())?;
+        renderer.set_timing(leakless_graph::Timing::PerPassSubmit);
+        renderer.render()?;
+        let frame = renderer.render()?;
+        let passes = frame.timings.iter().map(|t| (t.name.clone(), t.wall_ms.unwrap_or(t.ms))).collect();
+        Ok(Measured { label: label.to_string(), settings: settings.clone(), frame, passes })
+    }
+
+    /// The photon counts (every run of these benchmarks uses a photon method).
+    pub fn stats(&self) -> &crate::splatting::SplatStats {
+        self.frame.splat.as_ref().expect("benchmarks run photon methods")
+    }
+
     /// Summed time of the passes whose name starts with any of `prefixes`.
     pub fn ms(&self, prefixes: &[&str]) -> f64 {
         self.passes.iter().filter(|(n, _)| prefixes.iter().any(|p| n.starts_with(p))).map(|(_, ms)| ms).sum()
+    }
+    pub fn frame_ms(&self) -> f64 {
+        self.passes.iter().map(|(_, ms)| ms).sum()
     }
     pub fn photons_ms(&self) -> f64 {
         self.ms(&["photon"])
@@ -86,69 +109,4 @@ impl SplatRow {
     pub fn gather_ms(&self) -> f64 {
         self.ms(&["gather"])
     }
-}
-
-/// Renders `scene` with the splat method at each configuration (second frame of each, so
-/// shader compilation is not counted), every pass submitted and timed on its own.
-pub fn splat(
-    open: &dyn Fn() -> Result<Gpu>,
-    scene: &Scene,
-    configs: &[(u32, u32, crate::SplatSettings)],
-) -> Result<Vec<SplatRow>> {
-    let mut rows = Vec::new();
-    for (width, height, settings) in configs {
-        let render = crate::RenderSettings {
-            width: *width,
-            height: *height,
-            method: crate::Method::Splat,
-            splat: settings.clone(),
-            ..Default::default()
-        };
-        let mut renderer = crate::Renderer::new(open()?, scene, render)?;
-        renderer.set_timing(leakless_graph::Timing::PerPassSubmit);
-        renderer.render()?;
-        let frame = renderer.render()?;
-        let passes = frame.timings.iter().map(|t| (t.name.clone(), t.wall_ms.unwrap_or(t.ms))).collect();
-        let stats = frame.splat.expect("the splat method reports its counts");
-        rows.push(SplatRow { width: *width, height: *height, settings: settings.clone(), stats, passes });
-    }
-    Ok(rows)
-}
-
-/// One method of `bench leak`: its second frame and the photon counts.
-#[derive(Clone, Debug)]
-pub struct LeakRow {
-    pub label: String,
-    pub frame: crate::RenderedFrame,
-    pub stats: crate::splatting::SplatStats,
-    /// Host wall time of each pass's own submission, ms.
-    pub passes: Vec<(String, f64)>,
-}
-
-impl LeakRow {
-    pub fn ms(&self, prefixes: &[&str]) -> f64 {
-        self.passes.iter().filter(|(n, _)| prefixes.iter().any(|p| n.starts_with(p))).map(|(_, ms)| ms).sum()
-    }
-    pub fn frame_ms(&self) -> f64 {
-        self.passes.iter().map(|(_, ms)| ms).sum()
-    }
-}
-
-/// Renders `scene` with each (label, settings) on one backend, second frame of each.
-pub fn leak(
-    open: &dyn Fn() -> Result<Gpu>,
-    scene: &Scene,
-    runs: &[(String, crate::RenderSettings)],
-) -> Result<Vec<LeakRow>> {
-    let mut rows = Vec::new();
-    for (label, settings) in runs {
-        let mut renderer = crate::Renderer::new(open()?, scene, settings.clone())?;
-        renderer.set_timing(leakless_graph::Timing::PerPassSubmit);
-        renderer.render()?;
-        let frame = renderer.render()?;
-        let passes = frame.timings.iter().map(|t| (t.name.clone(), t.wall_ms.unwrap_or(t.ms))).collect();
-        let stats = frame.splat.clone().expect("a photon method");
-        rows.push(LeakRow { label: label.clone(), frame, stats, passes });
-    }
-    Ok(rows)
 }

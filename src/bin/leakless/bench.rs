@@ -97,7 +97,7 @@ fn rays(path: PathBuf, size: (u32, u32), repeats: u32) -> anyhow::Result<()> {
 }
 
 fn splat(path: PathBuf, (w, h): (u32, u32), paths: u32) -> anyhow::Result<()> {
-    use leakless::SplatSettings;
+    use leakless::{Method, RenderSettings, SplatSettings};
     let scene = Scene::load(&path).with_context(|| format!("loading {}", path.display()))?;
     let auto = 0.05 * scene.bounds().bounding_radius();
     let open = || Ok(leakless::Gpu::new(&leakless::GpuOptions { validation: None, ray_tracing: true })?);
@@ -107,8 +107,20 @@ fn splat(path: PathBuf, (w, h): (u32, u32), paths: u32) -> anyhow::Result<()> {
     println!("bench splat {} on {gpu_name}; wall time of each pass submitted alone, second frame", path.display());
 
     let table =
-        |title: &str, configs: Vec<(u32, u32, SplatSettings)>| -> anyhow::Result<Vec<leakless::bench::SplatRow>> {
-            let rows = leakless::bench::splat(&open, &scene, &configs)?;
+        |title: &str, configs: Vec<(u32, u32, SplatSettings)>| -> anyhow::Result<Vec<leakless::bench::Measured>> {
+            let rows = configs
+                .iter()
+                .map(|(width, height, splat)| {
+                    let settings = RenderSettings {
+                        width: *width,
+                        height: *height,
+                        method: Method::Splat,
+                        splat: splat.clone(),
+                        ..Default::default()
+                    };
+                    leakless::bench::Measured::run(&open, &scene, "splat", &settings)
+                })
+                .collect::<leakless::Result<Vec<_>>>()?;
             println!("\n{title}");
             println!(
                 "{:>9} {:>7} {:>7} {:>2} {:>8} {:>9} {:>9} {:>9} {:>9} {:>9} {:>11} {:>8}",
@@ -126,10 +138,10 @@ fn splat(path: PathBuf, (w, h): (u32, u32), paths: u32) -> anyhow::Result<()> {
                 "vs brute"
             );
             for r in &rows {
-                let st = &r.stats;
+                let st = r.stats();
                 println!(
                     "{:>9} {:>7} {:>7.4} {:>2} {:>8} {:>9.1} {:>9.1} {:>9.1} {:>9.1} {:>9} {:>11} {:>7.3}%",
-                    format!("{}x{}", r.width, r.height),
+                    format!("{}x{}", r.settings.width, r.settings.height),
                     st.paths,
                     st.radius,
                     st.branching,
@@ -182,7 +194,7 @@ fn splat(path: PathBuf, (w, h): (u32, u32), paths: u32) -> anyhow::Result<()> {
                 .total_cmp(&(y.hierarchy_ms() + y.splat_ms() + y.gather_ms()))
         })
         .expect("four rows");
-    println!("fastest hierarchy + splat + gather: B = {}", best.stats.branching);
+    println!("fastest hierarchy + splat + gather: B = {}", best.stats().branching);
     Ok(())
 }
 
@@ -216,19 +228,22 @@ fn leak(
         splat: SplatSettings { paths, radius, trivial_accept, ..Default::default() },
         ..Default::default()
     };
-    let runs = vec![
+    let runs = [
         ("splat".to_string(), run(Method::Splat, true)),
         ("leakless-capped".to_string(), run(Method::LeakLessCapped, false)),
         ("leakless".to_string(), run(Method::LeakLess, true)),
         ("leakless, trivial accept off".to_string(), run(Method::LeakLess, false)),
     ];
-    let rows = leakless::bench::leak(&open, &scene, &runs)?;
+    let rows = runs
+        .iter()
+        .map(|(label, settings)| leakless::bench::Measured::run(&open, &scene, label, settings))
+        .collect::<leakless::Result<Vec<_>>>()?;
     println!(
         "{:<29} {:>9} {:>9} {:>9} {:>11} {:>11} {:>10} {:>8}",
         "method", "frame ms", "splat ms", "gather ms", "node tests", "vis. rays", "culled", "leaked"
     );
     for r in &rows {
-        let s = &r.stats;
+        let s = r.stats();
         println!(
             "{:<29} {:>9.1} {:>9.1} {:>9.1} {:>11} {:>11} {:>10} {:>7.2}%",
             r.label,
@@ -252,23 +267,25 @@ fn leak(
         "trivial accept in leakless: splat pass {:.1} ms vs {:.1} ms without ({} vs {} node tests, {} vs {} list entries); images identical: {}",
         ours.ms(&["splat"]),
         no_ta.ms(&["splat"]),
-        ours.stats.nodes_visited,
-        no_ta.stats.nodes_visited,
-        ours.stats.list_entries,
-        no_ta.stats.list_entries,
+        ours.stats().nodes_visited,
+        no_ta.stats().nodes_visited,
+        ours.stats().list_entries,
+        no_ta.stats().list_entries,
         if ours.frame.radiance == no_ta.frame.radiance { "yes (bit for bit)" } else { "NO" }
     );
     // The visibility rays' share of the gather: leakless gather minus the same gather without
     // visibility (splat's).
     let vis_ms = (ours.ms(&["gather"]) - splat.ms(&["gather"])).max(1e-3);
-    let vis_rate = ours.stats.visibility_rays as f64 / (vis_ms * 1e3);
+    let vis_rate = ours.stats().visibility_rays as f64 / (vis_ms * 1e3);
     let rates = leakless::bench::rays(&gpu, &scene, w, h, 3)?;
     let occl = |set: &str| {
         rates.iter().find(|r| r.backend == resolved && r.set == set && r.query == "occluded").map(|r| r.mrays_per_s())
     };
     println!(
         "visibility rays: {} in {:.1} ms of gather beyond splat's = {:.2} Mrays/s",
-        ours.stats.visibility_rays, vis_ms, vis_rate
+        ours.stats().visibility_rays,
+        vis_ms,
+        vis_rate
     );
     if let (Some(c), Some(i)) = (occl("coherent"), occl("incoherent")) {
         println!(
