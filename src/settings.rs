@@ -99,6 +99,9 @@ impl RenderSettings {
         if self.spp == 0 || self.spp > MAX_SPP {
             return bad(format!("--spp {} must be within 1..={MAX_SPP}", self.spp));
         }
+        if self.splat.cap == Some(0) {
+            return bad("--cap 0: a cap must let at least one photon through (omit --cap for the thesis' 25)".into());
+        }
         if self.max_bounces > MAX_BOUNCES {
             return bad(format!("--max-bounces {} must be at most {MAX_BOUNCES}", self.max_bounces));
         }
