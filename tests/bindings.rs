@@ -76,11 +76,12 @@ fn a_wrong_declaration_names_shader_binding_and_pass() {
 }
 
 #[test]
-fn every_module_is_reflected_or_says_why_not() {
+fn every_module_is_spirv_and_reflected() {
+    // Ray-query modules too: naga cannot parse them, so build.rs scans them and takes their
+    // buffer layouts from the compute twin; none may be left unchecked.
     for s in shaders::ALL {
-        if let Err(why) = s.reflection {
-            assert!(!why.is_empty(), "{} has no reflection and no reason", s.name);
-        }
         assert_eq!(s.spirv.first(), Some(&0x0723_0203), "{} is not SPIR-V", s.name);
+        let reflected = s.reflection.unwrap_or_else(|why| panic!("{} has no reflection: {why}", s.name));
+        assert!(!reflected.is_empty(), "{} binds nothing", s.name);
     }
 }

@@ -143,19 +143,7 @@ fn edge_pixels(capture: &leakless::Capture, width: usize, height: usize, eye: Ve
 /// gather more than K photons, leakless-capped errs more there than leakless.
 #[test]
 fn the_cap_makes_edge_artefacts_that_leakless_does_not() {
-    let reference = {
-        let s = RenderSettings {
-            width: 64,
-            height: 48,
-            method: Method::Reference,
-            spp: 2048,
-            max_bounces: 4,
-            seed: 1,
-            ..Default::default()
-        };
-        let Some(frame) = common::render_with("scenes/cornell-box.gltf", s) else { return };
-        frame
-    };
+    let Some(reference) = common::reference("scenes/cornell-box.gltf", 2048, 4) else { return };
     let scene = common::scene("scenes/cornell-box.gltf");
     let splat = SplatSettings { paths: 8_000, radius: Some(0.05), cap: Some(25), ..Default::default() };
     let gpu = common::gpu().unwrap();

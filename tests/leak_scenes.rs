@@ -3,6 +3,7 @@
 
 mod common;
 
+use leakless::chart::metrics;
 use leakless::{BackendChoice, Method, RenderSettings, RenderedFrame, Scene, SplatSettings};
 use leakless_scene::LightKind;
 
@@ -107,17 +108,10 @@ fn doorway_leakless_is_closer_to_the_reference_than_splat() {
             ..Default::default()
         },
     );
-    let relmse = |frame: &RenderedFrame| {
-        let mean_ref = common::mean(&reference.radiance).iter().sum::<f64>() / 3.0;
-        let eps = 1e-2 * mean_ref * mean_ref;
-        let mut sum = 0.0;
-        for (x, r) in frame.radiance.iter().zip(&reference.radiance) {
-            for c in 0..3 {
-                sum += ((x[c] - r[c]) as f64).powi(2) / ((r[c] as f64).powi(2) + eps);
-            }
-        }
-        sum / (3 * frame.radiance.len()) as f64
-    };
+    // relMSE over room B, which is the whole view, as `leakless chart` measures it.
+    let eps = metrics::epsilon(&reference.radiance);
+    let relmse =
+        |frame: &RenderedFrame| metrics::rel_mse(&frame.radiance, &reference.radiance, None, eps).expect("pixels");
     let splat = relmse(&render(&scene, photons(Method::Splat, backend, 40_000, 0.2)));
     let ours = relmse(&render(&scene, photons(Method::LeakLess, backend, 40_000, 0.2)));
     eprintln!("doorway relMSE over room B: splat {splat:.4}, leakless {ours:.4} (paths 40k, radius 0.2, 4 bounces)");

@@ -129,19 +129,7 @@ fn sphere_indirect_energy_matches_the_closed_form() {
 /// Error against the reference ground truth falls as paths grow and the radius shrinks.
 #[test]
 fn error_against_the_reference_falls_with_paths_and_radius() {
-    let reference = {
-        let s = RenderSettings {
-            width: 64,
-            height: 48,
-            method: Method::Reference,
-            spp: 4096,
-            max_bounces: 8,
-            seed: 1,
-            ..Default::default()
-        };
-        let Some(frame) = common::render_with("scenes/cornell-box.gltf", s) else { return };
-        frame
-    };
+    let Some(reference) = common::reference("scenes/cornell-box.gltf", 4096, 8) else { return };
     let mut errors = Vec::new();
     for (paths, radius) in [(2_000, 0.12), (8_000, 0.07), (32_000, 0.04), (128_000, 0.025)] {
         let splat = SplatSettings { paths, radius: Some(radius), ..Default::default() };

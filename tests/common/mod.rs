@@ -86,6 +86,20 @@ pub fn render_with(path: &str, settings: RenderSettings) -> Option<RenderedFrame
     Some(frame)
 }
 
+/// The reference path tracer's image of `path` at 64×48 (the size the comparison tests use).
+pub fn reference(path: &str, spp: u32, max_bounces: u32) -> Option<RenderedFrame> {
+    let settings = RenderSettings {
+        width: 64,
+        height: 48,
+        method: leakless::Method::Reference,
+        spp,
+        max_bounces,
+        seed: 1,
+        ..Default::default()
+    };
+    render_with(path, settings)
+}
+
 /// Relative RMS difference of two layers: sqrt(Σ|a−b|²) / sqrt(Σ|b|²).
 pub fn relative_rms(a: &[[f32; 3]], b: &[[f32; 3]]) -> f64 {
     let (mut num, mut den) = (0.0f64, 0.0f64);
