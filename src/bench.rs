@@ -77,12 +77,32 @@ impl Measured {
         label: &str,
         settings: &crate::RenderSettings,
     ) -> Result<Measured> {
+        Self::best_of(open, scene, label, settings, 1)
+    }
+
+    /// Renders a first frame (shader compilation), then `repeats` more, and keeps the fastest
+    /// (a fixed seed makes them the same image).
+    pub fn best_of(
+        open: &dyn Fn() -> Result<Gpu>,
+        scene: &Scene,
+        label: &str,
+        settings: &crate::RenderSettings,
+        repeats: u32,
+    ) -> Result<Measured> {
         let mut renderer = crate::Renderer::new(open()?, scene, settings.clone())?;
         renderer.set_timing(leakless_graph::Timing::PerPassSubmit);
         renderer.render()?;
-        let frame = renderer.render()?;
-        let passes = frame.timings.iter().map(|t| (t.name.clone(), t.wall_ms.unwrap_or(t.ms))).collect();
-        Ok(Measured { label: label.to_string(), settings: settings.clone(), frame, passes })
+        let mut best: Option<Measured> = None;
+        for _ in 0..repeats.max(1) {
+            let frame = renderer.render()?;
+            let passes = frame.timings.iter().map(|t| (t.name.clone(), t.wall_ms.unwrap_or(t.ms))).collect();
+            let run = Measured { label: label.to_string(), settings: settings.clone(), frame, passes };
+            if best.as_ref().is_none_or(|b| run.frame_ms() < b.frame_ms()) {
+                best = Some(run);
+            }
+        }
+        renderer.gpu().check_validation()?;
+        Ok(best.expect("at least one frame"))
     }
 
     /// The photon counts (every run of these benchmarks uses a photon method).

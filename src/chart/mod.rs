@@ -291,18 +291,9 @@ pub fn measure_with_progress(
                     },
                     ..Default::default()
                 };
-                let mut renderer = Renderer::new(open(backend == Backend::RayQuery)?, scene, render)?;
-                renderer.set_timing(Timing::PerPassSubmit);
-                renderer.render()?;
-                let mut frame = renderer.render()?;
-                let ms = |f: &crate::RenderedFrame| f.timings.iter().map(|t| t.wall_ms.unwrap_or(t.ms)).sum::<f64>();
-                let mut frame_ms = ms(&frame);
-                for _ in 1..config.repeats {
-                    // Same seed, same image: only the time differs.
-                    frame = renderer.render()?;
-                    frame_ms = frame_ms.min(ms(&frame));
-                }
-                renderer.gpu().check_validation()?;
+                let opener = || open(backend == Backend::RayQuery);
+                let measured = crate::bench::Measured::best_of(&opener, scene, method.name(), &render, config.repeats)?;
+                let (frame, frame_ms) = (&measured.frame, measured.frame_ms());
                 let stats = frame.splat.as_ref();
                 points.push(Point {
                     scene: scene.name.clone(),
