@@ -185,32 +185,29 @@ impl TraceScene {
     }
 
     pub fn import<'r>(&'r self, graph: &mut Graph<'r>) -> TraceHandles {
-        match &self.structures {
-            Structures::RayQuery(accel) => TraceHandles {
-                buffers: vec![
-                    ("tlas", graph.import_buffer(accel.tlas.buffer())),
-                    ("", graph.import_buffer(accel.blas.buffer())),
-                ],
-                tlas: Some(accel.tlas.raw()),
-                scale: graph.import_buffer(&self.scale),
+        let structures = match &self.structures {
+            Structures::RayQuery(accel) => HandledStructures::RayQuery {
+                tlas: accel.tlas.raw(),
+                tlas_buffer: graph.import_buffer(accel.tlas.buffer()),
+                blas_buffer: graph.import_buffer(accel.blas.buffer()),
             },
-            Structures::Compute { nodes, triangles } => TraceHandles {
-                buffers: vec![
-                    ("bvh_nodes", graph.import_buffer(nodes)),
-                    ("bvh_triangles", graph.import_buffer(triangles)),
-                ],
-                tlas: None,
-                scale: graph.import_buffer(&self.scale),
+            Structures::Compute { nodes, triangles } => HandledStructures::Compute {
+                nodes: graph.import_buffer(nodes),
+                triangles: graph.import_buffer(triangles),
             },
-        }
+        };
+        TraceHandles { structures, scale: graph.import_buffer(&self.scale) }
     }
+}
+
+enum HandledStructures {
+    RayQuery { tlas: vk::AccelerationStructureKHR, tlas_buffer: BufferHandle, blas_buffer: BufferHandle },
+    Compute { nodes: BufferHandle, triangles: BufferHandle },
 }
 
 /// The trace structures of one frame's graph.
 pub struct TraceHandles {
-    /// (binding name, buffer); the BLAS has no binding of its own but is read through the TLAS.
-    buffers: Vec<(&'static str, BufferHandle)>,
-    tlas: Option<vk::AccelerationStructureKHR>,
+    structures: HandledStructures,
     scale: BufferHandle,
 }
 
@@ -218,15 +215,17 @@ impl TraceHandles {
     /// Declares that `pass` traces rays, and returns what to bind.
     pub fn declare<'r>(&self, pass: &mut PassBuilder<'_, 'r>) -> Vec<(&'static str, Bound<'r>)> {
         let mut bound = vec![("trace_scale", Bound::Buffer(pass.read(&self.scale, Access::ComputeRead)))];
-        for (name, handle) in &self.buffers {
-            match self.tlas {
-                Some(tlas) => {
-                    pass.read(handle, Access::RayQueryRead);
-                    if *name == "tlas" {
-                        bound.push(("tlas", Bound::Accel(tlas)));
-                    }
-                }
-                None => bound.push((*name, Bound::Buffer(pass.read(handle, Access::ComputeRead)))),
+        match &self.structures {
+            HandledStructures::RayQuery { tlas, tlas_buffer, blas_buffer } => {
+                // Traversal reads the BLAS through the TLAS: both are declared, only the TLAS
+                // is bound.
+                pass.read(tlas_buffer, Access::RayQueryRead);
+                pass.read(blas_buffer, Access::RayQueryRead);
+                bound.push(("tlas", Bound::Accel(*tlas)));
+            }
+            HandledStructures::Compute { nodes, triangles } => {
+                bound.push(("bvh_nodes", Bound::Buffer(pass.read(nodes, Access::ComputeRead))));
+                bound.push(("bvh_triangles", Bound::Buffer(pass.read(triangles, Access::ComputeRead))));
             }
         }
         bound
