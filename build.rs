@@ -236,6 +236,10 @@ struct Info {
     /// Why naga could not parse the module: its bindings come from the SPIR-V scan alone,
     /// without buffer layouts.
     naga_error: Option<String>,
+    /// Whether the module declares a push-constant block (from the scan).
+    has_push_constants: bool,
+    /// `Some(BlockLayout { .. })` literal of that block, once reflected (naga, or the twin).
+    push_constants: Option<String>,
 }
 
 /// One resource binding, to become a `ReflectedBinding` literal.
@@ -277,7 +281,14 @@ fn reflect(spirv: &[u32], stage: Stage, file: &str) -> Result<Info, String> {
                         use a texture and a sampler)";
             }
             let (workgroup_size, naga_error) = (scan.local_size, Some(msg));
-            return Ok(Info { workgroup_size, bindings: scanned, naga_error });
+            let has_push_constants = scan.push_constants;
+            return Ok(Info {
+                workgroup_size,
+                bindings: scanned,
+                naga_error,
+                has_push_constants,
+                push_constants: None,
+            });
         }
     };
     let workgroup_size = match stage {
@@ -285,7 +296,13 @@ fn reflect(spirv: &[u32], stage: Stage, file: &str) -> Result<Info, String> {
         _ => [1, 1, 1],
     };
     let mut bindings = Vec::new();
+    let mut push_constants = None;
     for (_, var) in module.global_variables.iter() {
+        // naga calls push constants "immediates".
+        if var.space == AddressSpace::Immediate {
+            push_constants = Some(block_layout(&module, var.ty));
+            continue;
+        }
         let Some(rb) = &var.binding else { continue };
         let (set, binding) = (rb.group, rb.binding);
         let (kind, layout) = match var.space {
@@ -315,7 +332,11 @@ fn reflect(spirv: &[u32], stage: Stage, file: &str) -> Result<Info, String> {
             ids(&bindings)
         ));
     }
-    Ok(Info { workgroup_size, bindings, naga_error: None })
+    if push_constants.is_some() != scan.push_constants {
+        return Err(format!("{DIR}/{file}: build.rs bug: the SPIR-V scan and naga disagree on push constants"));
+    }
+    let has_push_constants = scan.push_constants;
+    Ok(Info { workgroup_size, bindings, naga_error: None, has_push_constants, push_constants })
 }
 
 /// Gives a `:rayquery` module naga could not parse the buffer layouts of its `:compute` twin,
@@ -340,6 +361,13 @@ fn take_twin_layouts(file: &str, rq: (&str, &mut Info), twin: (&str, &Info)) -> 
         } else if rq.naga_error.is_some() {
             b.layout.clone_from(&t.layout);
         }
+    }
+    if rq.has_push_constants != twin.has_push_constants {
+        mismatches.push(format!(
+            "{DIR}/{file}: {rq_name} and {twin_name} disagree on whether there is a push_constant block"
+        ));
+    } else if rq.naga_error.is_some() {
+        rq.push_constants.clone_from(&twin.push_constants);
     }
     if mismatches.is_empty() {
         Ok(())
@@ -414,8 +442,13 @@ fn emit_static(code: &mut String, ident: &str, name: &str, stage: Stage, len: us
         )
     };
     let bindings: Vec<String> = info.bindings.iter().map(literal).collect();
-    let reflection = format!("Ok(&[\n        {},\n    ])", bindings.join(",\n        "));
+    let reflection = if bindings.is_empty() {
+        "Ok(&[])".to_string()
+    } else {
+        format!("Ok(&[\n        {},\n    ])", bindings.join(",\n        "))
+    };
     let workgroup_size = info.workgroup_size;
+    let push_constants = info.push_constants.as_deref().unwrap_or("None");
     writeln!(
         code,
         r#"
@@ -429,6 +462,7 @@ pub static {ident}: ShaderInfo = ShaderInfo {{
     spirv: unsafe {{ core::slice::from_raw_parts({ident}_SPV.0.as_ptr().cast::<u32>(), {len} / 4) }},
     workgroup_size: {workgroup_size:?},
     reflection: {reflection},
+    push_constants: {push_constants},
 }};"#
     )
     .unwrap();

@@ -34,6 +34,7 @@ const DIM_SUBPASS_DATA: u32 = 6;
 // Storage classes.
 const UNIFORM_CONSTANT: u32 = 0;
 const UNIFORM: u32 = 2;
+const PUSH_CONSTANT: u32 = 9;
 const STORAGE_BUFFER: u32 = 12;
 
 // Decorations.
@@ -61,6 +62,8 @@ pub struct Scan {
     pub resources: Vec<Resource>,
     /// `LocalSize` execution mode, `[1, 1, 1]` without one.
     pub local_size: [u32; 3],
+    /// Whether the module declares a `push_constant` block.
+    pub push_constants: bool,
 }
 
 /// Resource types, after arrays of them are looked through.
@@ -112,6 +115,7 @@ pub fn scan(words: &[u32]) -> Result<Scan, String> {
     }
 
     let mut resources = Vec::new();
+    let push_constants = vars.iter().any(|&(_, _, class)| class == PUSH_CONSTANT);
     for (id, ptr, class) in vars {
         if !matches!(class, UNIFORM_CONSTANT | UNIFORM | STORAGE_BUFFER) {
             continue; // push constants, inputs, outputs, workgroup and function memory
@@ -152,7 +156,7 @@ pub fn scan(words: &[u32]) -> Result<Scan, String> {
         resources.push(Resource { name, set, binding, kind });
     }
     resources.sort_by(|a, b| (a.set, a.binding, &a.name).cmp(&(b.set, b.binding, &b.name)));
-    Ok(Scan { resources, local_size })
+    Ok(Scan { resources, local_size, push_constants })
 }
 
 /// A SPIR-V literal string: UTF-8, nul-terminated, packed little-end first into words.

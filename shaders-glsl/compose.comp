@@ -1,7 +1,7 @@
 #version 460
 // Final image: radiance = direct + indirect, where the indirect layer is a running sum scaled
-// by `indirect_scale` (1/spp for the reference; 0 when the method has no indirect light), and a
-// zero leaked layer for methods that do not trace visibility.
+// by `indirect_scale` (1/spp for the reference; 0 when the method has no indirect light), and
+// zero leaked and gather-count layers for methods that do not gather photons.
 #include "common.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
@@ -11,13 +11,14 @@ layout(set = 0, binding = 1, rgba32f) uniform readonly image2D direct;
 layout(set = 0, binding = 2, rgba32f) uniform readonly image2D indirect_sum;
 layout(set = 0, binding = 3, rgba32f) uniform writeonly image2D indirect;
 layout(set = 0, binding = 4, rgba32f) uniform writeonly image2D radiance;
-layout(set = 0, binding = 5) uniform ComposeParams {
+layout(push_constant) uniform ComposeParams {
     float indirect_scale;
-    uint leaked_written;  // 0: no gather wrote the leaked layer this frame; it becomes zero
+    uint gathered;  // 0: no gather wrote the leaked and count layers this frame; they become zero
     uint pad1;
     uint pad2;
 } params;
-layout(set = 0, binding = 6, rgba32f) uniform image2D leaked;
+layout(set = 0, binding = 6, rgba32f) uniform writeonly image2D leaked;
+layout(set = 0, binding = 7, rgba32f) uniform writeonly image2D gather_counts;
 
 void main() {
     ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
@@ -29,7 +30,8 @@ void main() {
     vec3 l_direct = imageLoad(direct, pixel).rgb;
     imageStore(indirect, pixel, vec4(l_indirect, 1.0));
     imageStore(radiance, pixel, vec4(l_direct + l_indirect, 1.0));
-    if (params.leaked_written == 0u) {
+    if (params.gathered == 0u) {
         imageStore(leaked, pixel, vec4(0.0));
+        imageStore(gather_counts, pixel, vec4(0.0));
     }
 }

@@ -40,7 +40,9 @@ layout(set = 0, binding = 9, std430) buffer GatherCounters {
 } gather_counters;
 layout(set = 0, binding = 10, rgba32f) uniform writeonly image2D indirect_sum;
 layout(set = 0, binding = 11, rgba32f) uniform writeonly image2D leaked;
-layout(set = 0, binding = 12) uniform GatherParams {
+// Per pixel: photons examined, visibility rays traced, of those blocked (the heat-map layers).
+layout(set = 0, binding = 13, rgba32f) uniform writeonly image2D gather_counts;
+layout(push_constant) uniform GatherParams {
     float radius;
     float fixed_scale;  // fixed-point units per W/m²; chosen so no sum can overflow
     uint level_count;
@@ -84,6 +86,7 @@ void main() {
     if (sorted_keys.keys[s] == INVALID_SAMPLE_KEY) {
         imageStore(indirect_sum, xy, vec4(0.0));
         imageStore(leaked, xy, vec4(0.0));
+        imageStore(gather_counts, xy, vec4(0.0));
         return;
     }
     vec4 position = imageLoad(gbuffer_position, xy);
@@ -128,6 +131,8 @@ void main() {
     vec3 albedo_over_pi = imageLoad(gbuffer_albedo, xy).rgb / PI;
     imageStore(indirect_sum, xy, vec4(albedo_over_pi * vec3(kept) / params.fixed_scale, 1.0));
     imageStore(leaked, xy, vec4(albedo_over_pi * vec3(lost) / params.fixed_scale, 1.0));
+    float rays = params.visibility != 0u ? float(accepted) : 0.0;
+    imageStore(gather_counts, xy, vec4(float(candidates), rays, float(occluded), 0.0));
     atomicAdd(gather_counters.valid_samples, 1u);
     if (capped) {
         atomicAdd(gather_counters.capped_samples, 1u);

@@ -13,7 +13,7 @@ layout(set = 0, binding = 2, std430) readonly buffer SortedKeys { uint keys[]; }
 layout(set = 0, binding = 3, std430) readonly buffer SortedSamples { uint pixels[]; } sorted_samples;
 layout(set = 0, binding = 4, std430) readonly buffer Levels { Level levels[]; } levels;
 layout(set = 0, binding = 5, std430) buffer Nodes { Node nodes[]; } nodes;
-layout(set = 0, binding = 6) uniform BuildParams {
+layout(push_constant) uniform BuildParams {
     uint level;
     uint branching;
     uint sample_count;

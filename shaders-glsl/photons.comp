@@ -19,7 +19,7 @@ struct PhotonLight {
     float cdf;  // Σ p(light j) for j <= this light; the last is 1
 };
 
-layout(set = 0, binding = 0) uniform PhotonParams {
+layout(push_constant) uniform PhotonParams {
     vec3 scene_center;   // bounding sphere of the geometry: directional lights' emission disk
     float scene_radius;
     uint paths;

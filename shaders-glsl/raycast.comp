@@ -20,7 +20,7 @@ struct RayHit {
 
 layout(set = 0, binding = 0, std430) readonly buffer Rays { Ray rays[]; } rays;
 layout(set = 0, binding = 1, std430) writeonly buffer RayHits { RayHit hits[]; } ray_hits;
-layout(set = 0, binding = 2) uniform RaycastParams {
+layout(push_constant) uniform RaycastParams {
     uint ray_count;
     uint occlusion;  // 1: traceOccluded, 0: traceClosest
     uint pad0;

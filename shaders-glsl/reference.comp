@@ -16,7 +16,7 @@ layout(set = 0, binding = 2, rgba32f) uniform readonly image2D gbuffer_position;
 layout(set = 0, binding = 3, rgba32f) uniform readonly image2D gbuffer_normal;
 layout(set = 0, binding = 4, rgba32f) uniform readonly image2D gbuffer_albedo;
 layout(set = 0, binding = 5, rgba32f) uniform image2D accumulated;
-layout(set = 0, binding = 6) uniform ReferenceParams {
+layout(push_constant) uniform ReferenceParams {
     uint first_sample;   // samples already in `accumulated` (0: start over)
     uint sample_count;   // samples this dispatch adds
     uint max_bounces;    // indirect bounces after the view sample

@@ -17,7 +17,7 @@ const uint SORT_NO_DIGIT = SORT_RADIX;
 
 // Parameters of one digit pass. `histograms` holds SORT_RADIX * group_count counts,
 // digit-major: the count of digit d in workgroup g is at d * group_count + g.
-#define SORT_PARAMS_BLOCK(n) layout(set = 0, binding = n) uniform SortParams { \
+#define SORT_PARAMS_BLOCK layout(push_constant) uniform SortParams { \
     uint len; \
     uint shift; \
     uint key_limit; \

@@ -9,7 +9,7 @@
 
 layout(local_size_x = SORT_WORKGROUP_SIZE) in;
 
-SORT_PARAMS_BLOCK(0);
+SORT_PARAMS_BLOCK;
 layout(set = 0, binding = 1, std430) buffer Histograms { uint data[]; } histograms;
 
 #define SCAN_ITEMS 16

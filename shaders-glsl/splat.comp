@@ -22,7 +22,7 @@ layout(set = 0, binding = 6, std430) buffer SplatCounters {
     uint nodes_visited;     // node tests made by all photons
     uint pad0;
 } splat_counters;
-layout(set = 0, binding = 7) uniform SplatParams {
+layout(push_constant) uniform SplatParams {
     float radius;
     uint trivial_accept;
     uint root;

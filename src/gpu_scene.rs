@@ -1,21 +1,24 @@
-//! The scene as the GPU sees it: vertex, material, texel and light buffers, uploaded once.
+//! The scene as the GPU sees it: vertex, material and texel buffers, uploaded once. (Lights
+//! are uploaded with every frame, so they can move: `photon_lights.rs`.)
 
 use ash::vk;
 use glam::Vec3;
-use leakless_device::{BindingDecl, Bound, Buffer, Gpu};
-use leakless_graph::{Access, BufferHandle, Graph, PassBuilder};
+use leakless_device::{Buffer, Gpu, GpuStruct};
+use leakless_graph::{shader_bindings, Access, BufferHandle, Graph, PassBuilder};
 use leakless_scene::{LightKind, Scene};
 
 use crate::error::{RenderError, Result};
-use crate::gpu_types::{self, Light, Material, MATERIAL_LAYOUT, U32_LAYOUT, VERTEX_LAYOUT};
+use crate::gpu_types::{self, Light, Material, VERTEX_LAYOUT};
 
-/// What `scene.glsl` binds: the surfaces, by triangle index.
-pub const SCENE_BINDINGS: &[BindingDecl] = &[
-    BindingDecl::storage_array("scene_vertices", VERTEX_LAYOUT),
-    BindingDecl::storage_array("triangle_materials", U32_LAYOUT),
-    BindingDecl::storage_array("materials", MATERIAL_LAYOUT),
-    BindingDecl::storage_array("texels", U32_LAYOUT),
-];
+shader_bindings! {
+    /// What `scene.glsl` binds: the surfaces, by triangle index.
+    pub struct SceneBindings {
+        scene_vertices: array(VERTEX_LAYOUT),
+        triangle_materials: array(u32::LAYOUT),
+        materials: array(Material::LAYOUT),
+        texels: array(u32::LAYOUT),
+    }
+}
 
 /// The G-buffer stores `triangle + 1` in a float channel, exact up to 2^24.
 pub const MAX_TRIANGLES: usize = (1 << 24) - 1;
@@ -29,8 +32,6 @@ pub struct GpuScene {
     pub materials: Buffer,
     /// Every texture's texels, RGBA8 packed in one word each.
     pub texels: Buffer,
-    pub lights: Buffer,
-    pub light_count: u32,
 }
 
 impl GpuScene {
@@ -74,18 +75,7 @@ impl GpuScene {
             .collect();
         let materials = Buffer::with_data(gpu, "materials", storage, bytemuck::cast_slice(&materials))?;
         let texels = Buffer::with_data(gpu, "texels", storage, bytemuck::cast_slice(&texels))?;
-
-        let lights: Vec<Light> = scene.lights.iter().map(gpu_light).collect();
-        let lights_buffer = Buffer::with_data(gpu, "lights", storage, bytemuck::cast_slice(&lights))?;
-        Ok(GpuScene {
-            vertices,
-            vertex_count: scene.vertices.len() as u32,
-            triangle_materials,
-            materials,
-            texels,
-            lights: lights_buffer,
-            light_count: lights.len() as u32,
-        })
+        Ok(GpuScene { vertices, vertex_count: scene.vertices.len() as u32, triangle_materials, materials, texels })
     }
 }
 
@@ -96,7 +86,6 @@ impl GpuScene {
             triangle_materials: graph.import_buffer(&self.triangle_materials),
             materials: graph.import_buffer(&self.materials),
             texels: graph.import_buffer(&self.texels),
-            lights: graph.import_buffer(&self.lights),
         }
     }
 }
@@ -107,19 +96,17 @@ pub struct SceneHandles {
     pub triangle_materials: BufferHandle,
     pub materials: BufferHandle,
     pub texels: BufferHandle,
-    pub lights: BufferHandle,
 }
 
 impl SceneHandles {
-    /// Declares that `pass` reads the surfaces (`scene.glsl`) with `access`, and returns what
-    /// to bind.
-    pub fn declare<'r>(&self, pass: &mut PassBuilder<'_, 'r>, access: Access) -> Vec<(&'static str, Bound<'r>)> {
-        vec![
-            ("scene_vertices", Bound::Buffer(pass.read(&self.vertices, access))),
-            ("triangle_materials", Bound::Buffer(pass.read(&self.triangle_materials, access))),
-            ("materials", Bound::Buffer(pass.read(&self.materials, access))),
-            ("texels", Bound::Buffer(pass.read(&self.texels, access))),
-        ]
+    /// Declares that `pass` reads the surfaces (`scene.glsl`) with `access`.
+    pub fn declare(&self, pass: &mut PassBuilder<'_, '_>, access: Access) -> SceneBindings {
+        SceneBindings {
+            scene_vertices: pass.read(&self.vertices, access),
+            triangle_materials: pass.read(&self.triangle_materials, access),
+            materials: pass.read(&self.materials, access),
+            texels: pass.read(&self.texels, access),
+        }
     }
 }
 

@@ -1,8 +1,7 @@
 //! leakless: real-time diffuse global illumination by photon splatting, without light leaks.
 //!
-//! The frame, top to bottom (see `Renderer::render`): upload the frame constants, rasterise
-//! the G-buffer, light it directly, read the layers back. Each pass lives in `passes/`, one
-//! file per pass, next to its shader in `shaders-glsl/`.
+//! The frame, top to bottom, is `renderer/frame.rs`; docs/architecture.md walks through it.
+//! Each pass lives in `passes/`, one file per pass, next to its shader in `shaders-glsl/`.
 
 pub mod bench;
 pub mod chart;
@@ -23,6 +22,7 @@ pub mod trace;
 pub use error::{RenderError, Result};
 pub use leakless_device::{Gpu, GpuOptions};
 pub use leakless_scene::Scene;
-pub use renderer::{Capture, RenderedFrame, Renderer};
+pub use passes::tonemap::ViewLayer;
+pub use renderer::{Capture, DisplayTarget, FrameReport, Overlay, RenderedFrame, Renderer};
 pub use settings::{Method, RenderSettings, SplatSettings};
 pub use trace::{Backend, BackendChoice};

@@ -17,7 +17,6 @@ use std::f64::consts::PI;
 
 use ash::vk;
 use glam::Vec3;
-use leakless_device::{Buffer, Gpu};
 use leakless_graph::{BufferHandle, Graph};
 use leakless_scene::{Aabb, Scene};
 
@@ -123,31 +122,25 @@ impl LightTable {
     }
 }
 
-/// The light table and its GPU buffer (`photon_lights` in photons.comp), built once per scene.
-pub struct PhotonLights {
+/// One frame's lights on the GPU: `lights` (what every shading pass reads) and the photon
+/// light table (`photon_lights` of photons.comp), uploaded with each frame so lights can move.
+pub struct LightHandles {
+    pub lights: BufferHandle,
+    pub photon_lights: BufferHandle,
     pub table: LightTable,
-    pub buffer: Buffer,
+    pub count: u32,
 }
 
-impl PhotonLights {
-    pub fn upload(gpu: &Gpu, scene: &Scene) -> Result<PhotonLights> {
-        let table = LightTable::from_scene(scene);
-        let buffer = Buffer::with_data(
-            gpu,
-            "photon lights",
-            vk::BufferUsageFlags::STORAGE_BUFFER,
-            bytemuck::cast_slice(&table.entries),
-        )?;
-        Ok(PhotonLights { table, buffer })
-    }
-
-    pub fn import<'r>(&'r self, graph: &mut Graph<'r>) -> PhotonLightHandles<'r> {
-        PhotonLightHandles { table: &self.table, buffer: graph.import_buffer(&self.buffer) }
-    }
-}
-
-/// The light table in one frame's graph.
-pub struct PhotonLightHandles<'a> {
-    pub table: &'a LightTable,
-    pub buffer: BufferHandle,
+/// Uploads `lights` (in the scene's order) and their photon table for this frame; `bounds`
+/// is the geometry a directional light's emission disk covers.
+pub fn upload_lights(graph: &mut Graph<'_>, lights: &[leakless_scene::Light], bounds: &Aabb) -> Result<LightHandles> {
+    let gpu_lights: Vec<Light> = lights.iter().map(gpu_light).collect();
+    let table = LightTable::new(&gpu_lights, bounds);
+    let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
+    Ok(LightHandles {
+        lights: graph.upload("lights", storage, bytemuck::cast_slice(&gpu_lights))?,
+        photon_lights: graph.upload("photon lights", storage, bytemuck::cast_slice(&table.entries))?,
+        count: gpu_lights.len() as u32,
+        table,
+    })
 }

@@ -4,7 +4,7 @@
 use ash::vk;
 use glam::Vec3;
 use leakless_device::{Buffer, BufferDesc, Gpu, MemoryLocation};
-use leakless_graph::{Graph, GraphRunner, Timing};
+use leakless_graph::{GraphRunner, Timing};
 use leakless_scene::Scene;
 
 use crate::error::Result;
@@ -32,7 +32,7 @@ impl<'g> RayCaster<'g> {
     pub fn new(gpu: &'g Gpu, scene: &Scene, backend: Backend) -> Result<Self> {
         let gpu_scene = GpuScene::upload(gpu, scene)?;
         let trace = TraceScene::build(gpu, scene, &gpu_scene, backend)?;
-        let mut runner = GraphRunner::new(gpu, 4)?;
+        let mut runner = GraphRunner::new(gpu, 1)?;
         runner.set_timing(Timing::PerPassSubmit);
         Ok(RayCaster { gpu, scene: gpu_scene, trace, pass: RaycastPass::new(gpu, backend)?, runner })
     }
@@ -53,17 +53,18 @@ impl<'g> RayCaster<'g> {
             location: MemoryLocation::GpuToCpu,
         };
         let hit_buffer = Buffer::new(self.gpu, &desc)?;
-        let mut graph = Graph::new();
+        let mut graph = self.runner.graph(self.gpu)?;
         let scene = self.scene.import(&mut graph);
         let trace = self.trace.import(&mut graph);
         let rays_h = graph.import_buffer(&ray_buffer);
         let mut hits_h = graph.import_buffer(&hit_buffer);
-        self.pass.add(&mut graph, rays.len() as u32, occlusion, &scene, &trace, &rays_h, &mut hits_h)?;
+        self.pass.add(&mut graph, rays.len() as u32, occlusion, &scene, &trace, &rays_h, &mut hits_h);
         let mut host = graph.pass("to host");
         host.read(&hits_h, leakless_graph::Access::HostRead);
         host.record(|_| Ok(()));
-        let timings = self.runner.run(self.gpu, graph)?;
-        let trace_ms = timings.iter().find(|t| t.name == "raycast").and_then(|t| t.wall_ms).unwrap_or(0.0);
+        let submitted = graph.submit(&Default::default())?;
+        let done = self.runner.wait_for(self.gpu, submitted)?;
+        let trace_ms = done.timings.iter().find(|t| t.name == "raycast").and_then(|t| t.wall_ms).unwrap_or(0.0);
         Ok(Cast { hits: hit_buffer.read_vec(rays.len())?, trace_ms })
     }
 }

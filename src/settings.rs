@@ -6,7 +6,7 @@ pub use crate::splatting::SplatSettings;
 use crate::trace::BackendChoice;
 
 /// What to render and how.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct RenderSettings {
     pub width: u32,
     pub height: u32,

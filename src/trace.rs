@@ -4,8 +4,8 @@
 
 use leakless_accel::{Bvh, BvhStats, RayQueryAccel, RayQueryStats, BVH_NODE_LAYOUT, BVH_TRIANGLE_LAYOUT};
 use leakless_device::shader::ShaderInfo;
-use leakless_device::{vk, BindingDecl, Bound, Buffer, Capabilities, Gpu};
-use leakless_graph::{Access, BufferHandle, Graph, PassBuilder};
+use leakless_device::{gpu_struct, vk, BindingDecl, Bound, Buffer, Capabilities, Gpu, GpuStruct};
+use leakless_graph::{shader_bindings, Access, Bindings, BufferHandle, Graph, PassBuilder, Resolved};
 use leakless_scene::{Scene, Vertex};
 
 use crate::error::{RenderError, Result};
@@ -73,32 +73,56 @@ impl Backend {
 
     /// What `trace.glsl` binds on this backend.
     pub fn bindings(self) -> &'static [BindingDecl] {
-        const SCALE: BindingDecl = BindingDecl::uniform("trace_scale", TRACE_SCALE_LAYOUT);
-        const RAY_QUERY: &[BindingDecl] = &[BindingDecl::acceleration_structure("tlas"), SCALE];
-        const COMPUTE: &[BindingDecl] = &[
-            BindingDecl::storage_array("bvh_nodes", BVH_NODE_LAYOUT),
-            BindingDecl::storage_array("bvh_triangles", BVH_TRIANGLE_LAYOUT),
-            SCALE,
-        ];
         match self {
-            Backend::RayQuery => RAY_QUERY,
-            Backend::Compute => COMPUTE,
+            Backend::RayQuery => RayQueryTrace::DECLS,
+            Backend::Compute => ComputeTrace::DECLS,
         }
     }
 }
 
-/// The `TraceScale` block of trace.glsl.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, bytemuck::Pod, bytemuck::Zeroable)]
-pub struct TraceScale {
-    pub scene_scale: f32,
-    pub pad0: f32,
-    pub pad1: f32,
-    pub pad2: f32,
+gpu_struct! {
+    /// The `TraceScale` block of trace.glsl.
+    #[derive(Clone, Copy, Debug, Default, bytemuck::Pod, bytemuck::Zeroable)]
+    pub struct TraceScale {
+        pub scene_scale: f32,
+        pub pad0: f32,
+        pub pad1: f32,
+        pub pad2: f32,
+    }
 }
 
-pub const TRACE_SCALE_LAYOUT: leakless_device::RustLayout =
-    leakless_device::rust_layout!(TraceScale { scene_scale, pad0, pad1, pad2 });
+shader_bindings! {
+    /// What `trace.glsl` binds with `TRACE_RAYQUERY`.
+    pub struct RayQueryTrace {
+        tlas: accel,
+        trace_scale: uniform(TraceScale::LAYOUT),
+    }
+}
+
+shader_bindings! {
+    /// What `trace.glsl` binds with `TRACE_COMPUTE`.
+    pub struct ComputeTrace {
+        bvh_nodes: array(BVH_NODE_LAYOUT),
+        bvh_triangles: array(BVH_TRIANGLE_LAYOUT),
+        trace_scale: uniform(TraceScale::LAYOUT),
+    }
+}
+
+/// A tracing pass's trace bindings, on whichever backend runs.
+#[derive(Clone, Copy, Debug)]
+pub enum TraceBindings {
+    RayQuery(RayQueryTrace),
+    Compute(ComputeTrace),
+}
+
+impl Bindings for TraceBindings {
+    fn bind<'a>(&self, res: Resolved<'a>, out: &mut Vec<(&'static str, Bound<'a>)>) {
+        match self {
+            TraceBindings::RayQuery(b) => b.bind(res, out),
+            TraceBindings::Compute(b) => b.bind(res, out),
+        }
+    }
+}
 
 /// The size offsets are relative to: the scene's bounding radius.
 pub fn scene_scale(scene: &Scene) -> f32 {
@@ -212,22 +236,22 @@ pub struct TraceHandles {
 }
 
 impl TraceHandles {
-    /// Declares that `pass` traces rays, and returns what to bind.
-    pub fn declare<'r>(&self, pass: &mut PassBuilder<'_, 'r>) -> Vec<(&'static str, Bound<'r>)> {
-        let mut bound = vec![("trace_scale", Bound::Buffer(pass.read(&self.scale, Access::ComputeRead)))];
+    /// Declares that `pass` traces rays.
+    pub fn declare(&self, pass: &mut PassBuilder<'_, '_>) -> TraceBindings {
+        let trace_scale = pass.read(&self.scale, Access::ComputeRead);
         match &self.structures {
             HandledStructures::RayQuery { tlas, tlas_buffer, blas_buffer } => {
                 // Traversal reads the BLAS through the TLAS: both are declared, only the TLAS
                 // is bound.
                 pass.read(tlas_buffer, Access::RayQueryRead);
                 pass.read(blas_buffer, Access::RayQueryRead);
-                bound.push(("tlas", Bound::Accel(*tlas)));
+                TraceBindings::RayQuery(RayQueryTrace { tlas: *tlas, trace_scale })
             }
-            HandledStructures::Compute { nodes, triangles } => {
-                bound.push(("bvh_nodes", Bound::Buffer(pass.read(nodes, Access::ComputeRead))));
-                bound.push(("bvh_triangles", Bound::Buffer(pass.read(triangles, Access::ComputeRead))));
-            }
+            HandledStructures::Compute { nodes, triangles } => TraceBindings::Compute(ComputeTrace {
+                bvh_nodes: pass.read(nodes, Access::ComputeRead),
+                bvh_triangles: pass.read(triangles, Access::ComputeRead),
+                trace_scale,
+            }),
         }
-        bound
     }
 }

@@ -1,87 +1,150 @@
-//! Every pass's declared bindings agree with its shaders' reflection, on both trace backends
-//! (no GPU needed: this is the build-time reflection against the Rust declarations).
+//! Every pass's declared bindings and push constants agree with its shaders' reflection, on
+//! both trace backends (no GPU needed: this is the build-time reflection against the Rust
+//! declarations that pipeline creation also checks).
 
-use leakless::passes::{compose, direct, gather, gbuffer, photons, raycast, reference, splat, view_bindings};
+use leakless::passes::hierarchy::{build, morton, sample_bounds};
+use leakless::passes::{
+    compose, direct, gather, gbuffer, luminance, photons, raycast, reference, sort, splat, tonemap, view_bindings,
+};
 use leakless::shaders;
 use leakless::Backend;
-use leakless_device::check_bindings;
+use leakless_device::shader::ShaderInfo;
+use leakless_device::{check_bindings, check_push_constants, BindingDecl, GpuStruct, RustLayout};
+
+/// (pass, shader, bindings, push constants) of every compute pass on `backend`.
+fn compute_passes(backend: Backend) -> Vec<(&'static str, &'static ShaderInfo, Vec<BindingDecl>, Option<RustLayout>)> {
+    let pick = |rq, compute| backend.pick(rq, compute);
+    vec![
+        (
+            "direct",
+            pick(&shaders::DIRECT_COMP_RAYQUERY, &shaders::DIRECT_COMP_COMPUTE),
+            view_bindings(backend, direct::DirectBindings::DECLS),
+            None,
+        ),
+        (
+            "reference",
+            pick(&shaders::REFERENCE_COMP_RAYQUERY, &shaders::REFERENCE_COMP_COMPUTE),
+            view_bindings(backend, reference::ReferenceBindings::DECLS),
+            Some(reference::ReferenceParams::LAYOUT),
+        ),
+        (
+            "raycast",
+            pick(&shaders::RAYCAST_COMP_RAYQUERY, &shaders::RAYCAST_COMP_COMPUTE),
+            raycast::bindings(backend),
+            Some(raycast::RaycastParams::LAYOUT),
+        ),
+        (
+            "photons",
+            pick(&shaders::PHOTONS_COMP_RAYQUERY, &shaders::PHOTONS_COMP_COMPUTE),
+            photons::bindings(backend),
+            Some(photons::PhotonPush::LAYOUT),
+        ),
+        (
+            "gather",
+            pick(&shaders::GATHER_COMP_RAYQUERY, &shaders::GATHER_COMP_COMPUTE),
+            gather::bindings(backend),
+            Some(gather::GatherParams::LAYOUT),
+        ),
+        (
+            "compose",
+            &shaders::COMPOSE_COMP,
+            compose::ComposeBindings::DECLS.to_vec(),
+            Some(compose::ComposeParams::LAYOUT),
+        ),
+        ("splat", &shaders::SPLAT_COMP, splat::SplatBindings::DECLS.to_vec(), Some(splat::SplatParams::LAYOUT)),
+        (
+            "hierarchy build",
+            &shaders::HIERARCHY_BUILD_COMP,
+            build::BuildBindings::DECLS.to_vec(),
+            Some(build::BuildParams::LAYOUT),
+        ),
+        ("morton", &shaders::MORTON_COMP, morton::MortonBindings::DECLS.to_vec(), None),
+        ("sample bounds", &shaders::SAMPLE_BOUNDS_COMP, sample_bounds::SampleBoundsBindings::DECLS.to_vec(), None),
+        (
+            "sort histogram",
+            &shaders::SORT_HISTOGRAM_COMP,
+            sort::HistogramBindings::DECLS.to_vec(),
+            Some(sort::SortParams::LAYOUT),
+        ),
+        ("sort scan", &shaders::SORT_SCAN_COMP, sort::ScanBindings::DECLS.to_vec(), Some(sort::SortParams::LAYOUT)),
+        (
+            "sort scatter",
+            &shaders::SORT_SCATTER_COMP,
+            sort::ScatterBindings::DECLS.to_vec(),
+            Some(sort::SortParams::LAYOUT),
+        ),
+        ("sort copy", &shaders::SORT_COPY_COMP, sort::CopyBindings::DECLS.to_vec(), Some(sort::SortParams::LAYOUT)),
+        (
+            "luminance tiles",
+            &shaders::LUMINANCE_COMP,
+            luminance::TileBindings::DECLS.to_vec(),
+            Some(luminance::LuminanceParams::LAYOUT),
+        ),
+        (
+            "luminance total",
+            &shaders::LUMINANCE_TOTAL_COMP,
+            luminance::TotalBindings::DECLS.to_vec(),
+            Some(luminance::TotalParams::LAYOUT),
+        ),
+    ]
+}
 
 #[test]
-fn every_tracing_pass_matches_both_variants() {
+fn every_compute_pass_matches_its_shader_on_both_backends() {
     for backend in [Backend::Compute, Backend::RayQuery] {
-        let passes = [
-            (
-                "direct",
-                backend.pick(&shaders::DIRECT_COMP_RAYQUERY, &shaders::DIRECT_COMP_COMPUTE),
-                view_bindings(backend, direct::BINDINGS),
-            ),
-            (
-                "reference",
-                backend.pick(&shaders::REFERENCE_COMP_RAYQUERY, &shaders::REFERENCE_COMP_COMPUTE),
-                view_bindings(backend, reference::BINDINGS),
-            ),
-            (
-                "raycast",
-                backend.pick(&shaders::RAYCAST_COMP_RAYQUERY, &shaders::RAYCAST_COMP_COMPUTE),
-                raycast::bindings(backend),
-            ),
-            (
-                "photons",
-                backend.pick(&shaders::PHOTONS_COMP_RAYQUERY, &shaders::PHOTONS_COMP_COMPUTE),
-                photons::bindings(backend),
-            ),
-            (
-                "gather",
-                backend.pick(&shaders::GATHER_COMP_RAYQUERY, &shaders::GATHER_COMP_COMPUTE),
-                gather::bindings(backend),
-            ),
-        ];
-        for (pass, shader, decls) in passes {
+        for (pass, shader, decls, push) in compute_passes(backend) {
             check_bindings(shader, pass, &decls).unwrap_or_else(|e| panic!("{backend:?}: {e}"));
+            check_push_constants(shader, pass, push.as_ref()).unwrap_or_else(|e| panic!("{backend:?}: {e}"));
         }
     }
-    check_bindings(&shaders::COMPOSE_COMP, "compose", compose::BINDINGS).unwrap();
 }
 
 #[test]
-fn every_splatting_pass_matches_its_shader() {
-    use leakless::passes::hierarchy;
-    let passes: [(&str, &leakless_device::shader::ShaderInfo, &[leakless_device::BindingDecl]); 3] = [
-        ("splat", &shaders::SPLAT_COMP, splat::BINDINGS),
-        ("hierarchy build", &shaders::HIERARCHY_BUILD_COMP, hierarchy::BUILD_BINDINGS),
-        ("morton", &shaders::MORTON_COMP, hierarchy::MORTON_BINDINGS),
+fn raster_passes_match_each_stage() {
+    // A graphics pass's bindings are split over two stages: each stage's subset must match.
+    let passes: [(&str, [&ShaderInfo; 2], Vec<BindingDecl>); 2] = [
+        (
+            "gbuffer",
+            [&shaders::GBUFFER_VERT, &shaders::GBUFFER_FRAG],
+            [gbuffer::GBufferBindings::DECLS, leakless::gpu_scene::SceneBindings::DECLS].concat(),
+        ),
+        ("tonemap", [&shaders::TONEMAP_VERT, &shaders::TONEMAP_FRAG], tonemap::TonemapBindings::DECLS.to_vec()),
     ];
-    for (pass, shader, decls) in passes {
-        check_bindings(shader, pass, decls).unwrap();
+    for (pass, stages, decls) in passes {
+        for shader in stages {
+            let reflected = shader.reflection.expect("naga parses raster modules");
+            let used: Vec<_> = decls.iter().copied().filter(|d| reflected.iter().any(|r| r.name == d.name)).collect();
+            check_bindings(shader, pass, &used).unwrap();
+        }
     }
-}
-
-#[test]
-fn gbuffer_matches_each_stage() {
-    // The G-buffer's bindings are split over two stages: each stage's subset must match.
-    for shader in [&shaders::GBUFFER_VERT, &shaders::GBUFFER_FRAG] {
-        let reflected = shader.reflection.expect("naga parses raster modules");
-        let used: Vec<_> =
-            gbuffer::bindings().into_iter().filter(|d| reflected.iter().any(|r| r.name == d.name)).collect();
-        check_bindings(shader, "gbuffer", &used).unwrap();
-    }
+    check_push_constants(&shaders::TONEMAP_FRAG, "tonemap", Some(&tonemap::TonemapParams::LAYOUT)).unwrap();
 }
 
 #[test]
 fn a_wrong_declaration_names_shader_binding_and_pass() {
-    let mut decls = view_bindings(Backend::Compute, direct::BINDINGS);
+    let mut decls = view_bindings(Backend::Compute, direct::DirectBindings::DECLS);
     decls.retain(|d| d.name != "lights");
     let err = check_bindings(&shaders::DIRECT_COMP_COMPUTE, "direct", &decls).unwrap_err().to_string();
     assert!(err.contains("direct.comp:compute") && err.contains("lights") && err.contains("pass direct"), "{err}");
+    // A push-constant struct with a member moved fails too, naming the member.
+    let err = check_push_constants(&shaders::GATHER_COMP_COMPUTE, "gather", Some(&splat::SplatParams::LAYOUT))
+        .unwrap_err()
+        .to_string();
+    assert!(err.contains("push constants") && err.contains("gather"), "{err}");
 }
 
 #[test]
 fn every_module_is_spirv_and_reflected() {
     // Ray-query modules too: naga cannot parse them, so build.rs scans them and takes their
-    // buffer layouts from the compute twin; none may be left unchecked.
+    // buffer layouts (and push constants) from the compute twin; none may be left unchecked.
     for s in shaders::ALL {
         assert_eq!(s.spirv.first(), Some(&0x0723_0203), "{} is not SPIR-V", s.name);
         let reflected = s.reflection.unwrap_or_else(|why| panic!("{} has no reflection: {why}", s.name));
-        assert!(!reflected.is_empty(), "{} binds nothing", s.name);
+        // Only the full-screen triangle's vertex stage binds nothing.
+        assert!(!reflected.is_empty() || s.name == "tonemap.vert", "{} binds nothing", s.name);
+        if s.name.ends_with(":rayquery") {
+            let twin = shaders::ALL.iter().find(|t| t.name == s.name.replace(":rayquery", ":compute")).expect("twin");
+            assert_eq!(s.push_constants, twin.push_constants, "{}", s.name);
+        }
     }
 }

@@ -1,27 +1,42 @@
 //! Compose: final radiance = direct + scaled indirect sum, and the indirect layer itself
 //! (`compose.comp`).
 
-use leakless_device::{BindingDecl, Bound, ComputePipeline, Gpu};
-use leakless_graph::{Access, BufferHandle, Graph, ImageHandle};
+use bytemuck::{Pod, Zeroable};
+use leakless_device::{gpu_struct, ComputePipeline, Gpu, GpuStruct};
+use leakless_graph::{shader_bindings, Access, BufferHandle, Graph, ImageHandle};
 
 use crate::error::Result;
-use crate::gpu_types::{ComposeParams, COMPOSE_PARAMS_LAYOUT, FRAME_LAYOUT};
-use crate::passes::uniform::Uniform;
+use crate::gpu_types::Frame;
 use crate::shaders;
 
-pub const BINDINGS: &[BindingDecl] = &[
-    BindingDecl::uniform("frame", FRAME_LAYOUT),
-    BindingDecl::storage_image("direct"),
-    BindingDecl::storage_image("indirect_sum"),
-    BindingDecl::storage_image("indirect"),
-    BindingDecl::storage_image("radiance"),
-    BindingDecl::uniform("params", COMPOSE_PARAMS_LAYOUT),
-    BindingDecl::storage_image("leaked"),
-];
+gpu_struct! {
+    /// The `ComposeParams` push constants of compose.comp.
+    #[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
+    pub struct ComposeParams {
+        /// 1/spp for the reference's running sum, 1 for one photon frame, 0 without indirect
+        /// light.
+        pub indirect_scale: f32,
+        /// 0: no gather wrote the leaked and count layers this frame; compose zeroes them.
+        pub gathered: u32,
+        pub pad1: u32,
+        pub pad2: u32,
+    }
+}
+
+shader_bindings! {
+    pub struct ComposeBindings {
+        frame: uniform(Frame::LAYOUT),
+        direct: image,
+        indirect_sum: image,
+        indirect: image,
+        radiance: image,
+        leaked: image,
+        gather_counts: image,
+    }
+}
 
 pub struct ComposePass {
     pipeline: ComputePipeline,
-    params: Uniform<ComposeParams>,
 }
 
 /// The images compose reads and writes.
@@ -31,45 +46,39 @@ pub struct ComposeImages<'a> {
     pub indirect: &'a mut ImageHandle,
     pub radiance: &'a mut ImageHandle,
     pub leaked: &'a mut ImageHandle,
+    pub gather_counts: &'a mut ImageHandle,
 }
 
 impl ComposePass {
     pub fn new(gpu: &Gpu) -> Result<Self> {
-        Ok(ComposePass {
-            pipeline: ComputePipeline::new(gpu, "compose", &shaders::COMPOSE_COMP, BINDINGS)?,
-            params: Uniform::new(gpu, "compose params")?,
-        })
+        let pipeline = ComputePipeline::new(
+            gpu,
+            "compose",
+            &shaders::COMPOSE_COMP,
+            ComposeBindings::DECLS,
+            Some(&ComposeParams::LAYOUT),
+        )?;
+        Ok(ComposePass { pipeline })
     }
 
     pub fn add<'r>(
         &'r self,
         graph: &mut Graph<'r>,
-        indirect_scale: f32,
-        leaked_written: bool,
+        params: ComposeParams,
         frame: &BufferHandle,
         images: ComposeImages<'_>,
-    ) -> Result<()> {
-        self.params.set(&ComposeParams {
-            indirect_scale,
-            leaked_written: leaked_written as u32,
-            ..Default::default()
-        })?;
-        let params = graph.import_buffer(&self.params.buffer);
+    ) {
+        let extent = images.radiance.extent();
         let mut pass = graph.pass("compose");
-        let mut bound = vec![
-            ("frame", Bound::Buffer(pass.read(frame, Access::ComputeRead))),
-            ("params", Bound::Buffer(pass.read(&params, Access::ComputeRead))),
-            ("direct", Bound::Image(pass.read(images.direct, Access::ComputeRead))),
-            ("indirect_sum", Bound::Image(pass.read(images.indirect_sum, Access::ComputeRead))),
-            ("indirect", Bound::Image(pass.write(images.indirect, Access::ComputeWrite))),
-            ("leaked", Bound::Image(pass.write(images.leaked, Access::ComputeReadWrite))),
-        ];
-        let out = pass.write(images.radiance, Access::ComputeWrite);
-        bound.push(("radiance", Bound::Image(out)));
-        pass.record(move |cmd| {
-            let e = out.extent();
-            cmd.dispatch(&self.pipeline, &bound, [e.width, e.height, 1])
-        });
-        Ok(())
+        let own = ComposeBindings {
+            frame: pass.read(frame, Access::ComputeRead),
+            direct: pass.read(images.direct, Access::ComputeRead),
+            indirect_sum: pass.read(images.indirect_sum, Access::ComputeRead),
+            indirect: pass.write(images.indirect, Access::ComputeWrite),
+            radiance: pass.write(images.radiance, Access::ComputeWrite),
+            leaked: pass.write(images.leaked, Access::ComputeReadWrite),
+            gather_counts: pass.write(images.gather_counts, Access::ComputeReadWrite),
+        };
+        pass.record(move |ctx| ctx.dispatch(&self.pipeline, &[&own], &params, [extent.width, extent.height, 1]));
     }
 }

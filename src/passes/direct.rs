@@ -1,16 +1,20 @@
 //! Direct light: Lambertian reflection of every punctual light at each view sample, with one
 //! shadow ray per light (`direct.comp`).
 
-use leakless_device::{BindingDecl, Bound, ComputePipeline, Gpu};
-use leakless_graph::{Access, Graph, ImageHandle};
+use leakless_device::{ComputePipeline, Gpu};
+use leakless_graph::{shader_bindings, Access, Graph, ImageHandle};
 
 use crate::error::Result;
 use crate::passes::{view_bindings, ViewInputs};
 use crate::shaders;
 use crate::trace::Backend;
 
-/// The pass's own bindings, after those of [`ViewInputs`].
-pub const BINDINGS: &[BindingDecl] = &[BindingDecl::storage_image("direct")];
+shader_bindings! {
+    /// The pass's own bindings, after those of [`ViewInputs`].
+    pub struct DirectBindings {
+        direct: image,
+    }
+}
 
 pub struct DirectPass {
     pipeline: ComputePipeline,
@@ -19,17 +23,17 @@ pub struct DirectPass {
 impl DirectPass {
     pub fn new(gpu: &Gpu, backend: Backend) -> Result<Self> {
         let shader = backend.pick(&shaders::DIRECT_COMP_RAYQUERY, &shaders::DIRECT_COMP_COMPUTE);
-        Ok(DirectPass { pipeline: ComputePipeline::new(gpu, "direct", shader, &view_bindings(backend, BINDINGS))? })
+        let decls = view_bindings(backend, DirectBindings::DECLS);
+        Ok(DirectPass { pipeline: ComputePipeline::new(gpu, "direct", shader, &decls, None)? })
     }
 
     pub fn add<'r>(&'r self, graph: &mut Graph<'r>, view: &ViewInputs<'_>, direct: &mut ImageHandle) {
+        let extent = direct.extent();
         let mut pass = graph.pass("direct");
-        let mut bound = view.declare(&mut pass);
-        let out = pass.write(direct, Access::ComputeWrite);
-        bound.push(("direct", Bound::Image(out)));
-        pass.record(move |cmd| {
-            let e = out.extent();
-            cmd.dispatch(&self.pipeline, &bound, [e.width, e.height, 1])
+        let (inputs, surfaces, trace) = view.declare(&mut pass);
+        let own = DirectBindings { direct: pass.write(direct, Access::ComputeWrite) };
+        pass.record(move |ctx| {
+            ctx.dispatch(&self.pipeline, &[&inputs, &surfaces, &trace, &own], &(), [extent.width, extent.height, 1])
         });
     }
 }

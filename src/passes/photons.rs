@@ -10,97 +10,88 @@
 
 use ash::vk;
 use bytemuck::{Pod, Zeroable};
-use leakless_device::{
-    rust_layout, BindingDecl, Bound, Buffer, BufferDesc, ComputePipeline, Gpu, MemoryLocation, RustLayout,
-};
-use leakless_graph::{Access, BufferHandle, Graph, GraphRunner, Timing};
+use leakless_device::{gpu_struct, BindingDecl, Buffer, BufferDesc, ComputePipeline, Gpu, GpuStruct, MemoryLocation};
+use leakless_graph::{shader_bindings, Access, BufferHandle, Graph, GraphRunner, Timing};
 use leakless_scene::Scene;
 
 use crate::error::{RenderError, Result};
-use crate::gpu_scene::{GpuScene, SceneHandles, SCENE_BINDINGS};
-use crate::gpu_types::LIGHT_LAYOUT;
-use crate::passes::uniform::Uniform;
-use crate::photon_lights::{LightTable, PhotonLightHandles, PhotonLights};
+use crate::gpu_scene::{GpuScene, SceneBindings, SceneHandles};
+use crate::gpu_types::Light;
+use crate::photon_lights::{upload_lights, LightHandles, LightTable};
 use crate::shaders;
 use crate::trace::{Backend, TraceHandles, TraceScene};
 
-/// `struct Photon` of photons.comp: 48 bytes, std430.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
-pub struct Photon {
-    pub position: [f32; 3],
-    /// The light path that stored it (0..paths).
-    pub path: u32,
-    /// Geometric normal of the surface hit, facing the incoming photon (unit).
-    pub normal: [f32; 3],
-    /// Reflections before this hit: 1 for the second hit of the path (the first stored), up
-    /// to `max_bounces`; 0 only for first hits stored with `store_direct`.
-    pub bounce: u32,
-    /// ω_in: the unit direction the photon was travelling when it arrived (so
-    /// `dot(normal, direction) < 0`).
-    pub direction: [f32; 3],
-    /// Index of the light that emitted it (the scene's light order).
-    pub light: u32,
-    /// RGB flux arriving at the surface (W).
-    pub flux: [f32; 3],
-    pub pad0: u32,
+gpu_struct! {
+    /// `struct Photon` of photon.glsl: 48 bytes, std430.
+    #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+    pub struct Photon {
+        pub position: [f32; 3],
+        /// The light path that stored it (0..paths).
+        pub path: u32,
+        /// Geometric normal of the surface hit, facing the incoming photon (unit).
+        pub normal: [f32; 3],
+        /// Reflections before this hit: 1 for the second hit of the path (the first stored),
+        /// up to `max_bounces`; 0 only for first hits stored with `store_direct`.
+        pub bounce: u32,
+        /// ω_in: the unit direction the photon was travelling when it arrived (so
+        /// `dot(normal, direction) < 0`).
+        pub direction: [f32; 3],
+        /// Index of the light that emitted it (the scene's light order).
+        pub light: u32,
+        /// RGB flux arriving at the surface (W).
+        pub flux: [f32; 3],
+        pub pad0: u32,
+    }
 }
 
-pub const PHOTON_LAYOUT: RustLayout =
-    rust_layout!(Photon { position, path, normal, bounce, direction, light, flux, pad0 });
-
-/// `photon_counters` of photons.comp.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Pod, Zeroable)]
-pub struct PhotonCounters {
-    /// Photons written (at most the capacity).
-    pub stored: u32,
-    /// Photons dropped because the buffer was full.
-    pub overflowed: u32,
+gpu_struct! {
+    /// `photon_counters` of photons.comp.
+    #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Pod, Zeroable)]
+    pub struct PhotonCounters {
+        /// Photons written (at most the capacity).
+        pub stored: u32,
+        /// Photons dropped because the buffer was full.
+        pub overflowed: u32,
+    }
 }
 
-pub const PHOTON_COUNTERS_LAYOUT: RustLayout = rust_layout!(PhotonCounters { stored, overflowed });
-
-/// `struct PhotonLight` of photons.comp: one light's entry of the selection CDF.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
-pub struct PhotonLight {
-    /// power_rgb / p(light) (W): a path from this light carries `flux / paths`.
-    pub flux: [f32; 3],
-    /// Σ p over the lights up to this one; the last emitting light's (and later ones') is 1.
-    pub cdf: f32,
+gpu_struct! {
+    /// `struct PhotonLight` of photons.comp: one light's entry of the selection CDF.
+    #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+    pub struct PhotonLight {
+        /// power_rgb / p(light) (W): a path from this light carries `flux / paths`.
+        pub flux: [f32; 3],
+        /// Σ p over the lights up to this one; the last emitting light's (and later ones') is 1.
+        pub cdf: f32,
+    }
 }
 
-pub const PHOTON_LIGHT_LAYOUT: RustLayout = rust_layout!(PhotonLight { flux, cdf });
-
-/// The `PhotonParams` uniform block of photons.comp.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
-pub struct PhotonUniforms {
-    pub scene_center: [f32; 3],
-    pub scene_radius: f32,
-    pub paths: u32,
-    pub max_bounces: u32,
-    pub seed: u32,
-    pub capacity: u32,
-    pub light_count: u32,
-    pub store_direct: u32,
-    pub pad0: u32,
-    pub pad1: u32,
+gpu_struct! {
+    /// The `PhotonParams` push constants of photons.comp.
+    #[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
+    pub struct PhotonPush {
+        pub scene_center: [f32; 3],
+        pub scene_radius: f32,
+        pub paths: u32,
+        pub max_bounces: u32,
+        pub seed: u32,
+        pub capacity: u32,
+        pub light_count: u32,
+        pub store_direct: u32,
+        pub pad0: u32,
+        pub pad1: u32,
+    }
 }
 
-pub const PHOTON_UNIFORMS_LAYOUT: RustLayout = rust_layout!(PhotonUniforms {
-    scene_center,
-    scene_radius,
-    paths,
-    max_bounces,
-    seed,
-    capacity,
-    light_count,
-    store_direct,
-    pad0,
-    pad1
-});
+shader_bindings! {
+    /// What photons.comp binds besides the scene and the trace structures.
+    pub struct PhotonBindings {
+        lights: array(Light::LAYOUT),
+        photon_lights: array(PhotonLight::LAYOUT),
+        photons: array(Photon::LAYOUT),
+        photon_counters: block(PhotonCounters::LAYOUT),
+    }
+}
 
 /// What one photon-tracing run does.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -123,17 +114,9 @@ impl Default for PhotonParams {
     }
 }
 
-const OWN_BINDINGS: &[BindingDecl] = &[
-    BindingDecl::uniform("params", PHOTON_UNIFORMS_LAYOUT),
-    BindingDecl::storage_array("lights", LIGHT_LAYOUT),
-    BindingDecl::storage_array("photon_lights", PHOTON_LIGHT_LAYOUT),
-    BindingDecl::storage_array("photons", PHOTON_LAYOUT),
-    BindingDecl::storage_block("photon_counters", PHOTON_COUNTERS_LAYOUT),
-];
-
 /// Every binding of photons.comp on `backend`.
 pub fn bindings(backend: Backend) -> Vec<BindingDecl> {
-    [OWN_BINDINGS, SCENE_BINDINGS, backend.bindings()].concat()
+    [PhotonBindings::DECLS, SceneBindings::DECLS, backend.bindings()].concat()
 }
 
 /// Bytes of a photon buffer holding `capacity` photons.
@@ -141,40 +124,31 @@ pub fn photon_buffer_size(capacity: u32) -> u64 {
     capacity as u64 * std::mem::size_of::<Photon>() as u64
 }
 
-/// Usages the photon and counter buffers need (storage; the counters are zeroed by a transfer).
-/// Storage, plus transfer source so tests and tools can read the photons back.
+/// Usages of the photon buffer: storage, plus transfer source so tests and tools can read the
+/// photons back. The counters are also zeroed by a transfer and copied out for the stats.
 pub const PHOTON_BUFFER_USAGE: vk::BufferUsageFlags = vk::BufferUsageFlags::from_raw(
     vk::BufferUsageFlags::STORAGE_BUFFER.as_raw() | vk::BufferUsageFlags::TRANSFER_SRC.as_raw(),
 );
 pub const COUNTER_BUFFER_USAGE: vk::BufferUsageFlags = vk::BufferUsageFlags::from_raw(
-    vk::BufferUsageFlags::STORAGE_BUFFER.as_raw() | vk::BufferUsageFlags::TRANSFER_DST.as_raw(),
+    vk::BufferUsageFlags::STORAGE_BUFFER.as_raw()
+        | vk::BufferUsageFlags::TRANSFER_DST.as_raw()
+        | vk::BufferUsageFlags::TRANSFER_SRC.as_raw(),
 );
 
 pub struct PhotonPass {
     pipeline: ComputePipeline,
-    params: Uniform<PhotonUniforms>,
-    capacity: u32,
 }
 
 impl PhotonPass {
-    /// A pass writing at most `capacity` photons per run.
-    pub fn new(gpu: &Gpu, backend: Backend, capacity: u32) -> Result<Self> {
+    pub fn new(gpu: &Gpu, backend: Backend) -> Result<Self> {
         let shader = backend.pick(&shaders::PHOTONS_COMP_RAYQUERY, &shaders::PHOTONS_COMP_COMPUTE);
-        Ok(PhotonPass {
-            pipeline: ComputePipeline::new(gpu, "photons", shader, &bindings(backend))?,
-            params: Uniform::new(gpu, "photon params")?,
-            capacity,
-        })
-    }
-
-    pub fn capacity(&self) -> u32 {
-        self.capacity
+        let pipeline = ComputePipeline::new(gpu, "photons", shader, &bindings(backend), Some(&PhotonPush::LAYOUT))?;
+        Ok(PhotonPass { pipeline })
     }
 
     /// Adds two passes: "photon counters" zeroes `counters` (a transfer), then "photons"
-    /// traces `params.paths` light paths, appending photons to `photons` (at least
-    /// [`photon_buffer_size`]`(capacity)` bytes) and counting them in `counters`
-    /// ([`PhotonCounters`], [`COUNTER_BUFFER_USAGE`]).
+    /// traces `params.paths` light paths, appending at most `capacity` photons to `photons`
+    /// and counting them in `counters` ([`PhotonCounters`]).
     #[allow(clippy::too_many_arguments)]
     pub fn add<'r>(
         &'r self,
@@ -182,63 +156,57 @@ impl PhotonPass {
         params: &PhotonParams,
         scene: &SceneHandles,
         trace: &TraceHandles,
-        lights: &PhotonLightHandles<'_>,
+        lights: &LightHandles,
         photons: &mut BufferHandle,
+        capacity: u32,
         counters: &mut BufferHandle,
     ) -> Result<()> {
-        let table = lights.table;
-        let light_count = table.entries.len() as u32;
+        let table = &lights.table;
+        if photons.size() < photon_buffer_size(capacity) {
+            return Err(RenderError::Settings(format!(
+                "photon buffer holds {} bytes; capacity {capacity} needs {}",
+                photons.size(),
+                photon_buffer_size(capacity)
+            )));
+        }
+        let counter_size = std::mem::size_of::<PhotonCounters>() as u64;
+        if counters.size() < counter_size {
+            return Err(RenderError::Settings(format!(
+                "photon counter buffer holds {} bytes; it needs {counter_size}",
+                counters.size()
+            )));
+        }
         // No emitting light, or no path: nothing to trace (the counters still read zero).
         let paths = if table.emits() { params.paths } else { 0 };
-        self.params.set(&PhotonUniforms {
+        let push = PhotonPush {
             scene_center: table.center.to_array(),
             scene_radius: table.radius,
             paths,
             max_bounces: params.max_bounces,
             seed: params.seed,
-            capacity: self.capacity,
-            light_count,
+            capacity,
+            light_count: table.entries.len() as u32,
             store_direct: params.store_direct as u32,
             ..Default::default()
-        })?;
+        };
 
         let mut clear = graph.pass("photon counters");
         let counter_buffer = clear.write(counters, Access::TransferWrite);
-        let counter_size = std::mem::size_of::<PhotonCounters>() as u64;
-        if counter_buffer.size() < counter_size {
-            return Err(RenderError::Settings(format!(
-                "photon counter buffer {} holds {} bytes; it needs {counter_size}",
-                counter_buffer.name(),
-                counter_buffer.size()
-            )));
-        }
-        clear.record(move |cmd| {
-            cmd.fill_buffer(counter_buffer, 0, counter_size, 0);
+        clear.record(move |ctx| {
+            ctx.cmd.fill_buffer(ctx.buffer(counter_buffer), 0, counter_size, 0);
             Ok(())
         });
 
-        let uniforms = graph.import_buffer(&self.params.buffer);
         let mut pass = graph.pass("photons");
-        let out = pass.write(photons, Access::ComputeWrite);
-        if out.size() < photon_buffer_size(self.capacity) {
-            return Err(RenderError::Settings(format!(
-                "photon buffer {} holds {} bytes; capacity {} needs {}",
-                out.name(),
-                out.size(),
-                self.capacity,
-                photon_buffer_size(self.capacity)
-            )));
-        }
-        let mut bound = vec![
-            ("params", Bound::Buffer(pass.read(&uniforms, Access::ComputeRead))),
-            ("lights", Bound::Buffer(pass.read(&scene.lights, Access::ComputeRead))),
-            ("photon_lights", Bound::Buffer(pass.read(&lights.buffer, Access::ComputeRead))),
-            ("photons", Bound::Buffer(out)),
-            ("photon_counters", Bound::Buffer(pass.write(counters, Access::ComputeReadWrite))),
-        ];
-        bound.extend(scene.declare(&mut pass, Access::ComputeRead));
-        bound.extend(trace.declare(&mut pass));
-        pass.record(move |cmd| cmd.dispatch(&self.pipeline, &bound, [paths, 1, 1]));
+        let own = PhotonBindings {
+            lights: pass.read(&lights.lights, Access::ComputeRead),
+            photon_lights: pass.read(&lights.photon_lights, Access::ComputeRead),
+            photons: pass.write(photons, Access::ComputeWrite),
+            photon_counters: pass.write(counters, Access::ComputeReadWrite),
+        };
+        let surfaces = scene.declare(&mut pass, Access::ComputeRead);
+        let trace = trace.declare(&mut pass);
+        pass.record(move |ctx| ctx.dispatch(&self.pipeline, &[&own, &surfaces, &trace], &push, [paths, 1, 1]));
         Ok(())
     }
 }
@@ -266,14 +234,16 @@ pub const GUARD_PHOTONS: u32 = 64;
 const GUARD_WORD: u32 = 0xdead_beef;
 
 /// A self-contained photon tracer on one backend (tests, benchmarks): uploads the scene,
-/// builds its trace structures and light table, and traces into host-visible buffers with a
-/// guard region after the capacity.
+/// builds its trace structures, and traces into host-visible buffers with a guard region
+/// after the capacity.
 pub struct PhotonTracer<'g> {
     gpu: &'g Gpu,
     scene: GpuScene,
     trace: TraceScene,
-    lights: PhotonLights,
+    lights: Vec<leakless_scene::Light>,
+    bounds: leakless_scene::Aabb,
     pass: PhotonPass,
+    capacity: u32,
     photons: Buffer,
     counters: Buffer,
     runner: GraphRunner,
@@ -283,7 +253,6 @@ impl<'g> PhotonTracer<'g> {
     pub fn new(gpu: &'g Gpu, scene: &Scene, backend: Backend, capacity: u32) -> Result<Self> {
         let gpu_scene = GpuScene::upload(gpu, scene)?;
         let trace = TraceScene::build(gpu, scene, &gpu_scene, backend)?;
-        let lights = PhotonLights::upload(gpu, scene)?;
         let photons = Buffer::new(
             gpu,
             &BufferDesc {
@@ -302,43 +271,49 @@ impl<'g> PhotonTracer<'g> {
                 location: MemoryLocation::GpuToCpu,
             },
         )?;
-        let mut runner = GraphRunner::new(gpu, 4)?;
+        let mut runner = GraphRunner::new(gpu, 1)?;
         runner.set_timing(Timing::PerPassSubmit);
         Ok(PhotonTracer {
             gpu,
             scene: gpu_scene,
             trace,
-            lights,
-            pass: PhotonPass::new(gpu, backend, capacity)?,
+            lights: scene.lights.clone(),
+            bounds: scene.bounds(),
+            pass: PhotonPass::new(gpu, backend)?,
+            capacity,
             photons,
             counters,
             runner,
         })
     }
 
-    pub fn light_table(&self) -> &LightTable {
-        &self.lights.table
+    /// The light table photons are emitted from.
+    pub fn light_table(&self) -> LightTable {
+        let lights: Vec<Light> = self.lights.iter().map(crate::gpu_scene::gpu_light).collect();
+        LightTable::new(&lights, &self.bounds)
     }
 
     pub fn trace(&mut self, params: &PhotonParams) -> Result<PhotonTrace> {
-        let capacity = self.pass.capacity();
+        let capacity = self.capacity;
         // Fill the whole buffer (photons and guard) with the pattern: no stale photon of an
         // earlier run can pass for a new one, and the guard shows any write past the capacity.
         let words = (capacity + GUARD_PHOTONS) as usize * std::mem::size_of::<Photon>() / 4;
         self.photons.write(0, bytemuck::cast_slice(&vec![GUARD_WORD; words]))?;
-        let mut graph = Graph::new();
+        let mut graph = self.runner.graph(self.gpu)?;
         let scene = self.scene.import(&mut graph);
         let trace = self.trace.import(&mut graph);
-        let lights = self.lights.import(&mut graph);
+        let lights = upload_lights(&mut graph, &self.lights, &self.bounds)?;
         let mut photons = graph.import_buffer(&self.photons);
         let mut counters = graph.import_buffer(&self.counters);
-        self.pass.add(&mut graph, params, &scene, &trace, &lights, &mut photons, &mut counters)?;
+        // The pass writes up to the capacity, never into the guard after it.
+        self.pass.add(&mut graph, params, &scene, &trace, &lights, &mut photons, capacity, &mut counters)?;
         let mut host = graph.pass("to host");
         host.read(&photons, Access::HostRead);
         host.read(&counters, Access::HostRead);
         host.record(|_| Ok(()));
-        let timings = self.runner.run(self.gpu, graph)?;
-        let trace_ms = timings.iter().find(|t| t.name == "photons").and_then(|t| t.wall_ms).unwrap_or(0.0);
+        let submitted = graph.submit(&Default::default())?;
+        let done = self.runner.wait_for(self.gpu, submitted)?;
+        let trace_ms = done.timings.iter().find(|t| t.name == "photons").and_then(|t| t.wall_ms).unwrap_or(0.0);
         let counters: PhotonCounters = self.counters.read_vec(1)?[0];
         let all: Vec<Photon> = self.photons.read_vec((capacity + GUARD_PHOTONS) as usize)?;
         let stored = (counters.stored.min(capacity)) as usize;
@@ -347,7 +322,6 @@ impl<'g> PhotonTracer<'g> {
         Ok(PhotonTrace { photons: all[..stored].to_vec(), counters, guard_intact, trace_ms })
     }
 }
-
 /// Traces `params` once in `scene` on `backend` with room for `capacity` photons.
 pub fn trace_photons(
     gpu: &Gpu,

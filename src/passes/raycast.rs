@@ -1,37 +1,47 @@
 //! Raycast: traces a buffer of rays and writes one hit record per ray (`raycast.comp`).
 
-use leakless_device::{BindingDecl, Bound, ComputePipeline, Gpu};
-use leakless_graph::{Access, BufferHandle, Graph};
+use bytemuck::{Pod, Zeroable};
+use leakless_device::{gpu_struct, BindingDecl, ComputePipeline, Gpu, GpuStruct};
+use leakless_graph::{shader_bindings, Access, BufferHandle, Graph};
 
 use crate::error::Result;
-use crate::gpu_scene::{SceneHandles, SCENE_BINDINGS};
-use crate::gpu_types::{RaycastParams, RAYCAST_PARAMS_LAYOUT, RAY_HIT_LAYOUT, RAY_LAYOUT};
-use crate::passes::uniform::Uniform;
+use crate::gpu_scene::{SceneBindings, SceneHandles};
+use crate::gpu_types::{GpuRay, RayHit};
 use crate::shaders;
 use crate::trace::{Backend, TraceHandles};
 
-pub const BINDINGS: &[BindingDecl] = &[
-    BindingDecl::storage_array("rays", RAY_LAYOUT),
-    BindingDecl::storage_array("ray_hits", RAY_HIT_LAYOUT),
-    BindingDecl::uniform("params", RAYCAST_PARAMS_LAYOUT),
-];
+gpu_struct! {
+    /// The `RaycastParams` push constants of raycast.comp.
+    #[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
+    pub struct RaycastParams {
+        pub ray_count: u32,
+        /// 1: traceOccluded, 0: traceClosest.
+        pub occlusion: u32,
+        pub pad0: u32,
+        pub pad1: u32,
+    }
+}
+
+shader_bindings! {
+    pub struct RaycastBindings {
+        rays: array(GpuRay::LAYOUT),
+        ray_hits: array(RayHit::LAYOUT),
+    }
+}
 
 pub fn bindings(backend: Backend) -> Vec<BindingDecl> {
-    [BINDINGS, SCENE_BINDINGS, backend.bindings()].concat()
+    [RaycastBindings::DECLS, SceneBindings::DECLS, backend.bindings()].concat()
 }
 
 pub struct RaycastPass {
     pipeline: ComputePipeline,
-    params: Uniform<RaycastParams>,
 }
 
 impl RaycastPass {
     pub fn new(gpu: &Gpu, backend: Backend) -> Result<Self> {
         let shader = backend.pick(&shaders::RAYCAST_COMP_RAYQUERY, &shaders::RAYCAST_COMP_COMPUTE);
-        Ok(RaycastPass {
-            pipeline: ComputePipeline::new(gpu, "raycast", shader, &bindings(backend))?,
-            params: Uniform::new(gpu, "raycast params")?,
-        })
+        let pipeline = ComputePipeline::new(gpu, "raycast", shader, &bindings(backend), Some(&RaycastParams::LAYOUT))?;
+        Ok(RaycastPass { pipeline })
     }
 
     #[allow(clippy::too_many_arguments)]
@@ -44,18 +54,15 @@ impl RaycastPass {
         trace: &TraceHandles,
         rays: &BufferHandle,
         hits: &mut BufferHandle,
-    ) -> Result<()> {
-        self.params.set(&RaycastParams { ray_count, occlusion: occlusion as u32, ..Default::default() })?;
-        let params = graph.import_buffer(&self.params.buffer);
+    ) {
+        let params = RaycastParams { ray_count, occlusion: occlusion as u32, ..Default::default() };
         let mut pass = graph.pass("raycast");
-        let mut bound = vec![
-            ("rays", Bound::Buffer(pass.read(rays, Access::ComputeRead))),
-            ("params", Bound::Buffer(pass.read(&params, Access::ComputeRead))),
-            ("ray_hits", Bound::Buffer(pass.write(hits, Access::ComputeWrite))),
-        ];
-        bound.extend(scene.declare(&mut pass, Access::ComputeRead));
-        bound.extend(trace.declare(&mut pass));
-        pass.record(move |cmd| cmd.dispatch(&self.pipeline, &bound, [ray_count, 1, 1]));
-        Ok(())
+        let own = RaycastBindings {
+            rays: pass.read(rays, Access::ComputeRead),
+            ray_hits: pass.write(hits, Access::ComputeWrite),
+        };
+        let surfaces = scene.declare(&mut pass, Access::ComputeRead);
+        let trace = trace.declare(&mut pass);
+        pass.record(move |ctx| ctx.dispatch(&self.pipeline, &[&own, &surfaces, &trace], &params, [ray_count, 1, 1]));
     }
 }

@@ -1,53 +1,68 @@
 //! Reference path tracer: adds samples of the indirect radiance leaving each view sample to a
 //! running sum (`reference.comp`).
 
-use leakless_device::{BindingDecl, Bound, ComputePipeline, Gpu};
-use leakless_graph::{Access, Graph, ImageHandle};
+use bytemuck::{Pod, Zeroable};
+use leakless_device::{gpu_struct, ComputePipeline, Gpu, GpuStruct};
+use leakless_graph::{shader_bindings, Access, Graph, ImageHandle};
 
 use crate::error::Result;
-use crate::gpu_types::{ReferenceParams, REFERENCE_PARAMS_LAYOUT};
-use crate::passes::uniform::Uniform;
 use crate::passes::{view_bindings, ViewInputs};
 use crate::shaders;
 use crate::trace::Backend;
 
-/// The pass's own bindings, after those of [`ViewInputs`].
-pub const BINDINGS: &[BindingDecl] =
-    &[BindingDecl::storage_image("accumulated"), BindingDecl::uniform("params", REFERENCE_PARAMS_LAYOUT)];
+gpu_struct! {
+    /// The `ReferenceParams` push constants of reference.comp.
+    #[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
+    pub struct ReferenceParams {
+        /// Samples already in the sum (0: start over).
+        pub first_sample: u32,
+        /// Samples this dispatch adds.
+        pub sample_count: u32,
+        pub max_bounces: u32,
+        pub seed: u32,
+        /// Bounces before Russian roulette may end a path.
+        pub roulette_start: u32,
+        pub pad0: u32,
+        pub pad1: u32,
+        pub pad2: u32,
+    }
+}
+
+shader_bindings! {
+    /// The pass's own bindings, after those of [`ViewInputs`].
+    pub struct ReferenceBindings {
+        accumulated: image,
+    }
+}
 
 pub struct ReferencePass {
     pipeline: ComputePipeline,
-    params: Uniform<ReferenceParams>,
 }
 
 impl ReferencePass {
     pub fn new(gpu: &Gpu, backend: Backend) -> Result<Self> {
         let shader = backend.pick(&shaders::REFERENCE_COMP_RAYQUERY, &shaders::REFERENCE_COMP_COMPUTE);
-        Ok(ReferencePass {
-            pipeline: ComputePipeline::new(gpu, "reference", shader, &view_bindings(backend, BINDINGS))?,
-            params: Uniform::new(gpu, "reference params")?,
-        })
+        let decls = view_bindings(backend, ReferenceBindings::DECLS);
+        let pipeline = ComputePipeline::new(gpu, "reference", shader, &decls, Some(&ReferenceParams::LAYOUT))?;
+        Ok(ReferencePass { pipeline })
     }
 
-    /// Adds `params.sample_count` samples per view sample to `accumulated`.
+    /// Adds `params.sample_count` samples per view sample to `accumulated` (overwrites it
+    /// when `params.first_sample` is 0).
     pub fn add<'r>(
         &'r self,
         graph: &mut Graph<'r>,
-        params: &ReferenceParams,
+        params: ReferenceParams,
         view: &ViewInputs<'_>,
         accumulated: &mut ImageHandle,
-    ) -> Result<()> {
-        self.params.set(params)?;
-        let params = graph.import_buffer(&self.params.buffer);
+    ) {
+        let extent = accumulated.extent();
         let mut pass = graph.pass("reference");
-        let mut bound = view.declare(&mut pass);
-        bound.push(("params", Bound::Buffer(pass.read(&params, Access::ComputeRead))));
-        let out = pass.write(accumulated, Access::ComputeReadWrite);
-        bound.push(("accumulated", Bound::Image(out)));
-        pass.record(move |cmd| {
-            let e = out.extent();
-            cmd.dispatch(&self.pipeline, &bound, [e.width, e.height, 1])
+        let (inputs, surfaces, trace) = view.declare(&mut pass);
+        let own = ReferenceBindings { accumulated: pass.write(accumulated, Access::ComputeReadWrite) };
+        pass.record(move |ctx| {
+            let groups: [&dyn leakless_graph::Bindings; 4] = [&inputs, &surfaces, &trace, &own];
+            ctx.dispatch(&self.pipeline, &groups, &params, [extent.width, extent.height, 1])
         });
-        Ok(())
     }
 }

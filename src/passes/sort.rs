@@ -26,14 +26,10 @@
 
 use ash::vk;
 use bytemuck::{Pod, Zeroable};
-use leakless_device::{
-    rust_layout, BindingDecl, Bound, Buffer, BufferDesc, ComputePipeline, Gpu, MemoryLocation, RustLayout,
-};
-use leakless_graph::{Access, BufferHandle, Graph};
+use leakless_device::{gpu_struct, BufferDesc, ComputePipeline, Gpu, GpuStruct, MemoryLocation};
+use leakless_graph::{shader_bindings, Access, BufferHandle, Graph};
 
 use crate::error::{RenderError, Result};
-use crate::gpu_types::U32_LAYOUT;
-use crate::passes::uniform::Uniform;
 use crate::shaders;
 
 /// Threads per workgroup of every sort shader (`SORT_WORKGROUP_SIZE` in sort.glsl, checked
@@ -63,46 +59,51 @@ pub const MAX_LEN: u32 = MAX_GROUPS * BLOCK;
 /// Digit passes of a 32-bit sort.
 pub const MAX_DIGIT_PASSES: u32 = 32 / DIGIT_BITS;
 
-/// The `SortParams` block of sort.glsl: one digit pass.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
-pub struct SortParams {
-    pub len: u32,
-    /// The digit is `(min(key, key_limit) >> shift) & 15`.
-    pub shift: u32,
-    /// `2^key_bits`, or `u32::MAX` for 32-bit keys.
-    pub key_limit: u32,
-    /// Workgroups of the histogram and scatter passes: `len.div_ceil(BLOCK)`.
-    pub group_count: u32,
+gpu_struct! {
+    /// The `SortParams` push constants of sort.glsl: one digit pass.
+    #[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
+    pub struct SortParams {
+        pub len: u32,
+        /// The digit is `(min(key, key_limit) >> shift) & 15`.
+        pub shift: u32,
+        /// `2^key_bits`, or `u32::MAX` for 32-bit keys.
+        pub key_limit: u32,
+        /// Workgroups of the histogram and scatter passes: `len.div_ceil(BLOCK)`.
+        pub group_count: u32,
+    }
 }
 
-pub const SORT_PARAMS_LAYOUT: RustLayout = rust_layout!(SortParams { len, shift, key_limit, group_count });
+shader_bindings! {
+    pub struct HistogramBindings {
+        keys_in: array(u32::LAYOUT),
+        histograms: array(u32::LAYOUT),
+    }
+}
 
-pub const HISTOGRAM_BINDINGS: &[BindingDecl] = &[
-    BindingDecl::uniform("params", SORT_PARAMS_LAYOUT),
-    BindingDecl::storage_array("keys_in", U32_LAYOUT),
-    BindingDecl::storage_array("histograms", U32_LAYOUT),
-];
+shader_bindings! {
+    pub struct ScanBindings {
+        histograms: array(u32::LAYOUT),
+    }
+}
 
-pub const SCAN_BINDINGS: &[BindingDecl] =
-    &[BindingDecl::uniform("params", SORT_PARAMS_LAYOUT), BindingDecl::storage_array("histograms", U32_LAYOUT)];
+shader_bindings! {
+    pub struct ScatterBindings {
+        keys_in: array(u32::LAYOUT),
+        values_in: array(u32::LAYOUT),
+        histograms: array(u32::LAYOUT),
+        keys_out: array(u32::LAYOUT),
+        values_out: array(u32::LAYOUT),
+    }
+}
 
-pub const SCATTER_BINDINGS: &[BindingDecl] = &[
-    BindingDecl::uniform("params", SORT_PARAMS_LAYOUT),
-    BindingDecl::storage_array("keys_in", U32_LAYOUT),
-    BindingDecl::storage_array("values_in", U32_LAYOUT),
-    BindingDecl::storage_array("histograms", U32_LAYOUT),
-    BindingDecl::storage_array("keys_out", U32_LAYOUT),
-    BindingDecl::storage_array("values_out", U32_LAYOUT),
-];
-
-pub const COPY_BINDINGS: &[BindingDecl] = &[
-    BindingDecl::uniform("params", SORT_PARAMS_LAYOUT),
-    BindingDecl::storage_array("keys_in", U32_LAYOUT),
-    BindingDecl::storage_array("values_in", U32_LAYOUT),
-    BindingDecl::storage_array("keys_out", U32_LAYOUT),
-    BindingDecl::storage_array("values_out", U32_LAYOUT),
-];
+shader_bindings! {
+    pub struct CopyBindings {
+        keys_in: array(u32::LAYOUT),
+        values_in: array(u32::LAYOUT),
+        keys_out: array(u32::LAYOUT),
+        values_out: array(u32::LAYOUT),
+    }
+}
 
 /// Digit passes for keys of `key_bits` valid bits: `key_bits + 1` bits (out-of-range keys
 /// sort as `2^key_bits`), at most 32, in 4-bit digits.
@@ -136,26 +137,16 @@ pub struct SortPass {
     scan: ComputePipeline,
     scatter: ComputePipeline,
     copy: ComputePipeline,
-    /// One per digit pass: a host-written uniform holds one value per graph run. The copy
-    /// pass reads only `len`, which every one of them holds.
-    params: Vec<Uniform<SortParams>>,
-    scratch_keys: Buffer,
-    scratch_values: Buffer,
-    histograms: Buffer,
-    max_len: u32,
 }
 
 impl SortPass {
-    /// Pipelines, and scratch keys/values and histograms for sorts of up to `max_len` pairs
-    /// (at most [`MAX_LEN`]).
-    pub fn new(gpu: &Gpu, max_len: u32) -> Result<Self> {
-        if max_len > MAX_LEN {
-            return Err(too_long(max_len));
-        }
-        let histogram = ComputePipeline::new(gpu, "sort histogram", &shaders::SORT_HISTOGRAM_COMP, HISTOGRAM_BINDINGS)?;
-        let scan = ComputePipeline::new(gpu, "sort scan", &shaders::SORT_SCAN_COMP, SCAN_BINDINGS)?;
-        let scatter = ComputePipeline::new(gpu, "sort scatter", &shaders::SORT_SCATTER_COMP, SCATTER_BINDINGS)?;
-        let copy = ComputePipeline::new(gpu, "sort copy", &shaders::SORT_COPY_COMP, COPY_BINDINGS)?;
+    pub fn new(gpu: &Gpu) -> Result<Self> {
+        let push = Some(&SortParams::LAYOUT);
+        let pipeline = |name, shader, decls| ComputePipeline::new(gpu, name, shader, decls, push);
+        let histogram = pipeline("sort histogram", &shaders::SORT_HISTOGRAM_COMP, HistogramBindings::DECLS)?;
+        let scan = pipeline("sort scan", &shaders::SORT_SCAN_COMP, ScanBindings::DECLS)?;
+        let scatter = pipeline("sort scatter", &shaders::SORT_SCATTER_COMP, ScatterBindings::DECLS)?;
+        let copy = pipeline("sort copy", &shaders::SORT_COPY_COMP, CopyBindings::DECLS)?;
         for p in [&histogram, &scan, &scatter, &copy] {
             if p.workgroup_size() != [WORKGROUP_SIZE, 1, 1] {
                 return Err(RenderError::Settings(format!(
@@ -164,46 +155,16 @@ impl SortPass {
                 )));
             }
         }
-        let params = (0..MAX_DIGIT_PASSES)
-            .map(|i| Uniform::new(gpu, &format!("sort params {i}")))
-            .collect::<Result<Vec<_>>>()?;
-        let storage = |name: &str, words: u64| {
-            Buffer::new(
-                gpu,
-                &BufferDesc {
-                    name,
-                    size: 4 * words,
-                    usage: vk::BufferUsageFlags::STORAGE_BUFFER,
-                    location: MemoryLocation::GpuOnly,
-                },
-            )
-        };
-        let groups = max_len.div_ceil(BLOCK) as u64;
-        Ok(SortPass {
-            histogram,
-            scan,
-            scatter,
-            copy,
-            params,
-            scratch_keys: storage("sort scratch keys", max_len as u64)?,
-            scratch_values: storage("sort scratch values", max_len as u64)?,
-            histograms: storage("sort histograms", RADIX as u64 * groups)?,
-            max_len,
-        })
-    }
-
-    pub fn max_len(&self) -> u32 {
-        self.max_len
+        Ok(SortPass { histogram, scan, scatter, copy })
     }
 
     /// Sorts the first `len` (key, value) pairs of `keys` / `values` by key, stably, and leaves
     /// them there (elements past `len` are untouched). Keys at or above `2^key_bits` sort last,
     /// in input order (see the module documentation); `key_bits = 30` for Morton codes with the
     /// `0xFFFFFFFF` sentinel, 32 for arbitrary keys. Adds [`graph_passes`]`(key_bits)` passes
-    /// named "sort histogram i", "sort scan i", "sort scatter i" (and "sort copy").
-    ///
-    /// The parameters are written now, into buffers that hold one value per graph run: call
-    /// `add` at most once per graph. On an error the graph may hold some of the passes: drop it.
+    /// named "sort histogram i", "sort scan i", "sort scatter i" (and "sort copy"), and takes
+    /// its scratch buffers from the graph's pool. On an error the graph may hold some of the
+    /// passes: drop it.
     pub fn add<'r>(
         &'r self,
         graph: &mut Graph<'r>,
@@ -212,15 +173,8 @@ impl SortPass {
         keys: &mut BufferHandle,
         values: &mut BufferHandle,
     ) -> Result<()> {
-        if len > self.max_len {
-            return Err(if len > MAX_LEN {
-                too_long(len)
-            } else {
-                RenderError::Settings(format!(
-                    "radix sort of {len} elements: this SortPass was made for at most {}",
-                    self.max_len
-                ))
-            });
+        if len > MAX_LEN {
+            return Err(too_long(len));
         }
         if key_bits > 32 {
             return Err(RenderError::Settings(format!("radix sort: key_bits {key_bits} > 32")));
@@ -228,100 +182,93 @@ impl SortPass {
         if len == 0 {
             return Ok(());
         }
+        for b in [&*keys, &*values] {
+            if b.size() < 4 * len as u64 {
+                return Err(RenderError::Settings(format!(
+                    "radix sort of {len} elements: a buffer holds only {} bytes",
+                    b.size()
+                )));
+            }
+        }
         let group_count = len.div_ceil(BLOCK);
         let key_limit = key_limit(key_bits);
         let digits = digit_passes(key_bits);
-        let mut histograms = graph.import_buffer(&self.histograms);
-        let mut scratch_keys = graph.import_buffer(&self.scratch_keys);
-        let mut scratch_values = graph.import_buffer(&self.scratch_values);
-        let mut params = None;
+        let mut storage = |name, words: u64| {
+            graph.buffer(&BufferDesc {
+                name,
+                size: 4 * words,
+                usage: vk::BufferUsageFlags::STORAGE_BUFFER,
+                location: MemoryLocation::GpuOnly,
+            })
+        };
+        let mut histograms = storage("sort histograms", RADIX as u64 * group_count as u64)?;
+        let mut scratch_keys = storage("sort scratch keys", len as u64)?;
+        let mut scratch_values = storage("sort scratch values", len as u64)?;
         for digit in 0..digits {
-            let uniform = &self.params[digit as usize];
-            uniform.set(&SortParams { len, shift: DIGIT_BITS * digit, key_limit, group_count })?;
-            let params = &*params.insert(graph.import_buffer(&uniform.buffer));
-            let ctx = DigitPass { sort: self, digit, len, group_count, params };
+            let params = SortParams { len, shift: DIGIT_BITS * digit, key_limit, group_count };
+            let ctx = DigitPass { sort: self, digit, params };
             // Even digit passes read the caller's buffers, odd ones the scratch pair.
             if digit % 2 == 0 {
-                ctx.add(graph, (&*keys, &*values), (&mut scratch_keys, &mut scratch_values), &mut histograms)?;
+                ctx.add(graph, (&*keys, &*values), (&mut scratch_keys, &mut scratch_values), &mut histograms);
             } else {
-                ctx.add(graph, (&scratch_keys, &scratch_values), (&mut *keys, &mut *values), &mut histograms)?;
+                ctx.add(graph, (&scratch_keys, &scratch_values), (&mut *keys, &mut *values), &mut histograms);
             }
         }
-        if let (1, Some(params)) = (digits % 2, &params) {
-            // The last digit pass's parameters: the copy reads only `len`.
+        if digits % 2 == 1 {
+            // The copy reads only `len`.
+            let params = SortParams { len, shift: 0, key_limit, group_count };
             let mut pass = graph.pass("sort copy");
-            let bound = vec![
-                ("params", Bound::Buffer(pass.read(params, Access::ComputeRead))),
-                ("keys_in", Bound::Buffer(pass.read(&scratch_keys, Access::ComputeRead))),
-                ("values_in", Bound::Buffer(pass.read(&scratch_values, Access::ComputeRead))),
-                ("keys_out", Bound::Buffer(checked(pass.write(keys, Access::ComputeWrite), len)?)),
-                ("values_out", Bound::Buffer(checked(pass.write(values, Access::ComputeWrite), len)?)),
-            ];
-            pass.record(move |cmd| cmd.dispatch(&self.copy, &bound, [len, 1, 1]));
+            let own = CopyBindings {
+                keys_in: pass.read(&scratch_keys, Access::ComputeRead),
+                values_in: pass.read(&scratch_values, Access::ComputeRead),
+                keys_out: pass.write(keys, Access::ComputeWrite),
+                values_out: pass.write(values, Access::ComputeWrite),
+            };
+            pass.record(move |ctx| ctx.dispatch(&self.copy, &[&own], &params, [len, 1, 1]));
         }
         Ok(())
     }
 }
 
 /// What the three dispatches of one digit pass share.
-struct DigitPass<'a, 'r> {
+struct DigitPass<'r> {
     sort: &'r SortPass,
     digit: u32,
-    len: u32,
-    group_count: u32,
-    params: &'a BufferHandle,
+    params: SortParams,
 }
 
-impl<'r> DigitPass<'_, 'r> {
+impl<'r> DigitPass<'r> {
     fn add(
         &self,
         graph: &mut Graph<'r>,
         (keys_in, values_in): (&BufferHandle, &BufferHandle),
         (keys_out, values_out): (&mut BufferHandle, &mut BufferHandle),
         histograms: &mut BufferHandle,
-    ) -> Result<()> {
-        let (sort, digit, len) = (self.sort, self.digit, self.len);
-        let threads = [self.group_count * WORKGROUP_SIZE, 1, 1];
+    ) {
+        let (sort, digit, params) = (self.sort, self.digit, self.params);
+        let threads = [params.group_count * WORKGROUP_SIZE, 1, 1];
 
         let mut pass = graph.pass(&format!("sort histogram {digit}"));
-        let bound = vec![
-            ("params", Bound::Buffer(pass.read(self.params, Access::ComputeRead))),
-            ("keys_in", Bound::Buffer(checked(pass.read(keys_in, Access::ComputeRead), len)?)),
-            ("histograms", Bound::Buffer(pass.write(histograms, Access::ComputeWrite))),
-        ];
-        pass.record(move |cmd| cmd.dispatch(&sort.histogram, &bound, threads));
+        let own = HistogramBindings {
+            keys_in: pass.read(keys_in, Access::ComputeRead),
+            histograms: pass.write(histograms, Access::ComputeWrite),
+        };
+        pass.record(move |ctx| ctx.dispatch(&sort.histogram, &[&own], &params, threads));
 
         let mut pass = graph.pass(&format!("sort scan {digit}"));
-        let bound = vec![
-            ("params", Bound::Buffer(pass.read(self.params, Access::ComputeRead))),
-            ("histograms", Bound::Buffer(pass.write(histograms, Access::ComputeReadWrite))),
-        ];
-        pass.record(move |cmd| cmd.dispatch(&sort.scan, &bound, [WORKGROUP_SIZE, 1, 1]));
+        let own = ScanBindings { histograms: pass.write(histograms, Access::ComputeReadWrite) };
+        pass.record(move |ctx| ctx.dispatch(&sort.scan, &[&own], &params, [WORKGROUP_SIZE, 1, 1]));
 
         let mut pass = graph.pass(&format!("sort scatter {digit}"));
-        let bound = vec![
-            ("params", Bound::Buffer(pass.read(self.params, Access::ComputeRead))),
-            ("keys_in", Bound::Buffer(pass.read(keys_in, Access::ComputeRead))),
-            ("values_in", Bound::Buffer(checked(pass.read(values_in, Access::ComputeRead), len)?)),
-            ("histograms", Bound::Buffer(pass.read(histograms, Access::ComputeRead))),
-            ("keys_out", Bound::Buffer(checked(pass.write(keys_out, Access::ComputeWrite), len)?)),
-            ("values_out", Bound::Buffer(checked(pass.write(values_out, Access::ComputeWrite), len)?)),
-        ];
-        pass.record(move |cmd| cmd.dispatch(&sort.scatter, &bound, threads));
-        Ok(())
+        let own = ScatterBindings {
+            keys_in: pass.read(keys_in, Access::ComputeRead),
+            values_in: pass.read(values_in, Access::ComputeRead),
+            histograms: pass.read(histograms, Access::ComputeRead),
+            keys_out: pass.write(keys_out, Access::ComputeWrite),
+            values_out: pass.write(values_out, Access::ComputeWrite),
+        };
+        pass.record(move |ctx| ctx.dispatch(&sort.scatter, &[&own], &params, threads));
     }
-}
-
-/// `buffer`, if it holds `len` words.
-fn checked(buffer: &Buffer, len: u32) -> Result<&Buffer> {
-    if buffer.size() < 4 * len as u64 {
-        return Err(RenderError::Settings(format!(
-            "radix sort of {len} elements: buffer {} holds only {} bytes",
-            buffer.name(),
-            buffer.size()
-        )));
-    }
-    Ok(buffer)
 }
 
 fn too_long(len: u32) -> RenderError {

@@ -1,117 +1,128 @@
-//! The renderer: one scene on one device, rendered frame after frame through the pass graph.
-//! The CLI, the tests and (later) the app and the benchmarks all drive it the same way.
+//! The renderer: one scene on one device, rendered frame after frame through the pass graph,
+//! keeping its state between frames (docs/architecture.md). The CLI, the benchmarks, the
+//! tests and the app all drive it the same way:
+//!
+//! * setters change the camera, the lights and every setting; the next frame declares its
+//!   resources from them, so only what a change needs is made anew (the graph's pool remakes
+//!   a resource whose description changed), and any change restarts accumulation;
+//! * [`Renderer::render_frame`] declares and submits one frame without waiting for it (two
+//!   frames are in flight) and without reading anything back but a few counters;
+//! * reading the layers back is an explicit request ([`Renderer::render`],
+//!   [`Renderer::read_layers`]).
+
+mod capture;
+mod frame;
+mod readback;
+
+use std::collections::VecDeque;
 
 use ash::vk;
 use glam::camera::rh::proj::vulkan;
 use glam::Mat4;
-use leakless_device::{Buffer, BufferDesc, Gpu, Image, ImageDesc, MemoryLocation};
-use leakless_graph::{Graph, GraphRunner, PassTiming, Timing};
-use leakless_scene::{Camera, Scene};
+use leakless_device::Gpu;
+use leakless_graph::{GraphRunner, PassTiming, Timing};
+use leakless_scene::{Camera, Light, Scene};
 
-use crate::error::Result;
-use crate::gpu_scene::GpuScene;
-use crate::gpu_types::{Frame, ReferenceParams};
-use crate::passes::compose::{ComposeImages, ComposePass};
-use crate::passes::direct::DirectPass;
-use crate::passes::gather::GatherOutputs;
-use crate::passes::gbuffer::{self, GBuffer, GBufferPass};
-use crate::passes::readback;
-use crate::passes::reference::ReferencePass;
-use crate::passes::ViewInputs;
-use crate::settings::{Method, RenderSettings};
-use crate::splatting::{PhotonSplatting, SplatStats};
-use crate::trace::{Backend, TraceScene, TraceStats};
-
-mod capture;
 pub use capture::Capture;
+pub use frame::{DisplayTarget, Overlay};
+pub use readback::RenderedFrame;
 
-/// The layers of one rendered frame, linear radiance, row-major from the top-left pixel.
-#[derive(Clone, Debug)]
-pub struct RenderedFrame {
-    pub width: u32,
-    pub height: u32,
-    /// Final radiance: direct + indirect.
-    pub radiance: Vec<[f32; 3]>,
-    pub direct: Vec<[f32; 3]>,
-    pub indirect: Vec<[f32; 3]>,
-    /// Indirect light the visibility test removed (zero for methods without it).
-    pub leaked: Vec<[f32; 3]>,
-    /// Per-pass times, summed over the submissions of the frame (a reference frame runs its
-    /// path tracer in several).
-    pub timings: Vec<PassTiming>,
-    /// Host wall-clock time of the whole frame.
-    pub wall_ms: f64,
-    /// What the photon method counted, for methods that splat.
-    pub splat: Option<SplatStats>,
-}
+use crate::error::{RenderError, Result};
+use crate::gpu_scene::GpuScene;
+use crate::passes::compose::ComposePass;
+use crate::passes::direct::DirectPass;
+use crate::passes::gather::GatherPass;
+use crate::passes::gbuffer::GBufferPass;
+use crate::passes::hierarchy::HierarchyPasses;
+use crate::passes::luminance::{LuminancePass, LuminanceStats};
+use crate::passes::photons::PhotonPass;
+use crate::passes::reference::ReferencePass;
+use crate::passes::splat::SplatPass;
+use crate::passes::tonemap::{TonemapPass, ViewLayer};
+use crate::settings::{Method, RenderSettings};
+use crate::splatting::{default_list_capacity, SplatFrame, SplatStats};
+use crate::trace::{Backend, BackendChoice, TraceScene, TraceStats};
 
-impl RenderedFrame {
-    /// Fills the splat stats' leaked energy fraction from the layers.
-    fn with_leaked_fraction(mut self) -> Self {
-        if let Some(stats) = &mut self.splat {
-            let lum = |l: &[[f32; 3]]| {
-                l.iter().map(|p| 0.2126 * p[0] as f64 + 0.7152 * p[1] as f64 + 0.0722 * p[2] as f64).sum::<f64>()
-            };
-            let (lost, kept) = (lum(&self.leaked), lum(&self.indirect));
-            stats.leaked_energy_fraction = if lost + kept > 0.0 { lost / (lost + kept) } else { 0.0 };
-        }
-        self
-    }
+/// Frames the renderer keeps in flight: the host records one while the GPU runs the other.
+pub const FRAMES_IN_FLIGHT: usize = 2;
 
-    pub fn pixel(layer: &[[f32; 3]], width: u32, x: u32, y: u32) -> [f32; 3] {
-        layer[(y * width + x) as usize]
-    }
-}
-
+/// The passes that do not trace rays (one set per renderer).
 struct Passes {
     gbuffer: GBufferPass,
+    hierarchy: HierarchyPasses,
+    splat: SplatPass,
+    compose: ComposePass,
+    luminance: LuminancePass,
+    /// One per target format (the PNG's, the window's).
+    tonemaps: Vec<TonemapPass>,
+}
+
+/// The passes that trace rays, compiled for one backend.
+struct TracingPasses {
     direct: DirectPass,
     reference: ReferencePass,
-    compose: ComposePass,
+    photons: PhotonPass,
+    gather: GatherPass,
 }
 
-/// The images a frame writes, kept between frames.
-struct Targets {
-    gbuffer: GBuffer,
-    direct: Image,
-    indirect_sum: Image,
-    indirect: Image,
-    leaked: Image,
-    radiance: Image,
+/// One backend's trace structures and passes, made when first used.
+struct BackendState {
+    trace: TraceScene,
+    passes: TracingPasses,
 }
 
-impl Targets {
-    fn new(gpu: &Gpu, extent: vk::Extent2D) -> Result<Targets> {
-        let image = |name| {
-            let usage = vk::ImageUsageFlags::STORAGE | vk::ImageUsageFlags::TRANSFER_SRC;
-            Image::new(gpu, &ImageDesc { name, extent, format: gbuffer::FORMAT, usage })
-        };
-        Ok(Targets {
-            gbuffer: GBuffer::new(gpu, extent)?,
-            direct: image("direct")?,
-            indirect_sum: image("indirect sum")?,
-            indirect: image("indirect")?,
-            leaked: image("leaked")?,
-            radiance: image("radiance")?,
-        })
-    }
+/// What a submitted frame was, to make sense of its counters once it completes.
+struct Pending {
+    index: u64,
+    seed: u32,
+    splat: Option<SplatFrame>,
+    /// Samples (reference) or frames (photons) in the image after this frame.
+    accumulated: u32,
+    method: Method,
+    started: std::time::Instant,
 }
 
-/// The layers read back: radiance, direct, indirect, leaked.
-const LAYERS: u64 = 4;
+/// What a completed frame measured: its passes, its counts, its luminance.
+#[derive(Clone, Debug)]
+pub struct FrameReport {
+    pub index: u64,
+    /// The frame slot whose per-frame buffers hold what the frame copied out.
+    pub slot: usize,
+    /// The seed of the frame's photons.
+    pub seed: u32,
+    pub method: Method,
+    pub timings: Vec<PassTiming>,
+    pub splat: Option<SplatStats>,
+    pub luminance: LuminanceStats,
+    /// Samples (reference) or frames accumulated in the image.
+    pub accumulated: u32,
+    /// Host time from the start of the frame's declaration to the moment the host saw it
+    /// complete (includes waiting for it).
+    pub wall_ms: f64,
+}
 
 pub struct Renderer {
     settings: RenderSettings,
     camera: Camera,
-    scene_name: String,
-    scene: GpuScene,
-    trace: TraceScene,
-    frame: Buffer,
-    targets: Targets,
-    readback: Buffer,
+    lights: Vec<Light>,
+    scene: Scene,
+    gpu_scene: GpuScene,
+    backend: Backend,
+    backends: [Option<BackendState>; 2],
     passes: Passes,
-    /// The photon part of the frame, for methods that splat.
-    splatting: Option<PhotonSplatting>,
+    view: ViewLayer,
+    exposure: Option<f32>,
+    /// Node-list entries per frame: grows after a frame that dropped entries, unless fixed.
+    list_capacity: u32,
+    /// Samples (reference) or photon frames accumulated since the last change.
+    accumulated: u32,
+    /// Reference samples each frame adds.
+    samples_per_frame: u32,
+    /// Photon frames advance the seed unless frozen (a fixed seed fixes the frame).
+    advance_seed: bool,
+    seed_offset: u32,
+    pending: VecDeque<Pending>,
+    last: Option<FrameReport>,
     runner: GraphRunner,
     // Dropped last: every resource above belongs to this device.
     gpu: Gpu,
@@ -120,93 +131,204 @@ pub struct Renderer {
 impl Renderer {
     pub fn new(gpu: Gpu, scene: &Scene, settings: RenderSettings) -> Result<Renderer> {
         settings.validate()?;
-        let extent = vk::Extent2D { width: settings.width, height: settings.height };
         let backend = settings.backend.resolve(gpu.capabilities(), &gpu.report().name)?;
         let gpu_scene = GpuScene::upload(&gpu, scene)?;
-        let trace = TraceScene::build(&gpu, scene, &gpu_scene, backend)?;
-        let frame = Buffer::new(
-            &gpu,
-            &BufferDesc {
-                name: "frame",
-                size: std::mem::size_of::<Frame>() as u64,
-                usage: vk::BufferUsageFlags::UNIFORM_BUFFER,
-                location: MemoryLocation::CpuToGpu,
-            },
-        )?;
-        let targets = Targets::new(&gpu, extent)?;
-        let readback = Buffer::new(
-            &gpu,
-            &BufferDesc {
-                name: "readback",
-                size: LAYERS * extent.width as u64 * extent.height as u64 * 16,
-                usage: vk::BufferUsageFlags::TRANSFER_DST,
-                location: MemoryLocation::GpuToCpu,
-            },
-        )?;
         let passes = Passes {
             gbuffer: GBufferPass::new(&gpu)?,
-            direct: DirectPass::new(&gpu, backend)?,
-            reference: ReferencePass::new(&gpu, backend)?,
+            hierarchy: HierarchyPasses::new(&gpu)?,
+            splat: SplatPass::new(&gpu)?,
             compose: ComposePass::new(&gpu)?,
+            luminance: LuminancePass::new(&gpu)?,
+            tonemaps: vec![TonemapPass::new(&gpu, readback::DISPLAY_FORMAT)?],
         };
-        let splatting = match settings.photon_settings() {
-            Some(photons) => {
-                let s = &settings;
-                Some(PhotonSplatting::new(&gpu, scene, backend, s.width, s.height, &photons, s.max_bounces, s.seed)?)
-            }
-            None => None,
-        };
-        let runner = GraphRunner::new(&gpu, 128)?;
-        gpu.check_validation()?;
-        Ok(Renderer {
-            settings,
+        let runner = GraphRunner::new(&gpu, FRAMES_IN_FLIGHT)?;
+        let mut renderer = Renderer {
+            list_capacity: 0,
             camera: scene.camera_or_framing(),
-            scene_name: scene.name.clone(),
-            scene: gpu_scene,
-            trace,
-            frame,
-            targets,
-            readback,
+            lights: scene.lights.clone(),
+            scene: scene.clone(),
+            gpu_scene,
+            backend,
+            backends: [None, None],
             passes,
-            splatting,
+            view: ViewLayer::Final,
+            exposure: None,
+            accumulated: 0,
+            samples_per_frame: 1,
+            advance_seed: false,
+            seed_offset: 0,
+            pending: VecDeque::new(),
+            last: None,
             runner,
+            settings,
             gpu,
-        })
+        };
+        renderer.list_capacity = renderer.default_list_capacity();
+        renderer.backend_state(backend)?;
+        renderer.gpu.check_validation()?;
+        Ok(renderer)
+    }
+
+    /// The trace structures and passes of `backend`, made on first use.
+    fn backend_state(&mut self, backend: Backend) -> Result<&BackendState> {
+        let slot = &mut self.backends[backend as usize];
+        if slot.is_none() {
+            let gpu = &self.gpu;
+            let trace = TraceScene::build(gpu, &self.scene, &self.gpu_scene, backend)?;
+            let passes = TracingPasses {
+                direct: DirectPass::new(gpu, backend)?,
+                reference: ReferencePass::new(gpu, backend)?,
+                photons: PhotonPass::new(gpu, backend)?,
+                gather: GatherPass::new(gpu, backend)?,
+            };
+            *slot = Some(BackendState { trace, passes });
+        }
+        Ok(slot.as_ref().expect("made above"))
+    }
+
+    fn default_list_capacity(&self) -> u32 {
+        let s = &self.settings;
+        let photons = s.splat.paths.saturating_mul(s.max_bounces.max(1));
+        s.splat.list_capacity.unwrap_or_else(|| default_list_capacity(photons, s.width * s.height))
     }
 
     pub fn gpu(&self) -> &Gpu {
         &self.gpu
     }
 
-    /// The view-sample hierarchy, for methods that splat (tests and tools inspect it).
-    pub fn hierarchy(&self) -> Option<&crate::passes::hierarchy::Hierarchy> {
-        self.splatting.as_ref().map(|s| &s.hierarchy)
-    }
-
     pub fn backend(&self) -> Backend {
-        self.trace.backend()
+        self.backend
     }
 
-    /// What building the trace structures cost.
+    /// What building the current backend's trace structures cost.
     pub fn trace_stats(&self) -> &TraceStats {
-        self.trace.stats()
+        self.backends[self.backend as usize].as_ref().expect("current backend made").trace.stats()
     }
 
     pub fn settings(&self) -> &RenderSettings {
         &self.settings
     }
 
+    pub fn scene(&self) -> &Scene {
+        &self.scene
+    }
+
     pub fn scene_name(&self) -> &str {
-        &self.scene_name
+        &self.scene.name
     }
 
     pub fn camera(&self) -> &Camera {
         &self.camera
     }
 
+    pub fn lights(&self) -> &[Light] {
+        &self.lights
+    }
+
+    pub fn view_layer(&self) -> ViewLayer {
+        self.view
+    }
+
+    /// Samples (reference) or frames accumulated in the image since the last change.
+    pub fn accumulated(&self) -> u32 {
+        self.accumulated
+    }
+
+    /// The newest completed frame's report.
+    pub fn last_report(&self) -> Option<&FrameReport> {
+        self.last.as_ref()
+    }
+
+    /// The seed the next photon frame uses.
+    pub fn frame_seed(&self) -> u32 {
+        self.settings.seed.wrapping_add(self.seed_offset)
+    }
+
     /// Per-pass timestamps in one submission (default), or one timed submission per pass.
     pub fn set_timing(&mut self, timing: Timing) {
         self.runner.set_timing(timing);
+    }
+
+    /// Restarts accumulation: the next frame starts a new image.
+    fn restart(&mut self) {
+        self.accumulated = 0;
+    }
+
+    pub fn set_camera(&mut self, camera: Camera) {
+        if camera != self.camera {
+            self.camera = camera;
+            self.restart();
+        }
+    }
+
+    /// Replaces light `index` (its position, direction, intensity...).
+    pub fn set_light(&mut self, index: usize, light: Light) -> Result<()> {
+        let slot = self.lights.get_mut(index).ok_or_else(|| {
+            RenderError::Settings(format!("light {index}: the scene has {} lights", self.scene.lights.len()))
+        })?;
+        *slot = light;
+        self.restart();
+        Ok(())
+    }
+
+    /// Changes any settings at once; validated first, and a change that needs a new backend
+    /// makes its structures (the old backend's stay, for switching back).
+    pub fn set_settings(&mut self, settings: RenderSettings) -> Result<()> {
+        settings.validate()?;
+        let backend = settings.backend.resolve(self.gpu.capabilities(), &self.gpu.report().name)?;
+        self.backend_state(backend)?;
+        let capacity_inputs =
+            |s: &RenderSettings| (s.splat.paths, s.max_bounces, s.width, s.height, s.splat.list_capacity);
+        let regrow = capacity_inputs(&settings) != capacity_inputs(&self.settings);
+        if settings != self.settings {
+            self.restart();
+        }
+        self.settings = settings;
+        self.backend = backend;
+        if regrow {
+            self.list_capacity = self.default_list_capacity();
+        }
+        Ok(())
+    }
+
+    /// Changes one setting through a copy of the settings ([`Renderer::set_settings`]).
+    pub fn update(&mut self, change: impl FnOnce(&mut RenderSettings)) -> Result<()> {
+        let mut settings = self.settings.clone();
+        change(&mut settings);
+        self.set_settings(settings)
+    }
+
+    pub fn set_method(&mut self, method: Method) -> Result<()> {
+        self.update(|s| s.method = method)
+    }
+
+    pub fn set_backend(&mut self, backend: BackendChoice) -> Result<()> {
+        self.update(|s| s.backend = backend)
+    }
+
+    pub fn set_size(&mut self, width: u32, height: u32) -> Result<()> {
+        self.update(|s| (s.width, s.height) = (width, height))
+    }
+
+    /// What the tonemap shows (window, PNG); does not restart accumulation.
+    pub fn set_view_layer(&mut self, view: ViewLayer) {
+        self.view = view;
+    }
+
+    /// A fixed exposure, or `None` for the automatic one.
+    pub fn set_exposure(&mut self, exposure: Option<f32>) {
+        self.exposure = exposure;
+    }
+
+    /// Whether every photon frame takes the next seed (fresh photons: the app, accumulation)
+    /// or keeps `settings.seed` (a fixed frame: the CLI, tests).
+    pub fn set_advance_seed(&mut self, advance: bool) {
+        self.advance_seed = advance;
+    }
+
+    /// Reference samples each frame adds (the app: 1, so frames stay short).
+    pub fn set_samples_per_frame(&mut self, samples: u32) {
+        self.samples_per_frame = samples.max(1);
     }
 
     /// The camera's view-projection for the output aspect ratio (the glTF yfov is kept), in
@@ -221,167 +343,39 @@ impl Renderer {
         proj * c.view_from_world()
     }
 
-    /// Renders one frame and reads its layers back.
-    pub fn render(&mut self) -> Result<RenderedFrame> {
-        self.render_with_progress(&mut |_, _| {})
+    fn extent(&self) -> vk::Extent2D {
+        vk::Extent2D { width: self.settings.width, height: self.settings.height }
     }
 
-    /// Renders one frame; `progress(done, total)` is called as reference samples accumulate.
-    /// A splat frame whose node lists overflowed is rendered once more with lists large
-    /// enough (unless the capacity was fixed by the user or is at its maximum, in which case
-    /// the drops are reported in the frame's stats).
-    pub fn render_with_progress(&mut self, progress: &mut dyn FnMut(u32, u32)) -> Result<RenderedFrame> {
-        let frame = self.render_once(progress)?;
-        let grew = match &mut self.splatting {
-            Some(s) => s.grow_lists_after_drops(&self.gpu)?,
-            None => false,
-        };
-        if grew {
-            self.render_once(progress)
-        } else {
-            Ok(frame)
+    /// Whether the image is complete for what was asked (`spp` reference samples; one photon
+    /// frame).
+    pub fn converged(&self) -> bool {
+        match self.settings.method {
+            Method::Reference => self.accumulated >= self.settings.spp,
+            _ => self.accumulated >= 1,
         }
     }
 
-    fn render_once(&mut self, progress: &mut dyn FnMut(u32, u32)) -> Result<RenderedFrame> {
-        let start = std::time::Instant::now();
-        let (width, height) = (self.settings.width, self.settings.height);
-        let frame = Frame {
-            view_proj: self.view_proj().to_cols_array_2d(),
-            camera_position: self.camera.position().extend(1.0).to_array(),
-            width,
-            height,
-            light_count: self.scene.light_count,
-            pad0: 0,
-        };
-        self.frame.write(0, bytemuck::bytes_of(&frame))?;
-        let mut timings = Timings::default();
-
-        // The view samples and their direct light; the reference's first samples ride along.
-        let total = if self.settings.method == Method::Reference { self.settings.spp } else { 0 };
-        let mut done = 0;
-        let mut chunk = total.min(1);
-        let t = std::time::Instant::now();
-        timings.add(self.run(true, done, chunk, None)?);
-        done += chunk;
-        progress(done, total);
-        // Size later submissions to about half a second each: responsive progress, few
-        // submissions, and far from the lost-device timeout.
-        let mut last_ms = t.elapsed().as_secs_f64() * 1e3;
-        while done < total {
-            let per_sample = last_ms / chunk.max(1) as f64;
-            chunk = ((500.0 / per_sample.max(1e-3)) as u32).clamp(1, 256).min(total - done);
-            let t = std::time::Instant::now();
-            timings.add(self.run(false, done, chunk, None)?);
-            last_ms = t.elapsed().as_secs_f64() * 1e3;
-            done += chunk;
-            progress(done, total);
+    /// Waits for every frame in flight (before reading back, or tearing resources down).
+    pub fn wait_idle(&mut self) -> Result<()> {
+        for done in self.runner.wait_idle(&self.gpu)? {
+            self.collect(done)?;
         }
-        let scale = match self.settings.method {
-            Method::Reference => 1.0 / total as f32,
-            Method::Splat | Method::LeakLessCapped | Method::LeakLess => 1.0,
-            Method::Direct => 0.0,
-        };
-        timings.add(self.run(false, done, 0, Some(scale))?);
-
-        let texels: Vec<[f32; 4]> = self.readback.read_vec(LAYERS as usize * (width * height) as usize)?;
-        let layer = |i: usize| -> Vec<[f32; 3]> {
-            texels[i * (width * height) as usize..(i + 1) * (width * height) as usize]
-                .iter()
-                .map(|t| [t[0], t[1], t[2]])
-                .collect()
-        };
-        Ok(RenderedFrame {
-            width,
-            height,
-            radiance: layer(0),
-            direct: layer(1),
-            indirect: layer(2),
-            leaked: layer(3),
-            timings: timings.0,
-            wall_ms: start.elapsed().as_secs_f64() * 1e3,
-            splat: self.splatting.as_ref().map(|s| s.read_stats()).transpose()?,
-        }
-        .with_leaked_fraction())
+        Ok(())
     }
 
-    /// One submission: optionally the view samples and direct light, then `sample_count`
-    /// reference samples after `first_sample`, then (with `compose`'s indirect scale) the
-    /// final image and its readback.
-    fn run(
-        &mut self,
-        view_samples: bool,
-        first_sample: u32,
-        sample_count: u32,
-        compose: Option<f32>,
-    ) -> Result<Vec<PassTiming>> {
-        let mut graph = Graph::new();
-        let frame = graph.import_buffer(&self.frame);
-        let scene = self.scene.import(&mut graph);
-        let trace = self.trace.import(&mut graph);
-        let t = &self.targets;
-        let mut gbuffer = t.gbuffer.import(&mut graph);
-        let mut direct = graph.import_image(&t.direct);
-        let mut indirect_sum = graph.import_image(&t.indirect_sum);
-        let mut indirect = graph.import_image(&t.indirect);
-        let mut radiance = graph.import_image(&t.radiance);
-        let mut leaked = graph.import_image(&t.leaked);
-        let mut readback = graph.import_buffer(&self.readback);
-
-        if view_samples {
-            self.passes.gbuffer.add(&mut graph, &frame, &scene, self.scene.vertex_count, &mut gbuffer);
+    /// The tonemap for `format`, made when first asked for (the window's swapchain format).
+    pub fn prepare_display(&mut self, format: vk::Format) -> Result<()> {
+        if !self.passes.tonemaps.iter().any(|t| t.format() == format) {
+            self.passes.tonemaps.push(TonemapPass::new(&self.gpu, format)?);
         }
-        let view = ViewInputs { frame: &frame, scene: &scene, trace: &trace, gbuffer: &gbuffer };
-        if view_samples {
-            self.passes.direct.add(&mut graph, &view, &mut direct);
-            if let Some(splatting) = &self.splatting {
-                let out = GatherOutputs { indirect_sum: &mut indirect_sum, leaked: &mut leaked };
-                splatting.add(&mut graph, &frame, &scene, &trace, &gbuffer, out)?;
-            }
-        }
-        if sample_count > 0 {
-            let params = ReferenceParams {
-                first_sample,
-                sample_count,
-                max_bounces: self.settings.max_bounces,
-                seed: self.settings.seed,
-                roulette_start: 3,
-                ..Default::default()
-            };
-            self.passes.reference.add(&mut graph, &params, &view, &mut indirect_sum)?;
-        }
-        if let Some(scale) = compose {
-            let images = ComposeImages {
-                direct: &direct,
-                indirect_sum: &indirect_sum,
-                indirect: &mut indirect,
-                radiance: &mut radiance,
-                leaked: &mut leaked,
-            };
-            self.passes.compose.add(&mut graph, scale, self.splatting.is_some(), &frame, images)?;
-            readback::add(&mut graph, &[&radiance, &direct, &indirect, &leaked], &mut readback);
-        }
-        Ok(self.runner.run(&self.gpu, graph)?)
+        Ok(())
     }
 }
 
-/// Per-pass times summed by pass name, in first-run order.
-#[derive(Default)]
-struct Timings(Vec<PassTiming>);
-
-impl Timings {
-    fn add(&mut self, run: Vec<PassTiming>) {
-        for t in run {
-            match self.0.iter_mut().find(|x| x.name == t.name) {
-                Some(x) => {
-                    x.ms += t.ms;
-                    x.wall_ms = match (x.wall_ms, t.wall_ms) {
-                        (Some(a), Some(b)) => Some(a + b),
-                        (a, b) => a.or(b),
-                    };
-                }
-                None => self.0.push(t),
-            }
-        }
+impl Drop for Renderer {
+    fn drop(&mut self) {
+        // Frames may be in flight: their resources must outlive them.
+        let _ = self.runner.wait_idle(&self.gpu);
     }
 }

@@ -10,7 +10,7 @@ use leakless_device::{
     accel_build_sizes, accel_instance, accel_instances, accel_scratch, AccelGeometry, AccelSizeQueries,
     AccelerationStructure, Buffer, Gpu,
 };
-use leakless_graph::{Access, Graph, GraphRunner};
+use leakless_graph::{Access, GraphRunner};
 
 use crate::AccelError;
 
@@ -51,7 +51,7 @@ impl RayQueryAccel {
             return Err(AccelError::Empty);
         }
         let start = Instant::now();
-        let mut runner = GraphRunner::new(gpu, 4)?;
+        let mut runner = GraphRunner::new(gpu, 1)?;
         let geometry = AccelGeometry::Triangles { vertices, stride, triangle_count, opaque };
         let blas_sizes = accel_build_sizes(gpu, &geometry, true)?;
         let blas = AccelerationStructure::new(gpu, "blas", false, blas_sizes.structure)?;
@@ -64,21 +64,24 @@ impl RayQueryAccel {
 
         // 1. Build the BLAS and ask how small it can be.
         {
-            let mut graph = Graph::new();
+            let mut graph = runner.graph(gpu)?;
             let input = graph.import_buffer(vertices);
             let mut blas_h = graph.import_buffer(blas.buffer());
             let mut scratch_h = graph.import_buffer(&scratch);
             let mut pass = graph.pass("blas build");
             pass.read(&input, Access::AccelerationStructureBuildRead);
             pass.write(&mut blas_h, Access::AccelerationStructureBuildWrite);
-            let scratch_ref = pass.write(&mut scratch_h, Access::AccelerationStructureBuildWrite);
+            let scratch_use = pass.write(&mut scratch_h, Access::AccelerationStructureBuildWrite);
             let (blas_ref, geometry_ref) = (&blas, &geometry);
-            pass.record(move |cmd| cmd.build_acceleration_structure(blas_ref, geometry_ref, scratch_ref, true));
+            pass.record(move |ctx| {
+                ctx.cmd.build_acceleration_structure(blas_ref, geometry_ref, ctx.res.buffer(scratch_use), true)
+            });
             let mut pass = graph.pass("blas compacted size");
             pass.read(&blas_h, Access::AccelerationStructureBuildRead);
             let queries_ref = &queries;
-            pass.record(move |cmd| cmd.write_compacted_size(blas_ref, queries_ref, 0));
-            runner.run(gpu, graph)?;
+            pass.record(move |ctx| ctx.cmd.write_compacted_size(blas_ref, queries_ref, 0));
+            let submitted = graph.submit(&Default::default())?;
+            runner.wait_for(gpu, submitted)?;
         }
         let compacted_size = queries.read()?[0];
         let uncompacted = blas.size();
@@ -86,22 +89,25 @@ impl RayQueryAccel {
         // 2. Compact when it saves memory, then build the TLAS over the final BLAS.
         let blas = if compacted_size > 0 && compacted_size < uncompacted {
             let compact = AccelerationStructure::new(gpu, "blas (compacted)", false, compacted_size)?;
-            let mut graph = Graph::new();
-            let src = graph.import_buffer(blas.buffer());
-            let mut dst = graph.import_buffer(compact.buffer());
-            let mut pass = graph.pass("blas compact");
-            pass.read(&src, Access::AccelerationStructureBuildRead);
-            pass.write(&mut dst, Access::AccelerationStructureBuildWrite);
-            let (src_ref, dst_ref) = (&blas, &compact);
-            pass.record(move |cmd| cmd.compact_acceleration_structure(src_ref, dst_ref));
-            runner.run(gpu, graph)?;
+            {
+                let mut graph = runner.graph(gpu)?;
+                let src = graph.import_buffer(blas.buffer());
+                let mut dst = graph.import_buffer(compact.buffer());
+                let mut pass = graph.pass("blas compact");
+                pass.read(&src, Access::AccelerationStructureBuildRead);
+                pass.write(&mut dst, Access::AccelerationStructureBuildWrite);
+                let (src_ref, dst_ref) = (&blas, &compact);
+                pass.record(move |ctx| ctx.cmd.compact_acceleration_structure(src_ref, dst_ref));
+                let submitted = graph.submit(&Default::default())?;
+                runner.wait_for(gpu, submitted)?;
+            }
             compact
         } else {
             blas
         };
         let tlas = AccelerationStructure::new(gpu, "tlas", true, tlas_sizes.structure)?;
         {
-            let mut graph = Graph::new();
+            let mut graph = runner.graph(gpu)?;
             let blas_h = graph.import_buffer(blas.buffer());
             let instances_h = graph.import_buffer(&instances);
             let mut tlas_h = graph.import_buffer(tlas.buffer());
@@ -110,10 +116,13 @@ impl RayQueryAccel {
             pass.read(&blas_h, Access::AccelerationStructureBuildRead);
             pass.read(&instances_h, Access::AccelerationStructureBuildRead);
             pass.write(&mut tlas_h, Access::AccelerationStructureBuildWrite);
-            let scratch_ref = pass.write(&mut scratch_h, Access::AccelerationStructureBuildWrite);
+            let scratch_use = pass.write(&mut scratch_h, Access::AccelerationStructureBuildWrite);
             let (tlas_ref, geometry_ref) = (&tlas, &tlas_geometry);
-            pass.record(move |cmd| cmd.build_acceleration_structure(tlas_ref, geometry_ref, scratch_ref, false));
-            runner.run(gpu, graph)?;
+            pass.record(move |ctx| {
+                ctx.cmd.build_acceleration_structure(tlas_ref, geometry_ref, ctx.res.buffer(scratch_use), false)
+            });
+            let submitted = graph.submit(&Default::default())?;
+            runner.wait_for(gpu, submitted)?;
         }
         let stats = RayQueryStats {
             build_ms: start.elapsed().as_secs_f64() * 1e3,

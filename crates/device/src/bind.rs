@@ -4,15 +4,9 @@
 use ash::vk;
 
 use crate::error::{DeviceError, Result};
-use crate::shader::{BindingKind, BlockLayout, Member, ReflectedBinding, ShaderInfo};
+use crate::layout::{compare, RustLayout};
+use crate::shader::{BindingKind, BlockLayout, ReflectedBinding, ShaderInfo};
 use crate::{Buffer, Image};
-
-/// The Rust side of a struct shared with a shader (see [`rust_layout!`](crate::rust_layout)).
-#[derive(Clone, Copy, Debug)]
-pub struct RustLayout {
-    pub size: u32,
-    pub members: &'static [Member],
-}
 
 /// How the data behind a buffer binding is checked.
 #[derive(Clone, Copy, Debug)]
@@ -114,25 +108,27 @@ fn check_contents(decl: &BindingDecl, layout: Option<BlockLayout>) -> std::resul
             (rust, stride, l.element_members, "array element")
         }
     };
-    if rust.size != shader_size {
-        return Err(format!("{what} size: Rust {} bytes, shader {} bytes", rust.size, shader_size));
-    }
-    if shader_members.is_empty() && rust.members.is_empty() {
-        return Ok(());
-    }
-    for m in rust.members {
-        match shader_members.iter().find(|s| s.name == m.name) {
-            None => return Err(format!("{what} member {} is not in the shader", m.name)),
-            Some(s) if s.offset != m.offset => {
-                return Err(format!("{what} member {}: Rust offset {}, shader offset {}", m.name, m.offset, s.offset))
-            }
-            Some(_) => {}
+    compare(what, &rust, shader_size, shader_members)
+}
+
+/// Matches the push-constant block a pass declares (`None`: it pushes nothing) with the
+/// shader's. Returns the block size.
+pub fn check_push_constants(shader: &ShaderInfo, pass: &str, rust: Option<&RustLayout>) -> Result<u32> {
+    let err = |problem: String| DeviceError::Binding {
+        shader: shader.name,
+        binding: "push constants".into(),
+        pass: pass.to_string(),
+        problem,
+    };
+    match (rust, shader.push_constants) {
+        (None, None) => Ok(0),
+        (Some(_), None) => Err(err("the pass pushes constants; the shader declares no push_constant block".into())),
+        (None, Some(_)) => Err(err("the shader declares a push_constant block; the pass pushes none".into())),
+        (Some(rust), Some(block)) => {
+            compare("push-constant block", rust, block.size, block.members).map_err(err)?;
+            Ok(block.size)
         }
     }
-    if let Some(s) = shader_members.iter().find(|s| !rust.members.iter().any(|m| m.name == s.name)) {
-        return Err(format!("{what} member {} is in the shader but not in the Rust struct", s.name));
-    }
-    Ok(())
 }
 
 impl BindingKind {
@@ -152,7 +148,7 @@ impl BindingKind {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::shader::ShaderStage;
+    use crate::shader::{Member, ShaderStage};
 
     #[repr(C)]
     struct Frame {
@@ -181,6 +177,7 @@ mod tests {
         spirv: &[],
         workgroup_size: [8, 8, 1],
         reflection: Ok(REFLECTED),
+        push_constants: Some(BlockLayout { size: 32, members: MEMBERS, array_stride: None, element_members: &[] }),
     };
 
     #[test]
@@ -210,5 +207,37 @@ mod tests {
         let shifted = [BindingDecl::uniform("frame", crate::rust_layout!(Shifted { a, b, c, _pad }))];
         let e = check_bindings(&SHADER, "p", &shifted).unwrap_err().to_string();
         assert!(e.contains("offset"), "{e}");
+    }
+}
+
+#[cfg(test)]
+mod push_tests {
+    use super::*;
+    use crate::shader::{Member, ShaderStage};
+
+    const MEMBERS: &[Member] = &[Member { name: "radius", offset: 0 }, Member { name: "count", offset: 4 }];
+    const SHADER: ShaderInfo = ShaderInfo {
+        name: "p.comp",
+        stage: ShaderStage::Compute,
+        spirv: &[],
+        workgroup_size: [64, 1, 1],
+        reflection: Ok(&[]),
+        push_constants: Some(BlockLayout { size: 8, members: MEMBERS, array_stride: None, element_members: &[] }),
+    };
+
+    #[test]
+    fn push_constants_are_checked_like_blocks() {
+        let good = RustLayout { size: 8, members: MEMBERS };
+        assert_eq!(check_push_constants(&SHADER, "p", Some(&good)).unwrap(), 8);
+        let swapped = RustLayout {
+            size: 8,
+            members: &[Member { name: "radius", offset: 4 }, Member { name: "count", offset: 0 }],
+        };
+        let e = check_push_constants(&SHADER, "p", Some(&swapped)).unwrap_err().to_string();
+        assert!(e.contains("push constants") && e.contains("offset"), "{e}");
+        assert!(check_push_constants(&SHADER, "p", None).is_err());
+        let none = ShaderInfo { push_constants: None, ..SHADER };
+        assert!(check_push_constants(&none, "p", Some(&good)).is_err());
+        assert_eq!(check_push_constants(&none, "p", None).unwrap(), 0);
     }
 }

@@ -151,6 +151,11 @@ impl Gpu {
         self.caps
     }
 
+    /// How long a submission may run before it counts as a lost device (`LEAKLESS_GPU_TIMEOUT`).
+    pub fn timeout(&self) -> Duration {
+        self.timeout
+    }
+
     /// Alignment of acceleration-structure scratch addresses, as the device reports it.
     pub fn scratch_alignment(&self) -> u64 {
         self.report.scratch_alignment

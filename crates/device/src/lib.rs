@@ -10,9 +10,11 @@
 mod accel;
 mod bind;
 mod cmd;
+mod commands;
 mod error;
 mod gpu;
 mod instance;
+mod layout;
 mod memory;
 mod pipeline;
 mod query;
@@ -25,26 +27,13 @@ pub use accel::{
     AccelerationStructure,
 };
 pub use ash::vk;
-pub use bind::{check_bindings, BindingDecl, Bound, Contents, RustLayout};
+pub use bind::{check_bindings, check_push_constants, BindingDecl, Bound, Contents};
 pub use cmd::Cmd;
+pub use commands::{CommandSlot, Semaphore, SubmitSync};
 pub use error::{DeviceError, Result};
 pub use gpu::{Capabilities, Gpu, GpuOptions};
+pub use layout::{GpuStruct, RustLayout};
 pub use memory::{Buffer, BufferDesc, Image, ImageDesc, MemoryLocation};
 pub use pipeline::{ColorTarget, ComputePipeline, GraphicsDesc, GraphicsPipeline, VertexLayout};
 pub use query::TimestampPool;
 pub use select::{DeviceReport, DeviceType};
-
-/// Declares the Rust-side layout of a `#[repr(C)]` struct shared with a shader: its size and
-/// the byte offset of each named field, so `check_bindings` can compare them with reflection.
-#[macro_export]
-macro_rules! rust_layout {
-    ($ty:ty { $($field:ident),* $(,)? }) => {
-        $crate::RustLayout {
-            size: ::core::mem::size_of::<$ty>() as u32,
-            members: &[$($crate::shader::Member {
-                name: stringify!($field),
-                offset: ::core::mem::offset_of!($ty, $field) as u32,
-            }),*],
-        }
-    };
-}

@@ -5,9 +5,10 @@ use std::sync::Arc;
 
 use ash::vk;
 
-use crate::bind::{check_bindings, BindingDecl};
+use crate::bind::{check_bindings, check_push_constants, BindingDecl};
 use crate::error::{Result, VkContext};
 use crate::gpu::{Gpu, Shared};
+use crate::layout::RustLayout;
 use crate::shader::{ShaderInfo, ShaderStage};
 
 /// The descriptor-set layout and pipeline layout a pass's bindings produce.
@@ -17,6 +18,9 @@ pub(crate) struct Layout {
     pub pipeline_layout: vk::PipelineLayout,
     /// (declaration, binding number), in declaration order.
     pub bindings: Vec<(BindingDecl, u32)>,
+    /// Bytes of the push-constant block (0: none), and the stages that see it.
+    pub push_size: u32,
+    pub push_stages: vk::ShaderStageFlags,
     pub pass: String,
 }
 
@@ -27,6 +31,7 @@ impl Layout {
         decls: &[BindingDecl],
         numbers: Vec<u32>,
         stages: vk::ShaderStageFlags,
+        push_size: u32,
     ) -> Result<Layout> {
         let device = gpu.device();
         let vk_bindings: Vec<_> = decls
@@ -47,7 +52,9 @@ impl Layout {
         let set_layout =
             unsafe { device.create_descriptor_set_layout(&info, None) }.vk("vkCreateDescriptorSetLayout")?;
         let set_layouts = [set_layout];
-        let info = vk::PipelineLayoutCreateInfo::default().set_layouts(&set_layouts);
+        let ranges = [vk::PushConstantRange { stage_flags: stages, offset: 0, size: push_size }];
+        let ranges = if push_size > 0 { &ranges[..] } else { &[] };
+        let info = vk::PipelineLayoutCreateInfo::default().set_layouts(&set_layouts).push_constant_ranges(ranges);
         // SAFETY: valid device and create info.
         let pipeline_layout = unsafe { device.create_pipeline_layout(&info, None) }.vk("vkCreatePipelineLayout")?;
         gpu.set_name(pipeline_layout, pass);
@@ -56,6 +63,8 @@ impl Layout {
             set_layout,
             pipeline_layout,
             bindings: decls.iter().copied().zip(numbers).collect(),
+            push_size,
+            push_stages: stages,
             pass: pass.to_string(),
         })
     }
@@ -86,12 +95,19 @@ pub struct ComputePipeline {
 }
 
 impl ComputePipeline {
-    /// Builds the pipeline of pass `pass` from `shader`, checking `decls` against the shader's
-    /// reflection.
-    pub fn new(gpu: &Gpu, pass: &str, shader: &ShaderInfo, decls: &[BindingDecl]) -> Result<Self> {
+    /// Builds the pipeline of pass `pass` from `shader`, checking `decls` and the push-constant
+    /// block `push` (`None`: the pass pushes nothing) against the shader's reflection.
+    pub fn new(
+        gpu: &Gpu,
+        pass: &str,
+        shader: &ShaderInfo,
+        decls: &[BindingDecl],
+        push: Option<&RustLayout>,
+    ) -> Result<Self> {
         assert_eq!(shader.stage, ShaderStage::Compute, "{} is not a compute shader", shader.name);
         let numbers = check_bindings(shader, pass, decls)?;
-        let layout = Layout::new(gpu, pass, decls, numbers, vk::ShaderStageFlags::COMPUTE)?;
+        let push_size = check_push_constants(shader, pass, push)?;
+        let layout = Layout::new(gpu, pass, decls, numbers, vk::ShaderStageFlags::COMPUTE, push_size)?;
         let module = shader_module(gpu, shader)?;
         let stage = vk::PipelineShaderStageCreateInfo::default()
             .stage(vk::ShaderStageFlags::COMPUTE)
@@ -140,11 +156,14 @@ pub struct ColorTarget {
 pub struct GraphicsDesc<'a> {
     pub vertex: &'a ShaderInfo,
     pub fragment: &'a ShaderInfo,
-    pub vertex_layout: VertexLayout,
+    /// `None`: the vertex shader makes its vertices (a full-screen triangle).
+    pub vertex_layout: Option<VertexLayout>,
     pub colors: Vec<ColorTarget>,
     pub depth: Option<vk::Format>,
     /// Every surface is two-sided in leakless scenes, so the default is no culling.
     pub cull: vk::CullModeFlags,
+    /// The push-constant block both stages share (`None`: none).
+    pub push: Option<RustLayout>,
 }
 
 pub struct GraphicsPipeline {
@@ -157,20 +176,32 @@ impl GraphicsPipeline {
         // Each declaration must be found in the stage(s) that use it; a binding may appear in
         // both stages, so check per stage the subset that stage reflects.
         let numbers = merged_numbers(desc, pass, decls)?;
-        let layout =
-            Layout::new(gpu, pass, decls, numbers, vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT)?;
+        // A block declared in either stage must match the pass's; a stage may omit it.
+        let mut push_size = 0;
+        for shader in [desc.vertex, desc.fragment] {
+            if shader.push_constants.is_some() {
+                push_size = check_push_constants(shader, pass, desc.push.as_ref())?;
+            }
+        }
+        if push_size == 0 && desc.push.is_some() {
+            check_push_constants(desc.fragment, pass, desc.push.as_ref())?;
+        }
+        let stages = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT;
+        let layout = Layout::new(gpu, pass, decls, numbers, stages, push_size)?;
         let vs = shader_module(gpu, desc.vertex)?;
         let fs = shader_module(gpu, desc.fragment)?;
         let stages = [
             vk::PipelineShaderStageCreateInfo::default().stage(vk::ShaderStageFlags::VERTEX).module(vs).name(c"main"),
             vk::PipelineShaderStageCreateInfo::default().stage(vk::ShaderStageFlags::FRAGMENT).module(fs).name(c"main"),
         ];
+        let no_vertices = VertexLayout { stride: 0, attributes: vec![] };
+        let vertex_layout = desc.vertex_layout.as_ref().unwrap_or(&no_vertices);
         let vb = [vk::VertexInputBindingDescription::default()
             .binding(0)
-            .stride(desc.vertex_layout.stride)
+            .stride(vertex_layout.stride)
             .input_rate(vk::VertexInputRate::VERTEX)];
-        let attrs: Vec<_> = desc
-            .vertex_layout
+        let vb = if desc.vertex_layout.is_some() { &vb[..] } else { &[] };
+        let attrs: Vec<_> = vertex_layout
             .attributes
             .iter()
             .map(|&(location, format, offset)| {
@@ -182,7 +213,7 @@ impl GraphicsPipeline {
             })
             .collect();
         let vertex_input = vk::PipelineVertexInputStateCreateInfo::default()
-            .vertex_binding_descriptions(&vb)
+            .vertex_binding_descriptions(vb)
             .vertex_attribute_descriptions(&attrs);
         let assembly =
             vk::PipelineInputAssemblyStateCreateInfo::default().topology(vk::PrimitiveTopology::TRIANGLE_LIST);

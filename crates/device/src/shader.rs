@@ -71,4 +71,7 @@ pub struct ShaderInfo {
     /// rejects, a SPIR-V scan plus the layouts of their compute-BVH twins), or why it could not
     /// run.
     pub reflection: Result<&'static [ReflectedBinding], &'static str>,
+    /// The `layout(push_constant)` block, if the module declares one (for ray-query modules,
+    /// the layout of their compute twin's block).
+    pub push_constants: Option<BlockLayout>,
 }

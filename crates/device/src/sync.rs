@@ -11,8 +11,10 @@ pub enum Access {
     ComputeRead,
     ComputeWrite,
     ComputeReadWrite,
-    /// Sampled or storage read in a fragment shader.
+    /// Sampled read (or a buffer read) in a fragment shader.
     FragmentRead,
+    /// Storage-image read in a fragment shader (storage images stay in the general layout).
+    FragmentStorageRead,
     /// Storage buffer or image read in a vertex shader.
     VertexShaderRead,
     VertexBuffer,
@@ -63,6 +65,7 @@ impl Access {
                 L::SHADER_READ_ONLY_OPTIMAL,
                 false,
             ),
+            Access::FragmentStorageRead => (S::FRAGMENT_SHADER, A::SHADER_STORAGE_READ, L::GENERAL, false),
             Access::VertexShaderRead => {
                 (S::VERTEX_SHADER, A::SHADER_STORAGE_READ | A::UNIFORM_READ, L::SHADER_READ_ONLY_OPTIMAL, false)
             }

@@ -45,6 +45,14 @@ impl ResourceState {
         self.write_access != vk::AccessFlags2::NONE
     }
 
+    /// An image whose contents are discarded and whose first use must come after `stage`
+    /// (a swapchain image after the acquire semaphore's wait stage).
+    pub fn acquired_image(stage: vk::PipelineStageFlags2) -> Self {
+        let mut state = Self::new(true, vk::ImageLayout::UNDEFINED);
+        state.write_stage = stage;
+        state
+    }
+
     /// An image in `layout`, as left by an earlier graph execution (or `UNDEFINED`).
     pub fn image(layout: vk::ImageLayout) -> Self {
         Self::new(true, layout)
@@ -194,6 +202,19 @@ mod tests {
         let t = i.access(Access::ComputeReadWrite).expect("previous frame's writes must be visible");
         assert_eq!(t.old_layout, L::GENERAL, "no UNDEFINED: the accumulated content is kept");
         assert_eq!(t.src_access, A::MEMORY_WRITE);
+    }
+
+    #[test]
+    fn an_acquired_swapchain_image_waits_for_the_acquire_stage() {
+        let mut i = ResourceState::acquired_image(S::COLOR_ATTACHMENT_OUTPUT);
+        let t = i.access(Access::ColorAttachmentWrite).expect("discard transition");
+        assert_eq!((t.old_layout, t.new_layout), (L::UNDEFINED, L::COLOR_ATTACHMENT_OPTIMAL));
+        // Chained to the semaphore wait: the transition cannot run before the image is ready.
+        assert_eq!((t.src_stage, t.src_access), (S::COLOR_ATTACHMENT_OUTPUT, A::NONE));
+        i.access(Access::ColorAttachmentWrite).expect("overlay after tonemap: write after write");
+        let t = i.access(Access::Present).expect("to the presentation layout");
+        assert_eq!((t.old_layout, t.new_layout), (L::COLOR_ATTACHMENT_OPTIMAL, L::PRESENT_SRC_KHR));
+        assert_eq!(t.src_access, A::COLOR_ATTACHMENT_WRITE);
     }
 
     #[test]

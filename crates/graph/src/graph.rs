@@ -1,27 +1,71 @@
-//! Building a frame: resources are imported, passes declare their uses and record commands.
+//! Building a frame: resources are imported or asked of the pool by name, passes declare their
+//! uses and hand the graph a closure that records their commands once the frame executes.
 
 use leakless_device::sync::Access;
-use leakless_device::{Buffer, Cmd, Image, Result};
+use leakless_device::{Buffer, BufferDesc, Gpu, Image, ImageDesc, MemoryLocation, Result};
 
-/// A buffer known to the graph. Not `Clone`: writing it takes `&mut`.
+use crate::bindings::PassContext;
+use crate::pool::PoolKey;
+use crate::runner::GraphRunner;
+use crate::vk;
+
+/// A buffer known to the graph. Not `Clone`: writing it takes `&mut`, so a call site shows
+/// what a pass changes.
 #[derive(Debug)]
 pub struct BufferHandle {
     id: usize,
+    size: u64,
 }
 
 /// An image known to the graph. Not `Clone`: writing it takes `&mut`.
 #[derive(Debug)]
 pub struct ImageHandle {
     id: usize,
+    extent: vk::Extent2D,
+    format: vk::Format,
 }
 
-#[doc(hidden)]
-pub enum Resource<'r> {
+impl BufferHandle {
+    pub fn size(&self) -> u64 {
+        self.size
+    }
+}
+
+impl ImageHandle {
+    pub fn extent(&self) -> vk::Extent2D {
+        self.extent
+    }
+    pub fn format(&self) -> vk::Format {
+        self.format
+    }
+}
+
+/// A declared use of a buffer: what a pass's recording closure resolves to the buffer.
+#[derive(Clone, Copy, Debug)]
+pub struct Buf(pub(crate) usize);
+
+/// A declared use of an image.
+#[derive(Clone, Copy, Debug)]
+pub struct Img(pub(crate) usize);
+
+/// Where a resource of the graph lives.
+pub(crate) enum Source<'r> {
     Buffer(&'r Buffer),
     Image(&'r Image),
+    /// A swapchain image just acquired: its old contents are discarded, and its first use
+    /// waits for the acquire semaphore's stage (`SubmitSync::wait`).
+    Acquired(&'r Image, vk::PipelineStageFlags2),
+    PoolBuffer(PoolKey),
+    PoolImage(PoolKey),
 }
 
-type Record<'r> = Box<dyn FnOnce(&mut Cmd<'_>) -> Result<()> + 'r>;
+impl Source<'_> {
+    fn is_image(&self) -> bool {
+        matches!(self, Source::Image(_) | Source::Acquired(..) | Source::PoolImage(_))
+    }
+}
+
+type Record<'r> = Box<dyn FnOnce(&mut PassContext<'_, '_, '_>) -> Result<()> + 'r>;
 
 pub(crate) struct Pass<'r> {
     pub name: String,
@@ -29,26 +73,78 @@ pub(crate) struct Pass<'r> {
     pub record: Record<'r>,
 }
 
-/// One frame's passes, in execution order.
-#[derive(Default)]
+/// One frame's passes, in execution order. Made by [`GraphRunner::graph`], run by
+/// [`Graph::submit`].
 pub struct Graph<'r> {
-    pub(crate) resources: Vec<Resource<'r>>,
+    pub(crate) gpu: &'r Gpu,
+    pub(crate) runner: &'r mut GraphRunner,
+    pub(crate) sources: Vec<Source<'r>>,
     pub(crate) passes: Vec<Pass<'r>>,
 }
 
 impl<'r> Graph<'r> {
-    pub fn new() -> Self {
-        Self::default()
+    pub fn gpu(&self) -> &'r Gpu {
+        self.gpu
+    }
+
+    /// The frames the runner keeps in flight; per-frame resources have this many copies.
+    pub fn frames_in_flight(&self) -> usize {
+        self.runner.frames_in_flight()
     }
 
     pub fn import_buffer(&mut self, buffer: &'r Buffer) -> BufferHandle {
-        self.resources.push(Resource::Buffer(buffer));
-        BufferHandle { id: self.resources.len() - 1 }
+        self.sources.push(Source::Buffer(buffer));
+        BufferHandle { id: self.sources.len() - 1, size: buffer.size() }
     }
 
     pub fn import_image(&mut self, image: &'r Image) -> ImageHandle {
-        self.resources.push(Resource::Image(image));
-        ImageHandle { id: self.resources.len() - 1 }
+        self.sources.push(Source::Image(image));
+        ImageHandle { id: self.sources.len() - 1, extent: image.extent(), format: image.format() }
+    }
+
+    /// A swapchain image acquired for this frame. Its contents are discarded, and its first
+    /// use is ordered after `wait_stage`, the stage at which the submission waits for the
+    /// acquire semaphore (so the layout transition cannot run before the image is ready).
+    pub fn import_acquired_image(&mut self, image: &'r Image, wait_stage: vk::PipelineStageFlags2) -> ImageHandle {
+        self.sources.push(Source::Acquired(image, wait_stage));
+        ImageHandle { id: self.sources.len() - 1, extent: image.extent(), format: image.format() }
+    }
+
+    /// The pool's buffer named `desc.name`, kept from frame to frame and made anew when the
+    /// description changes. Its contents persist: a pass that relies on them says so.
+    pub fn buffer(&mut self, desc: &BufferDesc<'_>) -> Result<BufferHandle> {
+        self.pool_buffer(PoolKey::Persistent(desc.name.into()), desc)
+    }
+
+    /// The pool's image named `desc.name`, kept from frame to frame (see [`Graph::buffer`]).
+    pub fn image(&mut self, desc: &ImageDesc<'_>) -> Result<ImageHandle> {
+        let key = PoolKey::Persistent(desc.name.into());
+        let frame = self.runner.frame_index();
+        self.runner.pool.ensure_image(self.gpu, key.clone(), desc, frame)?;
+        self.sources.push(Source::PoolImage(key));
+        Ok(ImageHandle { id: self.sources.len() - 1, extent: desc.extent, format: desc.format })
+    }
+
+    /// A buffer with one copy per frame in flight: this frame's copy is not used by any frame
+    /// still running, so the host may write it now, or read it once this frame completed.
+    pub fn frame_buffer(&mut self, desc: &BufferDesc<'_>) -> Result<BufferHandle> {
+        self.pool_buffer(PoolKey::PerFrame(desc.name.into(), self.runner.slot()), desc)
+    }
+
+    /// Host data for this frame's passes (parameters, per-frame scene data), in a per-frame
+    /// buffer written now. Host writes before a submission are visible to it: no barrier.
+    pub fn upload(&mut self, name: &str, usage: vk::BufferUsageFlags, data: &[u8]) -> Result<BufferHandle> {
+        let desc = BufferDesc { name, size: data.len() as u64, usage, location: MemoryLocation::CpuToGpu };
+        let handle = self.frame_buffer(&desc)?;
+        self.runner.pool.buffer(&PoolKey::PerFrame(name.into(), self.runner.slot())).write(0, data)?;
+        Ok(handle)
+    }
+
+    fn pool_buffer(&mut self, key: PoolKey, desc: &BufferDesc<'_>) -> Result<BufferHandle> {
+        let frame = self.runner.frame_index();
+        self.runner.pool.ensure_buffer(self.gpu, key.clone(), desc, frame)?;
+        self.sources.push(Source::PoolBuffer(key));
+        Ok(BufferHandle { id: self.sources.len() - 1, size: desc.size })
     }
 
     /// Starts a pass; `name` is its debug label, timing key and crash marker.
@@ -61,59 +157,54 @@ impl<'r> Graph<'r> {
     }
 }
 
-/// Declares what one pass reads and writes; each declaration hands back the resource for the
-/// recording closure to use.
+/// Declares what one pass reads and writes; each declaration returns the use for the
+/// recording closure to resolve.
 pub struct PassBuilder<'g, 'r> {
     graph: &'g mut Graph<'r>,
     name: String,
     uses: Vec<(usize, Access)>,
 }
 
-/// Handles the graph can resolve to a resource.
+/// Handles the graph can declare uses of.
 pub trait Handle {
-    type Target: ?Sized;
+    /// What a declaration hands back ([`Buf`] or [`Img`]).
+    type Use: Copy;
     #[doc(hidden)]
     fn id(&self) -> usize;
     #[doc(hidden)]
-    fn resolve<'r>(resource: &Resource<'r>) -> &'r Self::Target;
+    fn make_use(id: usize) -> Self::Use;
 }
 
 impl Handle for BufferHandle {
-    type Target = Buffer;
+    type Use = Buf;
     fn id(&self) -> usize {
         self.id
     }
-    fn resolve<'r>(resource: &Resource<'r>) -> &'r Buffer {
-        match resource {
-            Resource::Buffer(b) => b,
-            Resource::Image(_) => unreachable!("buffer handle names an image"),
-        }
+    fn make_use(id: usize) -> Buf {
+        Buf(id)
     }
 }
 
 impl Handle for ImageHandle {
-    type Target = Image;
+    type Use = Img;
     fn id(&self) -> usize {
         self.id
     }
-    fn resolve<'r>(resource: &Resource<'r>) -> &'r Image {
-        match resource {
-            Resource::Image(i) => i,
-            Resource::Buffer(_) => unreachable!("image handle names a buffer"),
-        }
+    fn make_use(id: usize) -> Img {
+        Img(id)
     }
 }
 
-impl<'g, 'r> PassBuilder<'g, 'r> {
-    fn declare<H: Handle>(&mut self, handle: &H, access: Access) -> &'r H::Target {
+impl<'r> PassBuilder<'_, 'r> {
+    fn declare<H: Handle>(&mut self, handle: &H, access: Access) -> H::Use {
         // Several reads of one resource are fine (a vertex buffer also read as storage); a
         // write, or two image layouts, must be one combined declaration.
+        let is_image = self.graph.sources[handle.id()].is_image();
         let clash = self.uses.iter().any(|&(id, prev)| {
             id == handle.id()
                 && (prev.info().writes
                     || access.info().writes
-                    || (matches!(self.graph.resources[id], Resource::Image(_))
-                        && prev.info().layout != access.info().layout))
+                    || (is_image && prev.info().layout != access.info().layout))
         });
         assert!(
             !clash,
@@ -121,23 +212,23 @@ impl<'g, 'r> PassBuilder<'g, 'r> {
             self.name
         );
         self.uses.push((handle.id(), access));
-        H::resolve(&self.graph.resources[handle.id()])
+        H::make_use(handle.id())
     }
 
     /// Declares a read. Panics if `access` writes: that is a bug in the pass.
-    pub fn read<H: Handle>(&mut self, handle: &H, access: Access) -> &'r H::Target {
+    pub fn read<H: Handle>(&mut self, handle: &H, access: Access) -> H::Use {
         assert!(!access.info().writes, "pass {}: read() with writing access {access:?}", self.name);
         self.declare(handle, access)
     }
 
     /// Declares a write (or read-write); the handle is borrowed mutably to show it changes.
-    pub fn write<H: Handle>(&mut self, handle: &mut H, access: Access) -> &'r H::Target {
+    pub fn write<H: Handle>(&mut self, handle: &mut H, access: Access) -> H::Use {
         assert!(access.info().writes, "pass {}: write() with read-only access {access:?}", self.name);
         self.declare(handle, access)
     }
 
-    /// Ends the declaration with the commands the pass records.
-    pub fn record(self, record: impl FnOnce(&mut Cmd<'_>) -> Result<()> + 'r) {
+    /// Ends the declaration with the commands the pass records when the frame executes.
+    pub fn record(self, record: impl FnOnce(&mut PassContext<'_, '_, '_>) -> Result<()> + 'r) {
         self.graph.passes.push(Pass { name: self.name, uses: self.uses, record: Box::new(record) });
     }
 }

@@ -2,11 +2,22 @@
 //! handle mutably, so a call site shows what a pass changes); the graph derives every barrier
 //! and layout transition from those declarations, brackets each pass with a debug label, GPU
 //! timestamps and a crash marker under one name, and runs the passes in order.
+//!
+//! Resources are imported (the scene's buffers) or owned by the runner's pool by name, kept
+//! from frame to frame and remade when their description changes. Frames run in flight: the
+//! host records the next frame while the GPU runs the last, and per-frame resources (uploads,
+//! readbacks) have one copy per frame in flight. A pass's bindings are declared once, with
+//! [`shader_bindings!`], and checked against the shader's reflection.
 
 pub mod barrier;
+mod bindings;
 mod graph;
+mod pool;
 mod runner;
 
-pub use graph::{BufferHandle, Graph, Handle, ImageHandle, PassBuilder};
+pub use bindings::{Bindings, PassContext, Resolved};
+pub use graph::{Buf, BufferHandle, Graph, Handle, ImageHandle, Img, PassBuilder};
 pub use leakless_device::sync::Access;
-pub use runner::{GraphRunner, PassTiming, Timing};
+pub use leakless_device::{vk, BindingDecl, Bound};
+pub use pool::ResourcePool;
+pub use runner::{CompletedFrame, GraphRunner, PassTiming, Submitted, Timing, MAX_PASSES};

@@ -1,12 +1,19 @@
-//! Executing a graph: derived barriers, labels, timestamps and crash markers around each pass.
+//! Executing graphs with frames in flight: each frame records into its own slot (command
+//! buffer, fence, timestamps, crash markers, per-frame resources); the host waits only when it
+//! comes back to a slot whose frame is still running. Barriers are derived per pass, labels,
+//! timestamps and crash markers bracket each pass under its name.
 
 use std::time::Instant;
 
 use ash::vk;
-use leakless_device::{Buffer, BufferDesc, Cmd, DeviceError, Gpu, MemoryLocation, Result, TimestampPool};
+use leakless_device::{
+    Buffer, BufferDesc, Cmd, CommandSlot, DeviceError, Gpu, MemoryLocation, Result, SubmitSync, TimestampPool,
+};
 
 use crate::barrier::{ResourceState, Transition};
-use crate::graph::{Graph, Pass, Resource};
+use crate::bindings::{PassContext, Resolved, Resource};
+use crate::graph::{Graph, Pass, Source};
+use crate::pool::ResourcePool;
 
 /// Time of one pass.
 #[derive(Clone, Debug)]
@@ -25,37 +32,313 @@ pub enum Timing {
     /// One submission per frame; per-pass GPU timestamps only.
     #[default]
     Timestamps,
-    /// One submission per pass, each waited for and timed on the host as well. Slower, but
-    /// exact on drivers whose timestamps do not bracket the work (lavapipe runs compute
-    /// dispatches asynchronously to its timestamp writes).
+    /// One submission per pass, each waited for and timed on the host as well. Slower, and it
+    /// keeps no frame in flight, but exact on drivers whose timestamps do not bracket the work
+    /// (lavapipe runs compute dispatches asynchronously to its timestamp writes).
     PerPassSubmit,
 }
 
-/// What persists between graph executions: the timestamp pool and the crash-marker buffer.
-pub struct GraphRunner {
+/// A frame that finished on the GPU: its index, the slot it ran in (whose per-frame buffers
+/// now hold what it wrote) and what each pass took.
+#[derive(Clone, Debug)]
+pub struct CompletedFrame {
+    pub index: u64,
+    pub slot: usize,
+    pub timings: Vec<PassTiming>,
+}
+
+/// A frame on its way: [`GraphRunner::wait_for`] waits for it.
+#[derive(Clone, Copy, Debug)]
+#[must_use = "a submitted frame is waited for with GraphRunner::wait_for, or left in flight"]
+pub struct Submitted {
+    slot: usize,
+}
+
+/// Most passes one graph may hold (timestamps and crash markers are sized for it).
+pub const MAX_PASSES: u32 = 256;
+
+struct Running {
+    frame: u64,
+    passes: Vec<String>,
+    wall_ms: Vec<Option<f64>>,
+}
+
+/// One frame in flight's own objects.
+struct Slot {
+    commands: CommandSlot,
     timestamps: TimestampPool,
     /// Two words per pass, set to 1 when the GPU starts and ends the pass: after a lost
     /// device they show which pass was running.
     markers: Buffer,
-    max_passes: u32,
+    running: Option<Running>,
+}
+
+/// What persists between graph executions: the frame slots and the resource pool.
+pub struct GraphRunner {
+    slots: Vec<Slot>,
+    /// The slot the next graph records into.
+    next: usize,
+    /// Index of the next frame.
+    frame: u64,
+    /// Whether `next` was waited for and may be recorded into.
+    acquired: bool,
+    pub(crate) pool: ResourcePool,
     timing: Timing,
 }
 
+impl GraphRunner {
+    /// A runner keeping up to `frames_in_flight` frames on the GPU at once.
+    pub fn new(gpu: &Gpu, frames_in_flight: usize) -> Result<Self> {
+        assert!(frames_in_flight >= 1, "at least one frame");
+        let slots = (0..frames_in_flight)
+            .map(|i| {
+                Ok(Slot {
+                    commands: CommandSlot::new(gpu, &format!("frame slot {i}"))?,
+                    timestamps: TimestampPool::new(gpu, 2 * MAX_PASSES)?,
+                    markers: Buffer::new(
+                        gpu,
+                        &BufferDesc {
+                            name: "pass markers",
+                            size: 8 * MAX_PASSES as u64,
+                            usage: vk::BufferUsageFlags::TRANSFER_DST,
+                            location: MemoryLocation::GpuToCpu,
+                        },
+                    )?,
+                    running: None,
+                })
+            })
+            .collect::<Result<Vec<_>>>()?;
+        Ok(GraphRunner {
+            slots,
+            next: 0,
+            frame: 0,
+            acquired: false,
+            pool: ResourcePool::default(),
+            timing: Timing::default(),
+        })
+    }
+
+    pub fn frames_in_flight(&self) -> usize {
+        self.slots.len()
+    }
+
+    pub fn set_timing(&mut self, timing: Timing) {
+        self.timing = timing;
+    }
+
+    pub fn timing(&self) -> Timing {
+        self.timing
+    }
+
+    pub(crate) fn slot(&self) -> usize {
+        self.next
+    }
+
+    pub(crate) fn frame_index(&self) -> u64 {
+        self.frame
+    }
+
+    /// The index the next submitted frame gets (frames count from 0 in submission order).
+    pub fn next_frame(&self) -> u64 {
+        self.frame
+    }
+
+    /// The resources graphs made by name (read per-frame buffers of a completed frame here).
+    pub fn pool(&self) -> &ResourcePool {
+        &self.pool
+    }
+
+    /// Waits until the next frame's slot is free and returns the frame that ran in it, if
+    /// any. [`GraphRunner::graph`] does this when it was not done.
+    pub fn acquire_slot(&mut self, gpu: &Gpu) -> Result<Option<CompletedFrame>> {
+        if self.acquired {
+            return Ok(None);
+        }
+        let done = self.complete(gpu, self.next)?;
+        self.acquired = true;
+        Ok(done)
+    }
+
+    /// Starts the next frame's graph (waiting for its slot if needed).
+    pub fn graph<'r>(&'r mut self, gpu: &'r Gpu) -> Result<Graph<'r>> {
+        self.acquire_slot(gpu)?;
+        Ok(Graph { gpu, runner: self, sources: Vec::new(), passes: Vec::new() })
+    }
+
+    /// Waits for every frame in flight, oldest first, and returns them.
+    pub fn wait_idle(&mut self, gpu: &Gpu) -> Result<Vec<CompletedFrame>> {
+        let n = self.slots.len();
+        let mut done = Vec::new();
+        for k in 0..n {
+            // From the oldest submission to the newest.
+            let slot = (self.next + k) % n;
+            if let Some(frame) = self.complete(gpu, slot)? {
+                done.push(frame);
+            }
+        }
+        if !self.slots.is_empty() {
+            self.acquired = true; // `next` is idle now
+        }
+        Ok(done)
+    }
+
+    /// Waits for a submitted frame (and every frame before it).
+    pub fn wait_for(&mut self, gpu: &Gpu, submitted: Submitted) -> Result<CompletedFrame> {
+        // Earlier frames first, so their per-frame resources are collected in order.
+        let n = self.slots.len();
+        let mut last = None;
+        for k in 0..n {
+            let slot = (self.next + k) % n;
+            let done = self.complete(gpu, slot)?;
+            if slot == submitted.slot {
+                last = done;
+                break;
+            }
+        }
+        if submitted.slot == self.next {
+            self.acquired = true;
+        }
+        last.ok_or_else(|| DeviceError::Unsupported("wait_for: the frame was already collected".into()))
+    }
+
+    /// Waits for `slot`'s frame, if one is running, and collects it.
+    fn complete(&mut self, gpu: &Gpu, slot: usize) -> Result<Option<CompletedFrame>> {
+        let s = &mut self.slots[slot];
+        if let Err(e) = s.commands.wait() {
+            return Err(match (e, &s.running) {
+                (DeviceError::DeviceLost { where_ }, Some(r)) => {
+                    DeviceError::DeviceLost { where_: format!("{where_} {}", last_pass(&s.markers, &r.passes)) }
+                }
+                (e, _) => e,
+            });
+        }
+        let Some(running) = s.running.take() else { return Ok(None) };
+        gpu.check_validation()?;
+        let ns = s.timestamps.read_ns(2 * running.passes.len() as u32)?;
+        let timings = running
+            .passes
+            .into_iter()
+            .zip(running.wall_ms)
+            .enumerate()
+            .map(|(i, (name, wall_ms))| PassTiming { name, ms: (ns[2 * i + 1] - ns[2 * i]).max(0.0) * 1e-6, wall_ms })
+            .collect();
+        // A fence covers every earlier submission too: all frames up to this one are done.
+        self.pool.collect(running.frame);
+        Ok(Some(CompletedFrame { index: running.frame, slot, timings }))
+    }
+}
+
+impl Graph<'_> {
+    /// Records every pass in order with derived barriers into this frame's slot and submits
+    /// it, waiting for `sync`'s semaphores and signalling its own; does not wait for the GPU.
+    pub fn submit(self, sync: &SubmitSync<'_>) -> Result<Submitted> {
+        let Graph { gpu, runner, sources, passes } = self;
+        if passes.len() as u32 > MAX_PASSES {
+            return Err(DeviceError::Capacity {
+                name: "pass graph".into(),
+                capacity: MAX_PASSES as u64,
+                requested: passes.len() as u64,
+            });
+        }
+        assert!(runner.acquired, "a graph records only into an acquired slot");
+        let resources: Vec<Resource<'_>> = sources
+            .iter()
+            .map(|s| match s {
+                Source::Buffer(b) => Resource::Buffer(b),
+                Source::Image(i) | Source::Acquired(i, _) => Resource::Image(i),
+                Source::PoolBuffer(key) => Resource::Buffer(runner.pool.buffer(key)),
+                Source::PoolImage(key) => Resource::Image(runner.pool.image(key)),
+            })
+            .collect();
+        let mut states: Vec<ResourceState> = resources
+            .iter()
+            .zip(&sources)
+            .map(|(r, s)| match (r, s) {
+                (_, Source::Acquired(_, stage)) => ResourceState::acquired_image(*stage),
+                (Resource::Buffer(b), _) => ResourceState::buffer(b.device_written()),
+                (Resource::Image(i), _) => ResourceState::image(i.layout()),
+            })
+            .collect();
+        let names: Vec<String> = passes.iter().map(|p| p.name.clone()).collect();
+        let (slot_index, slot_count) = (runner.next, runner.slots.len());
+        let slot = &mut runner.slots[slot_index];
+        slot.timestamps.reset();
+        slot.markers.write(0, &vec![0u8; 8 * passes.len()])?;
+        let ctx = RecordContext {
+            res: Resolved { resources: &resources },
+            markers: &slot.markers,
+            timestamps: &slot.timestamps,
+        };
+        let mut wall_ms = vec![None; passes.len()];
+        let frame = runner.frame;
+        let recorded: Result<()> = match runner.timing {
+            Timing::Timestamps => slot
+                .commands
+                .record(gpu, |cmd| {
+                    for (index, pass) in passes.into_iter().enumerate() {
+                        ctx.record(cmd, index, pass, &mut states)?;
+                    }
+                    Ok(())
+                })
+                .and_then(|()| slot.commands.submit(gpu, sync)),
+            Timing::PerPassSubmit => {
+                let count = passes.len();
+                passes.into_iter().enumerate().try_for_each(|(index, pass)| {
+                    let start = Instant::now();
+                    slot.commands.record(gpu, |cmd| ctx.record(cmd, index, pass, &mut states))?;
+                    // The frame's semaphores go on its first and last submissions.
+                    let part = SubmitSync {
+                        wait: if index == 0 { sync.wait.clone() } else { vec![] },
+                        signal: if index + 1 == count { sync.signal.clone() } else { vec![] },
+                    };
+                    slot.commands.submit(gpu, &part)?;
+                    let waited = slot.commands.wait();
+                    wall_ms[index] = Some(start.elapsed().as_secs_f64() * 1e3);
+                    waited.map_err(|e| match e {
+                        DeviceError::DeviceLost { where_ } => {
+                            DeviceError::DeviceLost { where_: format!("{where_} during pass {:?}", names[index]) }
+                        }
+                        e => e,
+                    })
+                })
+            }
+        };
+        // Resources keep the state this frame leaves them in, for the next frame's barriers
+        // (recorded later, so ordered after this one on the queue).
+        for (r, s) in resources.iter().zip(&states) {
+            match r {
+                Resource::Image(i) => i.set_layout(s.layout()),
+                Resource::Buffer(b) if s.written() => b.set_device_written(),
+                Resource::Buffer(_) => {}
+            }
+        }
+        if recorded.is_ok() {
+            slot.running = Some(Running { frame, passes: names, wall_ms });
+        }
+        runner.acquired = false;
+        runner.next = (slot_index + 1) % slot_count;
+        runner.frame += 1;
+        recorded?;
+        gpu.check_validation()?;
+        Ok(Submitted { slot: slot_index })
+    }
+}
+
 /// What recording one pass needs besides the pass itself.
-struct RecordContext<'a, 'r> {
-    resources: &'a [Resource<'r>],
+struct RecordContext<'a> {
+    res: Resolved<'a>,
     markers: &'a Buffer,
     timestamps: &'a TimestampPool,
 }
 
-impl RecordContext<'_, '_> {
+impl RecordContext<'_> {
     /// Derived barriers, then the pass between its label, timestamps and crash markers.
     fn record(&self, cmd: &mut Cmd<'_>, index: usize, pass: Pass<'_>, states: &mut [ResourceState]) -> Result<()> {
         let mut buffer_barriers = Vec::new();
         let mut image_barriers = Vec::new();
         for &(id, access) in &pass.uses {
             if let Some(t) = states[id].access(access) {
-                match &self.resources[id] {
+                match self.res.resources[id] {
                     Resource::Buffer(b) => buffer_barriers.push(buffer_barrier(b, &t)),
                     Resource::Image(i) => image_barriers.push(image_barrier(i, &t)),
                 }
@@ -66,7 +349,8 @@ impl RecordContext<'_, '_> {
         cmd.begin_label(&pass.name);
         cmd.fill_buffer(self.markers, slot, 4, 1);
         cmd.write_timestamp(self.timestamps, 2 * index as u32);
-        (pass.record)(cmd)?;
+        let mut ctx = PassContext { cmd, res: self.res };
+        (pass.record)(&mut ctx)?;
         cmd.write_timestamp(self.timestamps, 2 * index as u32 + 1);
         cmd.fill_buffer(self.markers, slot + 4, 4, 1);
         cmd.end_label();
@@ -74,99 +358,17 @@ impl RecordContext<'_, '_> {
     }
 }
 
-impl GraphRunner {
-    pub fn new(gpu: &Gpu, max_passes: u32) -> Result<Self> {
-        let timestamps = TimestampPool::new(gpu, 2 * max_passes)?;
-        let markers = Buffer::new(
-            gpu,
-            &BufferDesc {
-                name: "pass markers",
-                size: 8 * max_passes as u64,
-                usage: vk::BufferUsageFlags::TRANSFER_DST,
-                location: MemoryLocation::GpuToCpu,
-            },
-        )?;
-        Ok(GraphRunner { timestamps, markers, max_passes, timing: Timing::default() })
-    }
-
-    pub fn set_timing(&mut self, timing: Timing) {
-        self.timing = timing;
-    }
-
-    /// Records every pass in order with derived barriers, submits, waits, and returns the GPU
-    /// time of each pass.
-    pub fn run(&mut self, gpu: &Gpu, graph: Graph<'_>) -> Result<Vec<PassTiming>> {
-        let Graph { resources, passes } = graph;
-        if passes.len() as u32 > self.max_passes {
-            return Err(DeviceError::Capacity {
-                name: "pass graph".into(),
-                capacity: self.max_passes as u64,
-                requested: passes.len() as u64,
-            });
-        }
-        let names: Vec<String> = passes.iter().map(|p| p.name.clone()).collect();
-        let mut states: Vec<ResourceState> = resources
-            .iter()
-            .map(|r| match r {
-                Resource::Buffer(b) => ResourceState::buffer(b.device_written()),
-                Resource::Image(i) => ResourceState::image(i.layout()),
-            })
-            .collect();
-        self.timestamps.reset();
-        self.markers.write(0, &vec![0u8; 8 * passes.len()])?;
-        let ctx = RecordContext { resources: &resources, markers: &self.markers, timestamps: &self.timestamps };
-
-        let mut wall_ms = vec![None; names.len()];
-        let submitted = match self.timing {
-            Timing::Timestamps => gpu.submit(|cmd| {
-                for (index, pass) in passes.into_iter().enumerate() {
-                    ctx.record(cmd, index, pass, &mut states)?;
-                }
-                Ok(())
-            }),
-            Timing::PerPassSubmit => passes.into_iter().enumerate().try_for_each(|(index, pass)| {
-                let start = Instant::now();
-                gpu.submit(|cmd| ctx.record(cmd, index, pass, &mut states))?;
-                wall_ms[index] = Some(start.elapsed().as_secs_f64() * 1e3);
-                Ok(())
-            }),
-        };
-        match submitted {
-            Ok(()) => {}
-            Err(DeviceError::DeviceLost { where_ }) => {
-                return Err(DeviceError::DeviceLost { where_: format!("{where_} {}", self.last_pass(&names)) })
-            }
-            Err(e) => return Err(e),
-        }
-        for (r, s) in resources.iter().zip(&states) {
-            match r {
-                Resource::Image(i) => i.set_layout(s.layout()),
-                Resource::Buffer(b) if s.written() => b.set_device_written(),
-                Resource::Buffer(_) => {}
-            }
-        }
-        gpu.check_validation()?;
-        let ns = self.timestamps.read_ns(2 * names.len() as u32)?;
-        Ok(names
-            .into_iter()
-            .zip(wall_ms)
-            .enumerate()
-            .map(|(i, (name, wall_ms))| PassTiming { name, ms: (ns[2 * i + 1] - ns[2 * i]).max(0.0) * 1e-6, wall_ms })
-            .collect())
-    }
-
-    /// Names the pass the GPU was in (or last finished) according to the markers.
-    fn last_pass(&self, names: &[String]) -> String {
-        let words: Vec<u32> = match self.markers.read_vec(2 * names.len()) {
-            Ok(w) => w,
-            Err(_) => return "(pass markers unreadable)".into(),
-        };
-        let started = (0..names.len()).rev().find(|&i| words[2 * i] == 1);
-        match started {
-            None => "before the first pass started".into(),
-            Some(i) if words[2 * i + 1] == 0 => format!("during pass {:?}", names[i]),
-            Some(i) => format!("after pass {:?}", names[i]),
-        }
+/// Names the pass the GPU was in (or last finished) according to the markers.
+fn last_pass(markers: &Buffer, names: &[String]) -> String {
+    let words: Vec<u32> = match markers.read_vec(2 * names.len()) {
+        Ok(w) => w,
+        Err(_) => return "(pass markers unreadable)".into(),
+    };
+    let started = (0..names.len()).rev().find(|&i| words[2 * i] == 1);
+    match started {
+        None => "before the first pass started".into(),
+        Some(i) if words[2 * i + 1] == 0 => format!("during pass {:?}", names[i]),
+        Some(i) => format!("after pass {:?}", names[i]),
     }
 }
 

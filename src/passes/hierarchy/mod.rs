@@ -4,17 +4,13 @@
 //! their nodes empty), so the tree's shape depends only on the image size and the branching
 //! factor, and is known on the CPU.
 
-mod build;
-mod morton;
-mod sample_bounds;
-
-pub use build::BINDINGS as BUILD_BINDINGS;
-pub use morton::BINDINGS as MORTON_BINDINGS;
-pub use sample_bounds::BINDINGS as SAMPLE_BOUNDS_BINDINGS;
+pub mod build;
+pub mod morton;
+pub mod sample_bounds;
 
 use ash::vk;
 use bytemuck::{Pod, Zeroable};
-use leakless_device::{rust_layout, Buffer, BufferDesc, Gpu, MemoryLocation, RustLayout};
+use leakless_device::{gpu_struct, BufferDesc, Gpu, MemoryLocation};
 use leakless_graph::{BufferHandle, Graph};
 
 use crate::error::{RenderError, Result};
@@ -24,46 +20,33 @@ use build::BuildPass;
 use morton::MortonPass;
 use sample_bounds::SampleBoundsPass;
 
-/// `struct Node` of hierarchy.glsl.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
-pub struct Node {
-    pub bounds_min: [f32; 3],
-    pub first_child: u32,
-    pub bounds_max: [f32; 3],
-    pub child_count: u32,
-    pub cone_axis: [f32; 3],
-    pub cone_angle: f32,
-    pub level: u32,
-    pub valid_samples: u32,
-    pub pad0: u32,
-    pub pad1: u32,
+gpu_struct! {
+    /// `struct Node` of hierarchy.glsl.
+    #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+    pub struct Node {
+        pub bounds_min: [f32; 3],
+        pub first_child: u32,
+        pub bounds_max: [f32; 3],
+        pub child_count: u32,
+        pub cone_axis: [f32; 3],
+        pub cone_angle: f32,
+        pub level: u32,
+        pub valid_samples: u32,
+        pub pad0: u32,
+        pub pad1: u32,
+    }
 }
 
-pub const NODE_LAYOUT: RustLayout = rust_layout!(Node {
-    bounds_min,
-    first_child,
-    bounds_max,
-    child_count,
-    cone_axis,
-    cone_angle,
-    level,
-    valid_samples,
-    pad0,
-    pad1
-});
-
-/// `struct Level` of hierarchy.glsl.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Pod, Zeroable)]
-pub struct Level {
-    pub offset: u32,
-    pub count: u32,
-    pub span: u32,
-    pub pad0: u32,
+gpu_struct! {
+    /// `struct Level` of hierarchy.glsl.
+    #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Pod, Zeroable)]
+    pub struct Level {
+        pub offset: u32,
+        pub count: u32,
+        pub span: u32,
+        pub pad0: u32,
+    }
 }
-
-pub const LEVEL_LAYOUT: RustLayout = rust_layout!(Level { offset, count, span, pad0 });
 
 /// Pending nodes the splat's stack holds (`SPLAT_STACK` in splat.comp).
 pub const SPLAT_STACK: u32 = 192;
@@ -113,21 +96,7 @@ impl Shape {
     }
 }
 
-/// The hierarchy's buffers, kept between frames.
-pub struct Hierarchy {
-    pub shape: Shape,
-    keys: Buffer,
-    samples: Buffer,
-    bounds: Buffer,
-    levels: Buffer,
-    nodes: Buffer,
-    sample_bounds: SampleBoundsPass,
-    morton: MortonPass,
-    sort: SortPass,
-    build: BuildPass,
-}
-
-/// The hierarchy in one frame's graph.
+/// The hierarchy of one frame (buffers of the graph's pool).
 pub struct HierarchyHandles {
     /// Morton keys in sorted order (`INVALID_SAMPLE_KEY` last).
     pub keys: BufferHandle,
@@ -138,67 +107,58 @@ pub struct HierarchyHandles {
     pub nodes: BufferHandle,
 }
 
-fn storage(gpu: &Gpu, name: &str, size: u64) -> Result<Buffer> {
-    let usage =
-        vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_DST | vk::BufferUsageFlags::TRANSFER_SRC;
-    Ok(Buffer::new(gpu, &BufferDesc { name, size, usage, location: MemoryLocation::GpuOnly })?)
-}
-
-impl Hierarchy {
-    pub fn new(gpu: &Gpu, width: u32, height: u32, branching: u32) -> Result<Hierarchy> {
-        let n = width * height;
-        let shape = Shape::new(n, branching)?;
-        let levels = Buffer::with_data(
-            gpu,
+impl HierarchyHandles {
+    pub fn new(graph: &mut Graph<'_>, shape: &Shape) -> Result<HierarchyHandles> {
+        let n = shape.sample_count as u64;
+        let usage = vk::BufferUsageFlags::STORAGE_BUFFER
+            | vk::BufferUsageFlags::TRANSFER_DST
+            | vk::BufferUsageFlags::TRANSFER_SRC;
+        let mut storage =
+            |name, size| graph.buffer(&BufferDesc { name, size, usage, location: MemoryLocation::GpuOnly });
+        let keys = storage("morton keys", 4 * n)?;
+        let samples = storage("sorted samples", 4 * n)?;
+        let bounds = storage("sample bounds", 24)?;
+        let nodes = storage("hierarchy nodes", shape.node_count() as u64 * std::mem::size_of::<Node>() as u64)?;
+        let levels = graph.upload(
             "hierarchy levels",
             vk::BufferUsageFlags::STORAGE_BUFFER,
             bytemuck::cast_slice(&shape.levels),
         )?;
-        Ok(Hierarchy {
-            keys: storage(gpu, "morton keys", 4 * n as u64)?,
-            samples: storage(gpu, "sorted samples", 4 * n as u64)?,
-            bounds: storage(gpu, "sample bounds", 24)?,
-            nodes: storage(gpu, "hierarchy nodes", shape.node_count() as u64 * std::mem::size_of::<Node>() as u64)?,
-            levels,
+        Ok(HierarchyHandles { keys, samples, bounds, levels, nodes })
+    }
+}
+
+/// The passes that rebuild the hierarchy from the G-buffer every frame.
+pub struct HierarchyPasses {
+    sample_bounds: SampleBoundsPass,
+    morton: MortonPass,
+    sort: SortPass,
+    build: BuildPass,
+}
+
+impl HierarchyPasses {
+    pub fn new(gpu: &Gpu) -> Result<HierarchyPasses> {
+        Ok(HierarchyPasses {
             sample_bounds: SampleBoundsPass::new(gpu)?,
             morton: MortonPass::new(gpu)?,
-            sort: SortPass::new(gpu, n)?,
-            build: BuildPass::new(gpu, shape.levels.len())?,
-            shape,
+            sort: SortPass::new(gpu)?,
+            build: BuildPass::new(gpu)?,
         })
     }
 
-    pub fn import<'r>(&'r self, graph: &mut Graph<'r>) -> HierarchyHandles {
-        HierarchyHandles {
-            keys: graph.import_buffer(&self.keys),
-            samples: graph.import_buffer(&self.samples),
-            bounds: graph.import_buffer(&self.bounds),
-            levels: graph.import_buffer(&self.levels),
-            nodes: graph.import_buffer(&self.nodes),
-        }
-    }
-
-    /// Adds the passes that rebuild the hierarchy from the G-buffer.
+    /// Adds the passes that rebuild the hierarchy of `shape` from the G-buffer.
     pub fn add<'r>(
         &'r self,
         graph: &mut Graph<'r>,
         frame: &BufferHandle,
         gbuffer: &GBufferHandles,
+        shape: &Shape,
         h: &mut HierarchyHandles,
     ) -> Result<()> {
         self.sample_bounds.add(graph, frame, gbuffer, &mut h.bounds);
         self.morton.add(graph, frame, gbuffer, &h.bounds, &mut h.keys, &mut h.samples);
-        self.sort.add(graph, self.shape.sample_count, 30, &mut h.keys, &mut h.samples)?;
-        self.build.add(graph, &self.shape, gbuffer, h)
-    }
-
-    /// The nodes (tests and tools read them back).
-    pub fn nodes_buffer(&self) -> &Buffer {
-        &self.nodes
-    }
-
-    /// The sorted Morton keys (tests and tools read them back).
-    pub fn keys_buffer(&self) -> &Buffer {
-        &self.keys
+        self.sort.add(graph, shape.sample_count, 30, &mut h.keys, &mut h.samples)?;
+        self.build.add(graph, shape, gbuffer, h);
+        Ok(())
     }
 }

@@ -1,22 +1,23 @@
 //! Morton codes: a 30-bit key per pixel from its view sample's position in the sample bounds,
 //! with the pixel index as value (`morton.comp`).
 
-use leakless_device::{BindingDecl, Bound, ComputePipeline, Gpu};
-use leakless_graph::{Access, BufferHandle, Graph};
+use leakless_device::{ComputePipeline, Gpu, GpuStruct};
+use leakless_graph::{shader_bindings, Access, BufferHandle, Graph};
 
-use super::sample_bounds::gbuffer_extent;
 use crate::error::Result;
-use crate::gpu_types::FRAME_LAYOUT;
+use crate::gpu_types::Frame;
 use crate::passes::gbuffer::GBufferHandles;
 use crate::shaders;
 
-pub const BINDINGS: &[BindingDecl] = &[
-    BindingDecl::uniform("frame", FRAME_LAYOUT),
-    BindingDecl::storage_image("gbuffer_position"),
-    BindingDecl::storage_words("sample_bounds"),
-    BindingDecl::storage_words("morton_keys"),
-    BindingDecl::storage_words("morton_values"),
-];
+shader_bindings! {
+    pub struct MortonBindings {
+        frame: uniform(Frame::LAYOUT),
+        gbuffer_position: image,
+        sample_bounds: words,
+        morton_keys: words,
+        morton_values: words,
+    }
+}
 
 pub struct MortonPass {
     pipeline: ComputePipeline,
@@ -24,7 +25,8 @@ pub struct MortonPass {
 
 impl MortonPass {
     pub fn new(gpu: &Gpu) -> Result<Self> {
-        Ok(MortonPass { pipeline: ComputePipeline::new(gpu, "morton", &shaders::MORTON_COMP, BINDINGS)? })
+        let pipeline = ComputePipeline::new(gpu, "morton", &shaders::MORTON_COMP, MortonBindings::DECLS, None)?;
+        Ok(MortonPass { pipeline })
     }
 
     pub fn add<'r>(
@@ -36,15 +38,15 @@ impl MortonPass {
         keys: &mut BufferHandle,
         values: &mut BufferHandle,
     ) {
+        let extent = gbuffer.position.extent();
         let mut pass = graph.pass("morton");
-        let bound = [
-            ("gbuffer_position", Bound::Image(pass.read(&gbuffer.position, Access::ComputeRead))),
-            ("frame", Bound::Buffer(pass.read(frame, Access::ComputeRead))),
-            ("sample_bounds", Bound::Buffer(pass.read(bounds, Access::ComputeRead))),
-            ("morton_keys", Bound::Buffer(pass.write(keys, Access::ComputeWrite))),
-            ("morton_values", Bound::Buffer(pass.write(values, Access::ComputeWrite))),
-        ];
-        let extent = gbuffer_extent(&bound);
-        pass.record(move |cmd| cmd.dispatch(&self.pipeline, &bound, [extent.0, extent.1, 1]));
+        let own = MortonBindings {
+            frame: pass.read(frame, Access::ComputeRead),
+            gbuffer_position: pass.read(&gbuffer.position, Access::ComputeRead),
+            sample_bounds: pass.read(bounds, Access::ComputeRead),
+            morton_keys: pass.write(keys, Access::ComputeWrite),
+            morton_values: pass.write(values, Access::ComputeWrite),
+        };
+        pass.record(move |ctx| ctx.dispatch(&self.pipeline, &[&own], &(), [extent.width, extent.height, 1]));
     }
 }

@@ -1,0 +1,155 @@
+//! Luminance statistics of a frame (`luminance.comp`, then `luminance_total.comp`): the
+//! log-average of the displayed layer, which sets the automatic exposure of the tonemap, and
+//! the summed luminance of the indirect and leaked layers, which gives the leaked energy
+//! fraction without reading an image back.
+
+use ash::vk;
+use bytemuck::{Pod, Zeroable};
+use leakless_device::{gpu_struct, BufferDesc, ComputePipeline, Gpu, GpuStruct, MemoryLocation};
+use leakless_graph::{shader_bindings, Access, BufferHandle, Graph, ImageHandle};
+
+use crate::error::Result;
+use crate::shaders;
+
+const TILE: u32 = 16;
+
+gpu_struct! {
+    /// The `LuminanceParams` push constants of luminance.comp.
+    #[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
+    pub struct LuminanceParams {
+        /// What the displayed image's pixels mean (`DISPLAY_*` of display.glsl).
+        pub mode: u32,
+        pub width: u32,
+        pub height: u32,
+        pub tiles_x: u32,
+    }
+}
+
+gpu_struct! {
+    /// The `TotalParams` push constants of luminance_total.comp.
+    #[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
+    pub struct TotalParams {
+        pub tiles: u32,
+        pub pad0: u32,
+        pub pad1: u32,
+        pub pad2: u32,
+    }
+}
+
+gpu_struct! {
+    /// The `LuminanceStats` block: what the frame's luminance sums to.
+    #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+    pub struct LuminanceStats {
+        /// Σ ln(value) over the displayed pixels whose value exceeds 1e-6.
+        pub log_sum: f32,
+        /// How many pixels those are.
+        pub lit_pixels: f32,
+        /// Σ luminance of the indirect layer.
+        pub indirect_sum: f32,
+        /// Σ luminance of the leaked layer.
+        pub leaked_sum: f32,
+    }
+}
+
+impl LuminanceStats {
+    /// The automatic exposure (what the tonemap computes): log-average to middle grey.
+    pub fn auto_exposure(&self) -> f32 {
+        if self.lit_pixels > 0.0 {
+            0.18 / (self.log_sum / self.lit_pixels).exp()
+        } else {
+            1.0
+        }
+    }
+
+    /// Leaked / (leaked + kept) indirect luminance over the image.
+    pub fn leaked_fraction(&self) -> f64 {
+        let (lost, kept) = (self.leaked_sum as f64, self.indirect_sum as f64);
+        if lost + kept > 0.0 {
+            lost / (lost + kept)
+        } else {
+            0.0
+        }
+    }
+}
+
+shader_bindings! {
+    pub struct TileBindings {
+        displayed: image,
+        indirect: image,
+        leaked: image,
+        partials: words,
+    }
+}
+
+shader_bindings! {
+    pub struct TotalBindings {
+        partials: words,
+        stats: block(LuminanceStats::LAYOUT),
+    }
+}
+
+/// The images the statistics read.
+pub struct LuminanceInputs<'a> {
+    /// What the tonemap will show, and what its pixels mean.
+    pub displayed: &'a ImageHandle,
+    pub mode: u32,
+    pub indirect: &'a ImageHandle,
+    pub leaked: &'a ImageHandle,
+}
+
+pub struct LuminancePass {
+    tiles: ComputePipeline,
+    total: ComputePipeline,
+}
+
+impl LuminancePass {
+    pub fn new(gpu: &Gpu) -> Result<Self> {
+        Ok(LuminancePass {
+            tiles: ComputePipeline::new(
+                gpu,
+                "luminance tiles",
+                &shaders::LUMINANCE_COMP,
+                TileBindings::DECLS,
+                Some(&LuminanceParams::LAYOUT),
+            )?,
+            total: ComputePipeline::new(
+                gpu,
+                "luminance total",
+                &shaders::LUMINANCE_TOTAL_COMP,
+                TotalBindings::DECLS,
+                Some(&TotalParams::LAYOUT),
+            )?,
+        })
+    }
+
+    /// Adds both stages; returns the [`LuminanceStats`] buffer (of the graph's pool).
+    pub fn add<'r>(&'r self, graph: &mut Graph<'r>, input: LuminanceInputs<'_>) -> Result<BufferHandle> {
+        let extent = input.displayed.extent();
+        let tiles_x = extent.width.div_ceil(TILE);
+        let tiles = tiles_x * extent.height.div_ceil(TILE);
+        let storage = vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_SRC;
+        let mut buffer =
+            |name, size| graph.buffer(&BufferDesc { name, size, usage: storage, location: MemoryLocation::GpuOnly });
+        let mut partials = buffer("luminance partials", 16 * tiles as u64)?;
+        let mut stats = buffer("luminance stats", std::mem::size_of::<LuminanceStats>() as u64)?;
+
+        let params = LuminanceParams { mode: input.mode, width: extent.width, height: extent.height, tiles_x };
+        let mut pass = graph.pass("luminance tiles");
+        let own = TileBindings {
+            displayed: pass.read(input.displayed, Access::ComputeRead),
+            indirect: pass.read(input.indirect, Access::ComputeRead),
+            leaked: pass.read(input.leaked, Access::ComputeRead),
+            partials: pass.write(&mut partials, Access::ComputeWrite),
+        };
+        pass.record(move |ctx| ctx.dispatch(&self.tiles, &[&own], &params, [extent.width, extent.height, 1]));
+
+        let mut pass = graph.pass("luminance total");
+        let own = TotalBindings {
+            partials: pass.read(&partials, Access::ComputeRead),
+            stats: pass.write(&mut stats, Access::ComputeWrite),
+        };
+        let params = TotalParams { tiles, ..Default::default() };
+        pass.record(move |ctx| ctx.dispatch(&self.total, &[&own], &params, [256, 1, 1]));
+        Ok(stats)
+    }
+}

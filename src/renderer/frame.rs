@@ -1,0 +1,273 @@
+//! One frame, top to bottom: the camera and lights of this frame, the G-buffer, direct light,
+//! the indirect light of the method, compose, the luminance statistics, and (for a window or a
+//! readback) the tonemap; then the counters copied out for the stats. Declared anew every
+//! frame from the renderer's state; submitted without waiting.
+
+use std::time::Instant;
+
+use bytemuck::{Pod, Zeroable};
+use leakless_device::{Image, SubmitSync};
+use leakless_graph::{Access, CompletedFrame, Graph, ImageHandle};
+
+use super::readback::{ReadbackRequest, LAYERS_BUFFER};
+use super::{FrameReport, Pending, Renderer};
+use crate::error::Result;
+use crate::gpu_types::Frame;
+use crate::passes::compose::{ComposeImages, ComposeParams};
+use crate::passes::gather::{self, GatherCounters, GatherOutputs};
+use crate::passes::gbuffer::{self, GBufferHandles};
+use crate::passes::luminance::{LuminanceInputs, LuminanceStats};
+use crate::passes::photons::PhotonCounters;
+use crate::passes::reference::ReferenceParams;
+use crate::passes::splat::SplatCounters;
+use crate::passes::tonemap::ViewLayer;
+use crate::passes::{readback, ViewInputs};
+use crate::photon_lights::upload_lights;
+use crate::settings::Method;
+use crate::splatting::{self, grown_list_capacity, SplatFrame, SplatInputsOfFrame, SplatStats, SplattingPasses};
+
+/// Draws over the tonemapped image (the app's overlay): passes added to the frame's graph
+/// after the tonemap, writing `target`.
+pub trait Overlay {
+    fn add<'r>(&'r self, graph: &mut Graph<'r>, target: &mut ImageHandle) -> Result<()>;
+}
+
+/// Where a windowed frame ends: an acquired swapchain image, the semaphores around it, and
+/// what to draw over it.
+pub struct DisplayTarget<'a> {
+    pub image: &'a Image,
+    pub sync: SubmitSync<'a>,
+    pub overlay: Option<&'a dyn Overlay>,
+}
+
+/// The counters copied out of every frame, in this order (the splat's only when it ran).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
+struct FrameCounters {
+    luminance: LuminanceStats,
+    photons: PhotonCounters,
+    lists: SplatCounters,
+    gather: GatherCounters,
+}
+
+const COUNTERS_BUFFER: &str = "frame counters";
+
+impl Renderer {
+    /// Declares and submits the next frame. With a `display`, the tonemapped image goes to its
+    /// swapchain image (then the overlay); without, nothing is shown. Does not wait for the
+    /// GPU, except for the frame that last used this frame's slot.
+    pub fn render_frame(&mut self, display: Option<DisplayTarget<'_>>) -> Result<()> {
+        self.submit_frame(display, None)
+    }
+
+    /// Declares and submits one frame (see `render_frame`), with the readback `request`.
+    pub(super) fn submit_frame(
+        &mut self,
+        display: Option<DisplayTarget<'_>>,
+        request: Option<ReadbackRequest>,
+    ) -> Result<()> {
+        let started = Instant::now();
+        if let Some(done) = self.runner.acquire_slot(&self.gpu)? {
+            self.collect(done)?;
+        }
+        let method = self.settings.method;
+        let first = self.accumulated == 0;
+        let seed = self.frame_seed();
+        let splat = self.settings.photon_settings().map(|settings| SplatFrame {
+            radius: settings.radius.unwrap_or(0.05 * self.scene.bounds().bounding_radius()),
+            settings,
+            max_bounces: self.settings.max_bounces,
+            seed,
+            list_capacity: self.list_capacity,
+        });
+        if let Some(s) = &splat {
+            if !(s.radius.is_finite() && s.radius > 0.0) {
+                return Err(crate::RenderError::Settings(format!("--radius {} must be a positive number", s.radius)));
+            }
+        }
+        let samples = if method == Method::Reference { self.samples_per_frame } else { 0 };
+        let accumulated = match method {
+            Method::Reference => self.accumulated + samples,
+            _ => 1,
+        };
+        let frame_constants = Frame {
+            view_proj: self.view_proj().to_cols_array_2d(),
+            camera_position: self.camera.position().extend(1.0).to_array(),
+            width: self.settings.width,
+            height: self.settings.height,
+            light_count: self.lights.len() as u32,
+            pad0: 0,
+        };
+        let extent = self.extent();
+        let backend = self.backends[self.backend as usize].as_ref().expect("current backend made");
+        let (passes, tracing) = (&self.passes, &backend.passes);
+        let mut g = self.runner.graph(&self.gpu)?;
+
+        // The camera, the lights and the scene of this frame.
+        let frame =
+            g.upload("frame", ash::vk::BufferUsageFlags::UNIFORM_BUFFER, bytemuck::bytes_of(&frame_constants))?;
+        let lights = upload_lights(&mut g, &self.lights, &self.scene.bounds())?;
+        let scene = self.gpu_scene.import(&mut g);
+        let trace = backend.trace.import(&mut g);
+
+        // View samples and their direct light.
+        let mut gbuffer = GBufferHandles::new(&mut g, extent)?;
+        passes.gbuffer.add(&mut g, &frame, &scene, self.gpu_scene.vertex_count, &mut gbuffer);
+        let layer = |g: &mut Graph<'_>, name| {
+            let usage = ash::vk::ImageUsageFlags::STORAGE | ash::vk::ImageUsageFlags::TRANSFER_SRC;
+            g.image(&leakless_device::ImageDesc { name, extent, format: gbuffer::FORMAT, usage })
+        };
+        let mut direct = layer(&mut g, "direct")?;
+        let view =
+            ViewInputs { frame: &frame, lights: &lights.lights, scene: &scene, trace: &trace, gbuffer: &gbuffer };
+        tracing.direct.add(&mut g, &view, &mut direct);
+
+        // Indirect light: photons splatted and gathered, or path-traced samples accumulated.
+        let mut indirect_sum = layer(&mut g, "indirect sum")?;
+        let mut reference_sum = layer(&mut g, "reference sum")?;
+        let mut leaked = layer(&mut g, "leaked")?;
+        let mut gather_counts = layer(&mut g, "gather counts")?;
+        let mut gather_counters = gather::counters(&mut g)?;
+        let mut splat_counters = None;
+        if let Some(splat) = &splat {
+            let splat_passes = SplattingPasses {
+                photons: &tracing.photons,
+                hierarchy: &passes.hierarchy,
+                splat: &passes.splat,
+                gather: &tracing.gather,
+            };
+            let input =
+                SplatInputsOfFrame { frame: &frame, scene: &scene, trace: &trace, lights: &lights, gbuffer: &gbuffer };
+            let out = GatherOutputs {
+                indirect_sum: &mut indirect_sum,
+                leaked: &mut leaked,
+                counts: &mut gather_counts,
+                counters: &mut gather_counters,
+            };
+            splat_counters = Some(splatting::add(&mut g, splat_passes, splat, input, out)?);
+        }
+        if method == Method::Reference {
+            let params = ReferenceParams {
+                first_sample: if first { 0 } else { self.accumulated },
+                sample_count: samples,
+                max_bounces: self.settings.max_bounces,
+                seed: self.settings.seed,
+                roulette_start: 3,
+                ..Default::default()
+            };
+            tracing.reference.add(&mut g, params, &view, &mut reference_sum);
+        }
+
+        // The layers: radiance = direct + indirect.
+        let mut indirect = layer(&mut g, "indirect")?;
+        let mut radiance = layer(&mut g, "radiance")?;
+        let (sum, indirect_scale) = match method {
+            Method::Reference => (&reference_sum, 1.0 / accumulated as f32),
+            Method::Splat | Method::LeakLessCapped | Method::LeakLess => (&indirect_sum, 1.0),
+            Method::Direct => (&indirect_sum, 0.0),
+        };
+        let params = ComposeParams { indirect_scale, gathered: splat.is_some() as u32, ..Default::default() };
+        let images = ComposeImages {
+            direct: &direct,
+            indirect_sum: sum,
+            indirect: &mut indirect,
+            radiance: &mut radiance,
+            leaked: &mut leaked,
+            gather_counts: &mut gather_counts,
+        };
+        passes.compose.add(&mut g, params, &frame, images);
+
+        // What the frame shows, and its luminance statistics (exposure, leaked energy).
+        let shown = match self.view {
+            ViewLayer::Final => &radiance,
+            ViewLayer::Direct => &direct,
+            ViewLayer::Indirect => &indirect,
+            ViewLayer::Leaked => &leaked,
+            ViewLayer::Candidates | ViewLayer::VisibilityRays => &gather_counts,
+        };
+        let input = LuminanceInputs { displayed: shown, mode: self.view.mode(), indirect: &indirect, leaked: &leaked };
+        let luminance = passes.luminance.add(&mut g, input)?;
+        let mut sync = SubmitSync::default();
+        if let Some(display) = display {
+            let stage = ash::vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT;
+            let mut target = g.import_acquired_image(display.image, stage);
+            let tonemap = passes.tonemaps.iter().find(|t| t.format() == target.format()).ok_or_else(|| {
+                crate::RenderError::Settings(format!("no tonemap for {:?}: call prepare_display", target.format()))
+            })?;
+            tonemap.add(&mut g, self.view, self.exposure, shown, &luminance, &mut target);
+            if let Some(overlay) = display.overlay {
+                overlay.add(&mut g, &mut target)?;
+            }
+            let mut present = g.pass("present");
+            present.read(&target, Access::Present);
+            present.record(|_| Ok(()));
+            sync = display.sync;
+        }
+        if let Some(request) = request {
+            let mut shown_rgba8 = g.image(&leakless_device::ImageDesc {
+                name: "display",
+                extent,
+                format: super::readback::DISPLAY_FORMAT,
+                usage: ash::vk::ImageUsageFlags::COLOR_ATTACHMENT | ash::vk::ImageUsageFlags::TRANSFER_SRC,
+            })?;
+            let tonemap = passes.tonemaps.iter().find(|t| t.format() == shown_rgba8.format()).expect("made at start");
+            tonemap.add(&mut g, request.view, request.exposure, shown, &luminance, &mut shown_rgba8);
+            readback::add(&mut g, LAYERS_BUFFER, &[&radiance, &direct, &indirect, &leaked, &shown_rgba8])?;
+        }
+
+        // The counters, for the stats of this frame once it completed.
+        let mut counters = vec![&luminance];
+        if let Some(s) = &splat_counters {
+            counters.extend([&s.photons, &s.lists, &gather_counters]);
+        }
+        readback::add_buffers(&mut g, COUNTERS_BUFFER, &counters)?;
+
+        let _in_flight = g.submit(&sync)?;
+        let index = self.runner.next_frame() - 1;
+        self.pending.push_back(Pending { index, seed, splat, accumulated, method, started });
+        self.accumulated = accumulated;
+        if self.advance_seed && method.splats() {
+            self.seed_offset = self.seed_offset.wrapping_add(1);
+        }
+        Ok(())
+    }
+
+    /// Makes the report of a completed frame from its counters, and grows the node lists when
+    /// it dropped entries (unless the capacity is fixed): the next frame holds them all.
+    pub(super) fn collect(&mut self, done: CompletedFrame) -> Result<()> {
+        let pending = loop {
+            let p = self.pending.pop_front().expect("every completed frame was submitted by the renderer");
+            if p.index == done.index {
+                break p;
+            }
+        };
+        let buffer = self.runner.pool().frame_buffer(COUNTERS_BUFFER, done.slot).expect("every frame copies counters");
+        let bytes = if pending.splat.is_some() { std::mem::size_of::<FrameCounters>() } else { 16 };
+        let mut counters = FrameCounters::default();
+        buffer.read(0, &mut bytemuck::bytes_of_mut(&mut counters)[..bytes])?;
+        let splat = pending.splat.as_ref().map(|frame| {
+            let mut stats = SplatStats::new(frame, &counters.photons, &counters.lists, &counters.gather);
+            stats.leaked_energy_fraction = counters.luminance.leaked_fraction();
+            stats
+        });
+        if let Some(frame) = &pending.splat {
+            if self.settings.splat.list_capacity.is_none() {
+                if let Some(grown) = grown_list_capacity(frame.list_capacity, &counters.lists) {
+                    self.list_capacity = self.list_capacity.max(grown);
+                }
+            }
+        }
+        self.last = Some(FrameReport {
+            index: done.index,
+            slot: done.slot,
+            seed: pending.seed,
+            method: pending.method,
+            timings: done.timings,
+            splat,
+            luminance: counters.luminance,
+            accumulated: pending.accumulated,
+            wall_ms: pending.started.elapsed().as_secs_f64() * 1e3,
+        });
+        Ok(())
+    }
+}

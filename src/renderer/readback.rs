@@ -1,0 +1,167 @@
+//! Reading a frame back, on explicit request: the CLI's render, the tests, the app's capture.
+//! The request rides on a frame like any other; the host waits for that frame alone and reads
+//! the layers and the tonemapped image from its per-frame buffer.
+
+use ash::vk;
+use leakless_graph::PassTiming;
+
+use super::{FrameReport, Renderer};
+use crate::error::Result;
+use crate::passes::tonemap::ViewLayer;
+use crate::settings::Method;
+use crate::splatting::SplatStats;
+
+/// The 8-bit image a PNG is saved from: the tonemap writes it, encoding sRGB itself.
+pub const DISPLAY_FORMAT: vk::Format = vk::Format::R8G8B8A8_UNORM;
+
+/// The per-frame buffer the layers are read back into.
+pub(super) const LAYERS_BUFFER: &str = "layers readback";
+
+/// What a readback also tonemaps (the PNG).
+#[derive(Clone, Copy, Debug)]
+pub(super) struct ReadbackRequest {
+    pub view: ViewLayer,
+    pub exposure: Option<f32>,
+}
+
+/// The layers of one rendered frame, linear radiance, row-major from the top-left pixel.
+#[derive(Clone, Debug)]
+pub struct RenderedFrame {
+    pub width: u32,
+    pub height: u32,
+    /// Final radiance: direct + indirect.
+    pub radiance: Vec<[f32; 3]>,
+    pub direct: Vec<[f32; 3]>,
+    pub indirect: Vec<[f32; 3]>,
+    /// Indirect light the visibility test removed (zero for methods without it).
+    pub leaked: Vec<[f32; 3]>,
+    /// The final image tonemapped as the window shows it (sRGB, RGBA8): the PNG.
+    pub display: Vec<[u8; 4]>,
+    /// Per-pass times, summed over the frames that made the image (a reference image
+    /// accumulates its samples over several).
+    pub timings: Vec<PassTiming>,
+    /// Host wall-clock time of the whole render.
+    pub wall_ms: f64,
+    /// What the photon method counted, for methods that splat.
+    pub splat: Option<SplatStats>,
+    /// Reference samples (or photon frames) in the image.
+    pub accumulated: u32,
+    /// The seed the image's photons were traced with.
+    pub seed: u32,
+}
+
+impl RenderedFrame {
+    pub fn pixel(layer: &[[f32; 3]], width: u32, x: u32, y: u32) -> [f32; 3] {
+        layer[(y * width + x) as usize]
+    }
+}
+
+impl Renderer {
+    /// Renders the image the settings ask for, from scratch, and reads its layers back: one
+    /// photon frame, or `spp` reference samples (over several frames).
+    pub fn render(&mut self) -> Result<RenderedFrame> {
+        self.render_with_progress(&mut |_, _| {})
+    }
+
+    /// As [`Renderer::render`]; `progress(done, total)` is called as reference samples
+    /// accumulate. A splat frame whose node lists overflowed is rendered once more with lists
+    /// large enough (unless the capacity was fixed by the user or is at its maximum, in which
+    /// case the drops are reported in the frame's stats).
+    pub fn render_with_progress(&mut self, progress: &mut dyn FnMut(u32, u32)) -> Result<RenderedFrame> {
+        let capacity = self.list_capacity;
+        let frame = self.render_once(progress)?;
+        if self.list_capacity > capacity {
+            return self.render_once(progress);
+        }
+        Ok(frame)
+    }
+
+    fn render_once(&mut self, progress: &mut dyn FnMut(u32, u32)) -> Result<RenderedFrame> {
+        let start = std::time::Instant::now();
+        self.wait_idle()?;
+        self.restart();
+        let total = if self.settings.method == Method::Reference { self.settings.spp } else { 1 };
+        let mut timings = Timings::default();
+        // Reference samples in submissions of about half a second: responsive progress, few
+        // submissions, far from the lost-device timeout. Each waits, to measure the next.
+        let mut chunk = 1;
+        let request = super::readback::ReadbackRequest { view: ViewLayer::Final, exposure: self.exposure };
+        while self.accumulated < total {
+            let t = std::time::Instant::now();
+            let last = self.accumulated + chunk >= total;
+            self.set_samples_per_frame(chunk.min(total - self.accumulated));
+            self.submit_frame(None, last.then_some(request))?;
+            self.wait_idle()?;
+            timings.add(&self.last.as_ref().expect("a frame completed").timings);
+            progress(self.accumulated.min(total), total);
+            let per_sample = t.elapsed().as_secs_f64() * 1e3 / chunk as f64;
+            chunk = ((500.0 / per_sample.max(1e-3)) as u32).clamp(1, 256);
+        }
+        self.set_samples_per_frame(1);
+        let report = self.last.clone().expect("a frame completed");
+        let mut frame = self.read_layers(&report)?;
+        frame.timings = timings.0;
+        frame.wall_ms = start.elapsed().as_secs_f64() * 1e3;
+        Ok(frame)
+    }
+
+    /// Renders the next frame of the current state (accumulation goes on) and reads it back:
+    /// what the window shows, as layers (the app's capture).
+    pub fn capture_frame(&mut self) -> Result<RenderedFrame> {
+        let request = ReadbackRequest { view: ViewLayer::Final, exposure: self.exposure };
+        self.submit_frame(None, Some(request))?;
+        self.wait_idle()?;
+        let report = self.last.clone().expect("a frame completed");
+        self.read_layers(&report)
+    }
+
+    /// Reads the layers the newest completed frame copied out (it must have been submitted
+    /// with a readback request).
+    fn read_layers(&self, report: &FrameReport) -> Result<RenderedFrame> {
+        let (width, height) = (self.settings.width, self.settings.height);
+        let n = (width * height) as usize;
+        let buffer = self.runner.pool().frame_buffer(LAYERS_BUFFER, report.slot).ok_or_else(|| {
+            crate::RenderError::Settings("reading layers back: the frame was not rendered with a readback".into())
+        })?;
+        let texels: Vec<[f32; 4]> = buffer.read_vec(4 * n)?;
+        let layer =
+            |i: usize| -> Vec<[f32; 3]> { texels[i * n..(i + 1) * n].iter().map(|t| [t[0], t[1], t[2]]).collect() };
+        let mut display = vec![[0u8; 4]; n];
+        buffer.read(4 * n as u64 * 16, bytemuck::cast_slice_mut(&mut display))?;
+        Ok(RenderedFrame {
+            width,
+            height,
+            radiance: layer(0),
+            direct: layer(1),
+            indirect: layer(2),
+            leaked: layer(3),
+            display,
+            timings: report.timings.clone(),
+            wall_ms: report.wall_ms,
+            splat: report.splat.clone(),
+            accumulated: report.accumulated,
+            seed: report.seed,
+        })
+    }
+}
+
+/// Per-pass times summed by pass name, in first-run order.
+#[derive(Default)]
+struct Timings(Vec<PassTiming>);
+
+impl Timings {
+    fn add(&mut self, run: &[PassTiming]) {
+        for t in run {
+            match self.0.iter_mut().find(|x| x.name == t.name) {
+                Some(x) => {
+                    x.ms += t.ms;
+                    x.wall_ms = match (x.wall_ms, t.wall_ms) {
+                        (Some(a), Some(b)) => Some(a + b),
+                        (a, b) => a.or(b),
+                    };
+                }
+                None => self.0.push(t.clone()),
+            }
+        }
+    }
+}
