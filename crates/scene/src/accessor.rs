@@ -11,10 +11,6 @@ use gltf::json;
 use json::accessor::{ComponentType, Type};
 use json::validation::Checked;
 
-/// Accessors whose data is implicit (no buffer view) allocate `count` elements;
-/// this caps what a hostile file can make us allocate that way.
-const MAX_IMPLICIT_ELEMENTS: u64 = 1 << 26;
-
 /// The document's buffers, for reading accessors and buffer views.
 pub(crate) struct Data<'a> {
     pub root: &'a json::Root,
@@ -118,8 +114,15 @@ impl<'a> Data<'a> {
                 })?
             }
             None => {
-                if count > MAX_IMPLICIT_ELEMENTS {
-                    return Err(format!("accessor {index}: {count} elements without a buffer view"));
+                // Implicit data is `count` zeros that no bytes in the file back, and
+                // every consumer allocates per element: a tiny file could ask for
+                // gigabytes. So it may not be larger than the file's buffers together
+                // (a sparse accessor's few values live there, and an attribute is
+                // as long as the buffer-backed ones beside it).
+                let held: u64 = self.buffers.iter().map(|b| b.len() as u64).sum();
+                if count.checked_mul(elem as u64).is_none_or(|bytes| bytes > held) {
+                    let what = format!("{count} elements without a buffer view");
+                    return Err(format!("accessor {index}: {what} exceed the {held} bytes of the file's buffers"));
                 }
                 vec![&zeros[..]; count as usize]
             }

@@ -1,7 +1,7 @@
 //! The view: the file's first perspective camera or one framing the scene.
 //!
 //! Only `yfov` (and the clip distances) are kept: the aspect ratio follows the
-//! output image (DESIGN.md §4), so a file's `aspectRatio` is ignored.
+//! output image (docs/architecture.md §4), so a file's `aspectRatio` is ignored.
 
 use glam::{Mat4, Vec3, Vec4};
 use gltf::json;
@@ -41,6 +41,23 @@ impl Camera {
     /// The view matrix (world to camera space).
     pub fn view_from_world(&self) -> Mat4 {
         self.world_from_camera.inverse()
+    }
+
+    /// A camera at `eye` looking at `target`, `up` as near its +Y as possible, with the
+    /// clip distances of `clip` (`None` when the three points give no view direction or no
+    /// up direction). The CLI's `--camera` and the app's fly camera both build cameras here,
+    /// so the same four values give bit-identical views.
+    pub fn look_at(eye: Vec3, target: Vec3, up: Vec3, yfov: f32, clip: &Camera) -> Option<Camera> {
+        let back = (eye - target).normalize_or_zero();
+        let right = up.cross(back).normalize_or_zero();
+        if back == Vec3::ZERO || right == Vec3::ZERO || !eye.is_finite() || !(yfov > 0.0 && yfov < std::f32::consts::PI)
+        {
+            return None;
+        }
+        let up = back.cross(right);
+        let world_from_camera =
+            Mat4::from_cols(right.extend(0.0), up.extend(0.0), back.extend(0.0), eye.extend(1.0));
+        Some(Camera { world_from_camera, yfov, znear: clip.znear, zfar: clip.zfar })
     }
 
     /// A camera on the +Z side of `bounds` looking at its centre along -Z, yfov 45°,

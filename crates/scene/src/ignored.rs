@@ -1,4 +1,4 @@
-//! The one "ignored: ..." warning line (DESIGN.md §4).
+//! The one "ignored: ..." warning line (docs/architecture.md §4).
 //!
 //! A file from any exporter should load, so unused features are never errors, but
 //! the user should know in one glance why a scene may look different from another
@@ -36,7 +36,8 @@ impl Ignored {
     /// this file, and anything in it that will not show is worth a mention).
     pub fn scan(root: &json::Root, extra_extensions: &[String]) -> Ignored {
         let mut ig = Ignored::default();
-        counted(&mut ig, root.animations.len(), "animation");
+        // Animations are played (node TRS channels); `weights` channels and
+        // unknown paths are reported by `animation::load`.
         counted(&mut ig, root.skins.len(), "skin");
         counted(&mut ig, root.scenes.len().saturating_sub(1), "other scene");
         let prims = || root.meshes.iter().flat_map(|m| m.primitives.iter());

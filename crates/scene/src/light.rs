@@ -1,6 +1,6 @@
 //! `KHR_lights_punctual` lights in radiometric units.
 //!
-//! DESIGN.md §4: point and spot intensities are radiant intensity (W/sr) and
+//! docs/architecture.md §4: point and spot intensities are radiant intensity (W/sr) and
 //! directional intensity is irradiance (W/m²), taken as given, with no 683 lm/W
 //! photometric factor, so a scene's numbers are the renderer's numbers and the
 //! analytic tests can use them directly.

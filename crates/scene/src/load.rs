@@ -6,7 +6,9 @@ use glam::{Mat4, Quat, Vec3};
 use gltf::json;
 
 use crate::accessor::Data;
+use crate::animation::{self, Channel, Rig, Slot};
 use crate::ignored::{counted, Ignored};
+use crate::instance::{self, Instance};
 use crate::material::{self, Material};
 use crate::mesh::{Geometry, MeshError};
 use crate::uri::{self, SourceError};
@@ -36,6 +38,16 @@ pub(crate) fn load(path: &Path) -> Result<Scene, SceneError> {
     let mut ignored = Ignored::scan(&root, &waived);
     let material::Loaded { mut materials, textures, warnings: material_warnings } = material::load(&root, &data, base)
         .map_err(|e| SceneError::Image { path: path.into(), index: e.index, message: e.message })?;
+    let animation::Loaded { channels, ignored: ignored_channels } = animation::load(&root, &data).map_err(|e| {
+        SceneError::Animation { path: path.into(), animation: e.animation, channel: e.channel, message: e.message }
+    })?;
+    for item in ignored_channels {
+        ignored.add(item);
+    }
+    let mut targets = vec![Vec::new(); root.nodes.len()];
+    for (i, c) in channels.iter().enumerate() {
+        targets[c.target].push(i);
+    }
 
     let mut walk = Walk {
         geometry: Geometry::default(),
@@ -43,6 +55,10 @@ pub(crate) fn load(path: &Path) -> Result<Scene, SceneError> {
         lights: Vec::new(),
         warnings: Vec::new(),
         further_cameras: 0,
+        channels,
+        targets,
+        rig: Rig::default(),
+        instances: Vec::new(),
     };
     let scene = root.scene.and_then(|i| root.scenes.get(i.value())).or(root.scenes.first());
     let roots: Vec<usize> = match scene {
@@ -70,7 +86,34 @@ pub(crate) fn load(path: &Path) -> Result<Scene, SceneError> {
     }
     counted(&mut ignored, walk.further_cameras, "further camera");
 
-    let g = walk.geometry;
+    let mut g = walk.geometry;
+    let rig = walk.rig;
+    // Animated mesh nodes' triangles follow the static ones, placed at t = 0 by
+    // the same function a renderer calls per frame.
+    let mut instances = Vec::with_capacity(walk.instances.len());
+    let world = if walk.instances.is_empty() { Vec::new() } else { rig.world_at(0.0) };
+    // Every pose the animation reaches must stay finite: checked at the times the bounds
+    // sample (every key and points between), beyond t = 0.
+    let poses: Vec<Vec<glam::Mat4>> = rig.bounds_times().into_iter().map(|t| rig.world_at(t)).collect();
+    for p in walk.instances {
+        let vertices = instance::world_vertices(&p.local_vertices, &world[p.slot]);
+        let finite = |vs: &[crate::Vertex]| vs.iter().all(|v| v.position.iter().chain(&v.normal).all(|x| x.is_finite()));
+        if !finite(&vertices) || poses.iter().any(|w| !finite(&instance::world_vertices(&p.local_vertices, &w[p.slot])))
+        {
+            return Err(SceneError::NonFinitePosition { name, mesh: p.mesh });
+        }
+        let first_triangle = g.triangle_material.len() as u32;
+        let triangle_count = p.materials.len() as u32;
+        g.vertices.extend(vertices);
+        g.triangle_material.extend(p.materials);
+        instances.push(Instance {
+            name: p.name,
+            first_triangle,
+            triangle_count,
+            local_vertices: p.local_vertices,
+            slot: p.slot,
+        });
+    }
     if g.vertices.is_empty() {
         return Err(SceneError::NoTriangles { name });
     }
@@ -104,6 +147,8 @@ pub(crate) fn load(path: &Path) -> Result<Scene, SceneError> {
         lights: walk.lights,
         warnings,
         extras,
+        instances,
+        rig,
     })
 }
 
@@ -209,6 +254,22 @@ struct Walk {
     lights: Vec<crate::Light>,
     warnings: Vec<String>,
     further_cameras: usize,
+    /// Every valid channel in the file, and for each node the indices of those
+    /// driving it; the walk moves those of placed nodes into `rig`.
+    channels: Vec<Channel>,
+    targets: Vec<Vec<usize>>,
+    rig: Rig,
+    instances: Vec<PendingInstance>,
+}
+
+/// An animated mesh node's triangles, in mesh space, until the walk is done.
+struct PendingInstance {
+    name: String,
+    /// The mesh's label for errors.
+    mesh: String,
+    slot: usize,
+    local_vertices: Vec<crate::Vertex>,
+    materials: Vec<u32>,
 }
 
 impl Walk {
@@ -224,8 +285,10 @@ impl Walk {
     ) -> Result<(), (String, MeshError)> {
         let mut visited = vec![false; root.nodes.len()];
         let mut revisits = 0usize;
-        let mut stack: Vec<(usize, Mat4)> = roots.iter().rev().map(|&n| (n, Mat4::IDENTITY)).collect();
-        while let Some((index, parent)) = stack.pop() {
+        // (node, parent's world transform, parent's rig slot)
+        let mut stack: Vec<(usize, Mat4, Option<usize>)> =
+            roots.iter().rev().map(|&n| (n, Mat4::IDENTITY, None)).collect();
+        while let Some((index, parent, parent_slot)) = stack.pop() {
             let Some(node) = root.nodes.get(index) else {
                 continue;
             };
@@ -233,16 +296,39 @@ impl Walk {
                 revisits += 1;
                 continue;
             }
-            let world = parent * local_matrix(node);
+            let slot = self.rig.slots.len();
+            let mut channels = Vec::new();
+            for &c in &self.targets[index] {
+                let mut ch = self.channels[c].clone();
+                ch.target = slot;
+                channels.push(self.rig.channels.len());
+                self.rig.channels.push(ch);
+            }
+            let animated = !channels.is_empty() || parent_slot.is_some_and(|p| self.rig.slots[p].animated);
+            let rest = animation::rest_trs(node);
+            self.rig.slots.push(Slot { parent: parent_slot, local: local_matrix(node), rest, channels, animated });
+            // Without channels this is `parent * local_matrix(node)`.
+            let world = parent * self.rig.local_at(slot, 0.0);
             let mesh = node.mesh.map(|m| m.value());
             if let Some((mi, mesh)) = mesh.and_then(|mi| root.meshes.get(mi).map(|m| (mi, m))) {
-                self.geometry.append(mesh, world, data, &mut material).map_err(|e| {
-                    let label = match &mesh.name {
-                        Some(n) => format!("{mi} '{n}'"),
-                        None => mi.to_string(),
-                    };
-                    (label, e)
-                })?;
+                let label = || match &mesh.name {
+                    Some(n) => format!("{mi} '{n}'"),
+                    None => mi.to_string(),
+                };
+                if animated {
+                    // Mesh space now; placed after the walk (see `load`).
+                    let (v0, t0) = (self.geometry.vertices.len(), self.geometry.triangle_material.len());
+                    self.geometry.append(mesh, Mat4::IDENTITY, data, &mut material).map_err(|e| (label(), e))?;
+                    let local_vertices = self.geometry.vertices.split_off(v0);
+                    let materials = self.geometry.triangle_material.split_off(t0);
+                    if !materials.is_empty() {
+                        let name =
+                            node.name.clone().or_else(|| mesh.name.clone()).unwrap_or_else(|| format!("node {index}"));
+                        self.instances.push(PendingInstance { name, mesh: label(), slot, local_vertices, materials });
+                    }
+                } else {
+                    self.geometry.append(mesh, world, data, &mut material).map_err(|e| (label(), e))?;
+                }
             }
             let camera = node.camera.map(|c| c.value());
             if let Some((ci, cam)) = camera.and_then(|ci| root.cameras.get(ci).map(|c| (ci, c))) {
@@ -250,7 +336,12 @@ impl Walk {
                     self.further_cameras += 1;
                 } else {
                     match camera::from_json(ci, cam, world) {
-                        Ok(cam) => self.camera = Some(cam),
+                        Ok(c) => {
+                            if animated {
+                                self.rig.camera = Some((slot, ci, cam.clone()));
+                            }
+                            self.camera = Some(c);
+                        }
                         Err(w) => self.warnings.push(w),
                     }
                 }
@@ -264,13 +355,18 @@ impl Walk {
                     .and_then(|e| e.khr_lights_punctual.as_ref())
                     .and_then(|l| l.lights.get(li));
                 match def.map(|d| light::from_json(li, d, world)) {
-                    Some(Ok(l)) => self.lights.push(l),
+                    Some(Ok(l)) => {
+                        if let (true, Some(d)) = (animated, def) {
+                            self.rig.lights.push((self.lights.len(), slot, li, d.clone()));
+                        }
+                        self.lights.push(l);
+                    }
                     Some(Err(w)) => self.warnings.push(w),
                     None => self.warnings.push(format!("node {index} references missing light {li}")),
                 }
             }
             for c in node.children.iter().flatten().rev() {
-                stack.push((c.value(), world));
+                stack.push((c.value(), world, Some(slot)));
             }
         }
         if revisits > 0 {

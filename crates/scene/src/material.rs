@@ -1,6 +1,6 @@
 //! Lambertian albedo: `baseColorFactor` × `baseColorTexture`, plus `MASK` cut-outs.
 //!
-//! The renderer is diffuse-only (DESIGN.md §1), so a glTF material reduces to its
+//! The renderer is diffuse-only (docs/architecture.md §1), so a glTF material reduces to its
 //! base colour. Textures are decoded to RGBA8 once, here, so the GPU side only
 //! uploads bytes; they stay sRGB-encoded so an `*_SRGB` image format decodes them
 //! in the sampler.
@@ -80,6 +80,7 @@ pub(crate) fn load(root: &json::Root, data: &Data, base: &Path) -> Result<Loaded
     let mut textures = Vec::new();
     let mut by_image: HashMap<usize, u32> = HashMap::new();
     let mut blend = Vec::new();
+    let mut clamped = Vec::new();
     for (i, m) in root.materials.iter().enumerate() {
         let name = m.name.clone().unwrap_or_else(|| format!("material {i}"));
         let pbr = &m.pbr_metallic_roughness;
@@ -114,7 +115,14 @@ pub(crate) fn load(root: &json::Root, data: &Data, base: &Path) -> Result<Loaded
             }
             _ => None,
         };
-        materials.push(Material { name, base_color: Vec4::from(pbr.base_color_factor.0), texture, alpha_cutoff });
+        // glTF's range is [0, 1]: beyond it an albedo creates or destroys energy, and a
+        // number past f32's range (1e39) reads as infinity.
+        let factor = Vec4::from(pbr.base_color_factor.0);
+        let base_color = factor.clamp(Vec4::ZERO, Vec4::ONE);
+        if base_color != factor {
+            clamped.push(format!("'{name}'"));
+        }
+        materials.push(Material { name, base_color, texture, alpha_cutoff });
     }
     let mut warnings = Vec::new();
     if !blend.is_empty() {
@@ -123,6 +131,10 @@ pub(crate) fn load(root: &json::Root, data: &Data, base: &Path) -> Result<Loaded
             if blend.len() > 1 { "s" } else { "" },
             blend.join(", ")
         ));
+    }
+    if !clamped.is_empty() {
+        let s = if clamped.len() > 1 { "s" } else { "" };
+        warnings.push(format!("baseColorFactor clamped to [0, 1]: material{s} {}", clamped.join(", ")));
     }
     Ok(Loaded { materials, textures, warnings })
 }

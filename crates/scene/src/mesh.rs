@@ -92,16 +92,17 @@ impl Geometry {
                 }
                 // Degenerate triangles keep a valid (arbitrary) normal so no NaN
                 // reaches a shader; they are never hit anyway.
-                let face = (p[1] - p[0]).cross(p[2] - p[0]).try_normalize().unwrap_or(Vec3::Y);
+                let face = unit((p[1] - p[0]).cross(p[2] - p[0])).unwrap_or(Vec3::Y);
                 for (k, &i) in t.iter().enumerate() {
                     let i = i as usize;
                     let normal = normals
                         .as_ref()
-                        .and_then(|ns| {
-                            (normal_matrix * Vec3::new(ns[3 * i], ns[3 * i + 1], ns[3 * i + 2])).try_normalize()
-                        })
+                        .and_then(|ns| unit(normal_matrix * Vec3::new(ns[3 * i], ns[3 * i + 1], ns[3 * i + 2])))
                         .unwrap_or(face);
+                    // A non-finite coordinate (a float from a corrupt buffer) would reach
+                    // the sampler as NaN: it reads as 0, as for a primitive without UVs.
                     let uv = uvs.as_ref().map_or(Vec2::ZERO, |u| Vec2::new(u[2 * i], u[2 * i + 1]));
+                    let uv = Vec2::select(uv.is_finite_mask(), uv, Vec2::ZERO);
                     self.vertices.push(Vertex {
                         position: p[k].to_array(),
                         normal: normal.to_array(),
@@ -120,6 +121,17 @@ impl Geometry {
             None => self.skipped_modes.push((name, 1)),
         }
     }
+}
+
+/// `v` at unit length, or `None` for a zero or non-finite vector. Divided by its
+/// largest component first: a tiny vector's squared length is subnormal (a huge
+/// one's overflows), and normalizing that directly gives a length well off 1.
+pub(crate) fn unit(v: Vec3) -> Option<Vec3> {
+    let m = v.abs().max_element();
+    if !(m.is_finite() && m > 0.0) {
+        return None;
+    }
+    (v / m).try_normalize()
 }
 
 /// Requires an attribute to have as many elements as the positions.

@@ -59,7 +59,22 @@ pub(crate) fn read_uri(uri: &str, base: &Path) -> Result<Vec<u8>, SourceError> {
     let decoded = percent_decode(relative)
         .ok_or_else(|| SourceError::Other(format!("invalid percent-encoding in URI '{uri}'")))?;
     let file = base.join(decoded);
-    std::fs::read(&file).map_err(|e| SourceError::Io(file, e))
+    read_regular(&file).map_err(|e| SourceError::Io(file, e))
+}
+
+/// Reads a regular file, at most the size it had when opened. A URI may name a
+/// device (`/dev/zero` reads until memory runs out) or a FIFO (opening it blocks),
+/// so anything else is refused before it is opened.
+fn read_regular(path: &Path) -> std::io::Result<Vec<u8>> {
+    use std::io::Read;
+    if !std::fs::metadata(path)?.is_file() {
+        return Err(std::io::Error::new(std::io::ErrorKind::InvalidInput, "not a regular file"));
+    }
+    let file = std::fs::File::open(path)?;
+    let len = file.metadata()?.len();
+    let mut out = Vec::new();
+    file.take(len).read_to_end(&mut out)?;
+    Ok(out)
 }
 
 impl std::fmt::Display for SourceError {

@@ -148,10 +148,15 @@ fn floor_light_matches_its_analytic_setup() {
 fn textured_glb_hierarchy_texture_and_lights() {
     let s = load("tests/scenes/textured.glb");
     assert_eq!(s.triangle_count(), 4, "one quad under two nodes");
+    // The file's animation ("slide") moves "child", so its quad is an instance,
+    // after the static "mirrored child" quad; at t = 0 it sits at its rest pose.
+    assert_eq!(s.instances.len(), 1);
+    let i = &s.instances[0];
+    assert_eq!((i.name.as_str(), i.first_triangle, i.triangle_count, s.static_triangle_count()), ("child", 2, 2, 2));
     // parent = T(1,2,3) · Ry(90°) · S(2,3,1); child = T(0,0,1); Ry(90°) maps
     // (x,y,z) to (z,y,-x). Quad corner (-0.5,-0.5,0) → (-0.5,-0.5,1) → S (-1,-1.5,1)
     // → R (1,-1.5,1) → T (2,0.5,4); and so on for the other corners.
-    let child: Vec<Vec3> = s.vertices[..6].iter().map(|v| Vec3::from(v.position)).collect();
+    let child: Vec<Vec3> = s.vertices[6..12].iter().map(|v| Vec3::from(v.position)).collect();
     let expected =
         [(2.0, 0.5, 4.0), (2.0, 0.5, 2.0), (2.0, 3.5, 2.0), (2.0, 0.5, 4.0), (2.0, 3.5, 2.0), (2.0, 3.5, 4.0)];
     for (p, e) in child.iter().zip(expected) {
@@ -161,11 +166,11 @@ fn textured_glb_hierarchy_texture_and_lights() {
     for v in &s.vertices {
         assert!(close(Vec3::from(v.normal), Vec3::X, 1e-6), "normal {:?}", v.normal);
     }
-    assert_eq!(s.vertices[0].uv, [0.0, 1.0]);
-    assert_eq!(s.vertices[2].uv, [1.0, 0.0]);
+    assert_eq!(s.vertices[6].uv, [0.0, 1.0]);
+    assert_eq!(s.vertices[8].uv, [1.0, 0.0]);
     // Mirrored child = T(0,0,-1) · S(-1,1,1): corner 0 → (0.5,-0.5,-1) → (1,-1.5,-1)
     // → (-1,-1.5,-1) → (0,0.5,2). Its winding is flipped back to match the normal.
-    assert!(close(Vec3::from(s.vertices[6].position), Vec3::new(0.0, 0.5, 2.0), 1e-5));
+    assert!(close(Vec3::from(s.vertices[0].position), Vec3::new(0.0, 0.5, 2.0), 1e-5));
     assert_winding_matches_normals(&s);
 
     assert_eq!(s.textures.len(), 1);
@@ -194,7 +199,7 @@ fn textured_glb_hierarchy_texture_and_lights() {
     assert!(close(sun.direction, Vec3::new(0.0, -h, -h), 1e-6), "{}", sun.direction);
     assert_eq!((sun.intensity, sun.range), (3.0, None));
 
-    assert_eq!(s.warnings, vec!["ignored: 1 animation, normal textures".to_string()]);
+    assert_eq!(s.warnings, vec!["ignored: normal textures".to_string()]);
     assert!(s.camera.is_none());
 }
 
