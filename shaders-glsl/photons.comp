@@ -1,5 +1,5 @@
 #version 460
-// Photon tracing (DESIGN.md §1): one thread per light path. A light is chosen in proportion to
+// Photon tracing (docs/architecture.md §1): one thread per light path. A light is chosen in proportion to
 // its emitted power (CDF from src/photon_lights.rs), a direction (and for directional lights an
 // origin) is drawn from Owen-scrambled Sobol points, and the path bounces Lambertian-ly. The
 // first hit is direct light and is not stored (unless `store_direct`, a diagnostic); every

@@ -17,12 +17,15 @@ layout(push_constant) uniform TonemapParams {
     float exposure;     // > 0: fixed; 0: automatic
     uint encode_srgb;   // 1: the target is UNORM, encode here; 0: its format encodes
     uint pad0;
+    vec2 source_scale;  // layer pixels per target pixel (the app renders below window size)
+    uint pad1;
+    uint pad2;
 } params;
 
 layout(location = 0) out vec4 out_color;
 
 void main() {
-    ivec2 pixel = ivec2(gl_FragCoord.xy);
+    ivec2 pixel = min(ivec2(gl_FragCoord.xy * params.source_scale), imageSize(displayed) - 1);
     vec4 texel = imageLoad(displayed, pixel);
     float exposure = params.exposure;
     if (exposure <= 0.0) {

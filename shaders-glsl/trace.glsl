@@ -1,4 +1,4 @@
-// The one trace interface of leakless (DESIGN.md §3): traceClosest and traceOccluded, on
+// The one trace interface of leakless (docs/architecture.md §3): traceClosest and traceOccluded, on
 // GL_EXT_ray_query against a TLAS (TRACE_RAYQUERY) or on a stack-based traversal of a BVH in
 // storage buffers (TRACE_COMPUTE). build.rs compiles every shader including this file in both
 // variants. Include it first, right after #version: it may enable an extension.

@@ -1,4 +1,4 @@
-// The compute-shader trace backend (DESIGN.md §3): a stack-based traversal of the binary BVH
+// The compute-shader trace backend (docs/architecture.md §3): a stack-based traversal of the binary BVH
 // that crates/accel builds on the CPU. trace.glsl includes this file under TRACE_COMPUTE after
 // defining Hit, NO_HIT, TRACE_BINDING and trace_alpha_pass.
 //

@@ -22,7 +22,7 @@ pub struct RenderSettings {
     pub splat: SplatSettings,
 }
 
-/// What computes the indirect light (DESIGN.md §2).
+/// What computes the indirect light (docs/architecture.md §2).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum Method {
     /// Direct light only: no indirect layer.

@@ -1,4 +1,4 @@
-//! The trace backends (DESIGN.md §3): which one runs, the scene structures each needs, and how
+//! The trace backends (docs/architecture.md §3): which one runs, the scene structures each needs, and how
 //! a tracing pass binds them. Shaders see one interface (`trace.glsl`); the Rust side sees
 //! [`TraceScene`], built once per scene, and [`TraceHandles`], imported once per frame.
 

@@ -15,8 +15,9 @@ fn chart_smoke_compute_backend() {
         return;
     }
     let validation = std::env::var("LEAKLESS_VALIDATION").map_or(true, |v| v != "0");
-    let open =
-        |ray_tracing: bool| Gpu::new(&GpuOptions { validation: Some(validation), ray_tracing }).map_err(Into::into);
+    let open = |ray_tracing: bool| {
+        Gpu::new(&GpuOptions { validation: Some(validation), ray_tracing, window: None }).map_err(Into::into)
+    };
     let scene = common::scene("scenes/cornell-box.gltf");
     let method = *chart::default_methods().last().expect("the splat method at least");
     let config = ChartConfig {

@@ -33,30 +33,23 @@ fn corner() -> Scene {
         Vec3::X,
     ));
     let eye = Vec3::new(2.5, 1.6, 0.3);
-    Scene {
-        name: "corner".into(),
-        triangle_material: vec![0; vertices.len() / 3],
-        vertices,
-        materials: vec![Material::default_white()],
-        textures: vec![],
-        camera: Some(Camera {
-            world_from_camera: glam::camera::rh::view::look_at_mat4(eye, Vec3::new(0.0, 0.3, 0.0), Vec3::Y).inverse(),
-            yfov: 1.0,
-            znear: 0.01,
-            zfar: None,
-        }),
-        lights: vec![Light {
-            name: "bulb".into(),
-            kind: LightKind::Point,
-            position: Vec3::new(1.0, 1.2, 0.0),
-            direction: Vec3::NEG_Y,
-            color: Vec3::ONE,
-            intensity: 1.0,
-            range: None,
-        }],
-        warnings: vec![],
-        extras: None,
-    }
+    let camera = Camera {
+        world_from_camera: glam::camera::rh::view::look_at_mat4(eye, Vec3::new(0.0, 0.3, 0.0), Vec3::Y).inverse(),
+        yfov: 1.0,
+        znear: 0.01,
+        zfar: None,
+    };
+    let light = Light {
+        name: "bulb".into(),
+        kind: LightKind::Point,
+        position: Vec3::new(1.0, 1.2, 0.0),
+        direction: Vec3::NEG_Y,
+        color: Vec3::ONE,
+        intensity: 1.0,
+        range: None,
+    };
+    let triangles = vec![0; vertices.len() / 3];
+    Scene::from_triangles("corner", vertices, triangles, vec![Material::default_white()], vec![light], Some(camera))
 }
 
 #[test]

@@ -2,7 +2,7 @@
 
 mod common;
 
-use leakless::output::{exr, png};
+use leakless::output::exr;
 
 #[test]
 fn exr_layers_and_attributes_round_trip() {
@@ -39,11 +39,38 @@ fn exr_rejects_a_layer_of_the_wrong_size() {
     assert!(err.to_string().contains("3 pixels"), "{err}");
 }
 
+/// The PNG's definition, on the CPU: automatic exposure (log-average luminance of the pixels
+/// above 1e-6 to middle grey), Narkowicz's ACES fit, sRGB encoding.
+fn cpu_tonemap(pixels: &[[f32; 3]]) -> Vec<[u8; 3]> {
+    let lum = |c: [f32; 3]| 0.2126 * c[0] as f64 + 0.7152 * c[1] as f64 + 0.0722 * c[2] as f64;
+    let logs: Vec<f64> = pixels.iter().map(|&p| lum(p)).filter(|l| *l > 1e-6).map(f64::ln).collect();
+    let exposure = if logs.is_empty() { 1.0 } else { 0.18 / (logs.iter().sum::<f64>() / logs.len() as f64).exp() };
+    let filmic = |x: f64| ((x * (2.51 * x + 0.03)) / (x * (2.43 * x + 0.59) + 0.14)).clamp(0.0, 1.0);
+    let srgb = |x: f64| if x <= 0.0031308 { 12.92 * x } else { 1.055 * x.powf(1.0 / 2.4) - 0.055 };
+    pixels.iter().map(|p| p.map(|c| (srgb(filmic(c.max(0.0) as f64 * exposure)) * 255.0).round() as u8)).collect()
+}
+
 #[test]
-fn tonemap_maps_black_to_black_and_saturates_monotonically() {
-    let px = [[0.0, 0.0, 0.0], [0.1, 0.1, 0.1], [1.0, 1.0, 1.0], [100.0, 100.0, 100.0]];
-    let out = png::tonemap(&px, 1.0);
-    assert_eq!(&out[0..3], &[0, 0, 0]);
-    assert!(out[3] < out[6] && out[6] < out[9]);
-    assert_eq!(out[9], 255);
+fn gpu_tonemap_is_the_png_definition() {
+    let settings = leakless::RenderSettings { width: 64, height: 48, ..Default::default() };
+    let Some(frame) = common::render_with("scenes/cornell-box.gltf", settings) else { return };
+    let expected = cpu_tonemap(&frame.radiance);
+    let mut worst = 0;
+    for (gpu, cpu) in frame.display.iter().zip(&expected) {
+        for c in 0..3 {
+            worst = worst.max((gpu[c] as i32 - cpu[c] as i32).abs());
+        }
+    }
+    // float32 on the GPU against float64 here: at most one step of 255 apart.
+    assert!(worst <= 1, "GPU tonemap differs from the PNG's definition by {worst}/255");
+    assert!(frame.display.iter().any(|p| p[0] > 200), "a bright pixel exists");
+    assert!(frame.display.iter().all(|p| p[3] == 255));
+    // The GPU's leaked-energy sums agree with the layers read back.
+    let lum = |l: &[[f32; 3]]| {
+        l.iter().map(|c| 0.2126 * c[0] as f64 + 0.7152 * c[1] as f64 + 0.0722 * c[2] as f64).sum::<f64>()
+    };
+    let (lost, kept) = (lum(&frame.leaked), lum(&frame.indirect));
+    let host = lost / (lost + kept);
+    let gpu = frame.splat.as_ref().unwrap().leaked_energy_fraction;
+    assert!(host > 0.0 && (gpu - host).abs() <= 1e-4 * host.max(1e-3), "leaked fraction: GPU {gpu}, layers {host}");
 }

@@ -22,7 +22,7 @@ use crate::{Method, RenderSettings, Renderer, SplatSettings};
 
 pub use metrics::Errors;
 
-/// The methods charted by default: those of DESIGN.md §2 that this build knows.
+/// The methods charted by default: those of docs/architecture.md §2 that this build knows.
 pub fn default_methods() -> Vec<Method> {
     ["splat", "leakless-capped", "leakless"].into_iter().filter_map(Method::parse).collect()
 }

@@ -5,7 +5,7 @@ use std::path::Path;
 use serde::Serialize;
 
 use crate::error::{RenderError, Result};
-use crate::{RenderedFrame, Renderer, Scene};
+use crate::{RenderedFrame, Renderer};
 
 #[derive(Clone, Debug, Serialize)]
 pub struct PassTime {
@@ -44,19 +44,22 @@ pub struct Stats {
     pub splat: Option<crate::splatting::SplatStats>,
     pub passes: Vec<PassTime>,
     pub frame_gpu_ms: f64,
-    /// Host wall-clock time of the whole frame (submission to completion).
+    /// Host wall-clock time of the whole render (submission to completion).
     pub frame_wall_ms: f64,
+    /// Reference samples (or photon frames) in the image.
+    pub accumulated: u32,
+    /// The seed of the image's photons.
+    pub seed: u32,
+    /// The `leakless render` command that renders this image again (captures).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub command: Option<String>,
 }
 
 impl Stats {
-    pub fn new(
-        scene: &Scene,
-        device: &leakless_device::DeviceReport,
-        renderer: &Renderer,
-        frame: &RenderedFrame,
-    ) -> Stats {
+    pub fn new(renderer: &Renderer, frame: &RenderedFrame, command: Option<String>) -> Stats {
         let t = renderer.trace_stats();
         let settings = renderer.settings();
+        let (scene, device) = (renderer.scene(), renderer.gpu().report());
         Stats {
             scene: scene.name.clone(),
             device: device.name.clone(),
@@ -77,6 +80,9 @@ impl Stats {
             splat: frame.splat.clone(),
             frame_gpu_ms: frame.timings.iter().map(|t| t.ms).sum(),
             frame_wall_ms: frame.wall_ms,
+            accumulated: frame.accumulated,
+            seed: frame.seed,
+            command,
             passes: frame
                 .timings
                 .iter()

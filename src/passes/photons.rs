@@ -1,4 +1,4 @@
-//! Photon tracing (`photons.comp`, DESIGN.md §1): N light paths from the scene's lights, each
+//! Photon tracing (`photons.comp`, docs/architecture.md §1): N light paths from the scene's lights, each
 //! storing a photon at every hit after the first (the first is direct light, computed exactly
 //! elsewhere), at most `max_bounces` per path, appended to a fixed-capacity buffer through an
 //! atomic counter that also counts what did not fit.

@@ -74,6 +74,11 @@ gpu_struct! {
         /// 1: the target is UNORM and the shader sRGB-encodes; 0: the target's format does.
         pub encode_srgb: u32,
         pub pad0: u32,
+        /// Layer pixels per target pixel: the target may be larger than the layers (nearest
+        /// neighbour).
+        pub source_scale: [f32; 2],
+        pub pad1: u32,
+        pub pad2: u32,
     }
 }
 
@@ -114,7 +119,8 @@ impl TonemapPass {
     }
 
     /// Tonemaps `displayed` (shown as `layer`) into `target`, whose format must be this
-    /// pass's; `exposure` `None` is automatic, from `stats`.
+    /// pass's and which may be larger (scaled up, nearest neighbour); `exposure` `None` is
+    /// automatic, from `stats`.
     pub fn add<'r>(
         &'r self,
         graph: &mut Graph<'r>,
@@ -125,11 +131,13 @@ impl TonemapPass {
         target: &mut ImageHandle,
     ) {
         assert_eq!(target.format(), self.format, "tonemap target format");
+        let (from, to) = (displayed.extent(), target.extent());
         let params = TonemapParams {
             mode: layer.mode(),
             exposure: exposure.unwrap_or(0.0),
             encode_srgb: !is_srgb(self.format) as u32,
-            pad0: 0,
+            source_scale: [from.width as f32 / to.width as f32, from.height as f32 / to.height as f32],
+            ..Default::default()
         };
         let mut pass = graph.pass("tonemap");
         let own = TonemapBindings {

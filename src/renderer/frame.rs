@@ -71,9 +71,11 @@ impl Renderer {
             self.collect(done)?;
         }
         let method = self.settings.method;
+        // Paused: the layers of the last frame are shown again; nothing new is rendered.
+        let render = !self.paused;
         let first = self.accumulated == 0;
         let seed = self.frame_seed();
-        let splat = self.settings.photon_settings().map(|settings| SplatFrame {
+        let splat = self.settings.photon_settings().filter(|_| render).map(|settings| SplatFrame {
             radius: settings.radius.unwrap_or(0.05 * self.scene.bounds().bounding_radius()),
             settings,
             max_bounces: self.settings.max_bounces,
@@ -86,9 +88,10 @@ impl Renderer {
             }
         }
         let samples = if method == Method::Reference { self.samples_per_frame } else { 0 };
-        let accumulated = match method {
-            Method::Reference => self.accumulated + samples,
-            _ => 1,
+        let accumulated = match (render, method) {
+            (false, _) => self.accumulated,
+            (true, Method::Reference) => self.accumulated + samples,
+            (true, _) => 1,
         };
         let frame_constants = Frame {
             view_proj: self.view_proj().to_cols_array_2d(),
@@ -112,7 +115,9 @@ impl Renderer {
 
         // View samples and their direct light.
         let mut gbuffer = GBufferHandles::new(&mut g, extent)?;
-        passes.gbuffer.add(&mut g, &frame, &scene, self.gpu_scene.vertex_count, &mut gbuffer);
+        if render {
+            passes.gbuffer.add(&mut g, &frame, &scene, self.gpu_scene.vertex_count, &mut gbuffer);
+        }
         let layer = |g: &mut Graph<'_>, name| {
             let usage = ash::vk::ImageUsageFlags::STORAGE | ash::vk::ImageUsageFlags::TRANSFER_SRC;
             g.image(&leakless_device::ImageDesc { name, extent, format: gbuffer::FORMAT, usage })
@@ -146,7 +151,7 @@ impl Renderer {
             };
             splat_counters = Some(splatting::add(&mut g, splat_passes, splat, input, out)?);
         }
-        if method == Method::Reference {
+        if render && method == Method::Reference {
             let params = ReferenceParams {
                 first_sample: if first { 0 } else { self.accumulated },
                 sample_count: samples,
@@ -175,7 +180,9 @@ impl Renderer {
             leaked: &mut leaked,
             gather_counts: &mut gather_counts,
         };
-        passes.compose.add(&mut g, params, &frame, images);
+        if render {
+            passes.compose.add(&mut g, params, &frame, images);
+        }
 
         // What the frame shows, and its luminance statistics (exposure, leaked energy).
         let shown = match self.view {
@@ -224,9 +231,9 @@ impl Renderer {
 
         let _in_flight = g.submit(&sync)?;
         let index = self.runner.next_frame() - 1;
-        self.pending.push_back(Pending { index, seed, splat, accumulated, method, started });
+        self.pending.push_back(Pending { index, shown_only: !render, seed, splat, accumulated, method, started });
         self.accumulated = accumulated;
-        if self.advance_seed && method.splats() {
+        if self.advance_seed && method.splats() && render {
             self.seed_offset = self.seed_offset.wrapping_add(1);
         }
         Ok(())
@@ -235,12 +242,15 @@ impl Renderer {
     /// Makes the report of a completed frame from its counters, and grows the node lists when
     /// it dropped entries (unless the capacity is fixed): the next frame holds them all.
     pub(super) fn collect(&mut self, done: CompletedFrame) -> Result<()> {
-        let pending = loop {
-            let p = self.pending.pop_front().expect("every completed frame was submitted by the renderer");
-            if p.index == done.index {
-                break p;
-            }
-        };
+        // Frames before it that never reported (their submission failed) are gone too; a frame
+        // the renderer did not submit itself (a G-buffer capture) has nothing to report.
+        while self.pending.front().is_some_and(|p| p.index < done.index) {
+            self.pending.pop_front();
+        }
+        if self.pending.front().is_none_or(|p| p.index != done.index) {
+            return Ok(());
+        }
+        let pending = self.pending.pop_front().expect("checked above");
         let buffer = self.runner.pool().frame_buffer(COUNTERS_BUFFER, done.slot).expect("every frame copies counters");
         let bytes = if pending.splat.is_some() { std::mem::size_of::<FrameCounters>() } else { 16 };
         let mut counters = FrameCounters::default();
@@ -255,6 +265,13 @@ impl Renderer {
                 if let Some(grown) = grown_list_capacity(frame.list_capacity, &counters.lists) {
                     self.list_capacity = self.list_capacity.max(grown);
                 }
+            }
+        }
+        if pending.shown_only {
+            // Only the luminance is new: the image is the last one.
+            if let Some(last) = &mut self.last {
+                last.luminance = counters.luminance;
+                return Ok(());
             }
         }
         self.last = Some(FrameReport {

@@ -74,6 +74,8 @@ struct BackendState {
 /// What a submitted frame was, to make sense of its counters once it completes.
 struct Pending {
     index: u64,
+    /// The frame only showed the last image (paused): its report keeps the last counts.
+    shown_only: bool,
     seed: u32,
     splat: Option<SplatFrame>,
     /// Samples (reference) or frames (photons) in the image after this frame.
@@ -121,6 +123,8 @@ pub struct Renderer {
     /// Photon frames advance the seed unless frozen (a fixed seed fixes the frame).
     advance_seed: bool,
     seed_offset: u32,
+    /// Frames only show the last image again (tonemap and overlay): the app's pause.
+    paused: bool,
     pending: VecDeque<Pending>,
     last: Option<FrameReport>,
     runner: GraphRunner,
@@ -157,6 +161,7 @@ impl Renderer {
             samples_per_frame: 1,
             advance_seed: false,
             seed_offset: 0,
+            paused: false,
             pending: VecDeque::new(),
             last: None,
             runner,
@@ -324,6 +329,25 @@ impl Renderer {
     /// or keeps `settings.seed` (a fixed frame: the CLI, tests).
     pub fn set_advance_seed(&mut self, advance: bool) {
         self.advance_seed = advance;
+    }
+
+    /// While paused, frames show the last image again without rendering anything new.
+    pub fn set_paused(&mut self, paused: bool) {
+        self.paused = paused;
+    }
+
+    pub fn paused(&self) -> bool {
+        self.paused
+    }
+
+    /// Waits until the next frame's slot is free (collecting the frame that ran in it) and
+    /// returns its index: per-frame objects outside the renderer (the swapchain's acquire
+    /// semaphores) are safe to reuse for that slot once this returns.
+    pub fn wait_for_slot(&mut self) -> Result<usize> {
+        if let Some(done) = self.runner.acquire_slot(&self.gpu)? {
+            self.collect(done)?;
+        }
+        Ok(self.runner.next_slot())
     }
 
     /// Reference samples each frame adds (the app: 1, so frames stay short).

@@ -48,7 +48,7 @@ pub fn render_scene(scene: &Scene, settings: RenderSettings) -> Option<RenderedF
 
 pub fn gpu_with(ray_tracing: bool) -> Option<Gpu> {
     let validation = std::env::var("LEAKLESS_VALIDATION").map_or(true, |v| v != "0");
-    match Gpu::new(&GpuOptions { validation: Some(validation), ray_tracing }) {
+    match Gpu::new(&GpuOptions { validation: Some(validation), ray_tracing, window: None }) {
         Ok(gpu) => Some(gpu),
         Err(e) if std::env::var("LEAKLESS_REQUIRE_DEVICE").as_deref() == Ok("1") => {
             panic!("LEAKLESS_REQUIRE_DEVICE=1 but no Vulkan device: {e}")

@@ -1,4 +1,4 @@
-//! Acceleration structures of leakless (DESIGN.md §3 "Trace backends").
+//! Acceleration structures of leakless (docs/architecture.md §3 "Trace backends").
 //!
 //! * [`rayquery`]: the ray-query backend's BLAS and TLAS, built on the device.
 //! * [`bvh`]: the compute-shader backend. A binary BVH built on the CPU over the scene's flat

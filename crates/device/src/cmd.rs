@@ -222,6 +222,25 @@ impl<'a> Cmd<'a> {
         pushed
     }
 
+    /// Records `record` (raw commands of a library with its own pipeline, such as the UI
+    /// renderer) inside a dynamic rendering into `target` that keeps what it holds.
+    pub fn draw_over(&mut self, target: &Image, record: impl FnOnce(vk::CommandBuffer) -> Result<()>) -> Result<()> {
+        let attachment = [vk::RenderingAttachmentInfo::default()
+            .image_view(target.view())
+            .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
+            .load_op(vk::AttachmentLoadOp::LOAD)
+            .store_op(vk::AttachmentStoreOp::STORE)];
+        let area = vk::Rect2D { offset: vk::Offset2D::default(), extent: target.extent() };
+        let info = vk::RenderingInfo::default().render_area(area).layer_count(1).color_attachments(&attachment);
+        // SAFETY: recording state outside any rendering; the graph put `target` in the
+        // attachment layout.
+        unsafe { self.device().cmd_begin_rendering(self.raw, &info) };
+        let recorded = record(self.raw);
+        // SAFETY: ends the rendering begun above, whatever `record` did.
+        unsafe { self.device().cmd_end_rendering(self.raw) };
+        recorded
+    }
+
     pub fn copy_buffer(&mut self, src: &Buffer, dst: &Buffer, size: u64) {
         self.copy_buffer_region(src, dst, 0, size);
     }

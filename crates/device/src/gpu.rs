@@ -19,6 +19,31 @@ pub struct GpuOptions {
     pub validation: Option<bool>,
     /// Enable ray queries and acceleration structures when the device has them.
     pub ray_tracing: bool,
+    /// A window to present to: the device is chosen among those that can, and gets a surface.
+    pub window: Option<WindowHandles>,
+}
+
+/// The raw handles of a window (winit gives them through `raw-window-handle`). The window must
+/// outlive the [`Gpu`].
+#[derive(Clone, Copy, Debug)]
+pub struct WindowHandles {
+    pub display: raw_window_handle::RawDisplayHandle,
+    pub window: raw_window_handle::RawWindowHandle,
+}
+
+/// See [`Gpu::raw`].
+pub struct RawVulkan<'a> {
+    pub instance: &'a ash::Instance,
+    pub physical_device: vk::PhysicalDevice,
+    pub device: &'a ash::Device,
+    pub queue: vk::Queue,
+    pub queue_family: u32,
+}
+
+/// A window surface and its instance-level functions.
+pub(crate) struct Surface {
+    pub loader: khr::surface::Instance,
+    pub raw: vk::SurfaceKHR,
 }
 
 /// What the opened device can do.
@@ -37,6 +62,7 @@ pub(crate) struct Shared {
     pub debug_utils: Option<ext::debug_utils::Device>,
     pub push_descriptor: khr::push_descriptor::Device,
     pub accel: Option<khr::acceleration_structure::Device>,
+    pub surface: Option<Surface>,
 }
 
 impl Shared {
@@ -58,6 +84,9 @@ impl Drop for Shared {
             let _ = self.device.device_wait_idle();
             drop(self.allocator.lock().map(|mut a| a.take()));
             self.device.destroy_device(None);
+            if let Some(surface) = &self.surface {
+                surface.loader.destroy_surface(surface.raw, None);
+            }
             self.instance.destroy();
         }
     }
@@ -77,32 +106,58 @@ pub struct Gpu {
 impl Gpu {
     /// Reports on every device the loader sees, without opening one.
     pub fn list_devices() -> Result<Vec<DeviceReport>> {
-        let mut parts = instance::create(false)?;
-        let reports = select::enumerate(&parts.instance);
+        let mut parts = instance::create(false, &[])?;
+        let reports = select::enumerate(&parts.instance, None);
         // SAFETY: nothing was created from this instance.
         unsafe { parts.destroy() };
         reports
     }
 
-    /// Opens the chosen device without any window.
+    /// Opens the chosen device (headless, or able to present to `options.window`).
     pub fn new(options: &GpuOptions) -> Result<Gpu> {
         let validation = options.validation.unwrap_or_else(|| instance::validation_wanted(false));
-        let mut parts = instance::create(validation)?;
-        let result = select::enumerate(&parts.instance).and_then(|reports| select::choose(&reports).cloned());
+        let window_extensions = match &options.window {
+            Some(w) => ash_window::enumerate_required_extensions(w.display)
+                .map_err(|e| DeviceError::Unsupported(format!("the window system needs {e}")))?,
+            None => &[],
+        };
+        let mut parts = instance::create(validation, window_extensions)?;
+        let surface = match &options.window {
+            Some(w) => match create_surface(&parts, w) {
+                Ok(s) => Some(s),
+                Err(e) => {
+                    // SAFETY: nothing was created from this instance.
+                    unsafe { parts.destroy() };
+                    return Err(e);
+                }
+            },
+            None => None,
+        };
+        // Undoes the surface and the instance when a later step fails.
+        let abandon = |parts: &mut InstanceParts, surface: &Option<Surface>| {
+            // SAFETY: no device exists; the surface belongs to this instance.
+            unsafe {
+                if let Some(s) = surface {
+                    s.loader.destroy_surface(s.raw, None);
+                }
+                parts.destroy();
+            }
+        };
+        let present = surface.as_ref().map(|s| select::PresentTo { loader: &s.loader, surface: s.raw });
+        let result =
+            select::enumerate(&parts.instance, present.as_ref()).and_then(|reports| select::choose(&reports).cloned());
         let report = match result {
             Ok(r) => r,
             Err(e) => {
-                // SAFETY: nothing was created from this instance.
-                unsafe { parts.destroy() };
+                abandon(&mut parts, &surface);
                 return Err(e);
             }
         };
         let ray_tracing = options.ray_tracing && report.ray_query;
-        let device = match create_device(&parts.instance, &report, ray_tracing) {
+        let device = match create_device(&parts.instance, &report, ray_tracing, surface.is_some()) {
             Ok(d) => d,
             Err(e) => {
-                // SAFETY: the device was not created.
-                unsafe { parts.destroy() };
+                abandon(&mut parts, &surface);
                 return Err(e);
             }
         };
@@ -127,6 +182,7 @@ impl Gpu {
             debug_utils,
             push_descriptor,
             accel,
+            surface,
         });
         // SAFETY: the queue family index was validated during selection.
         let queue = unsafe { shared.device.get_device_queue(report.queue_family, 0) };
@@ -149,6 +205,33 @@ impl Gpu {
 
     pub fn capabilities(&self) -> Capabilities {
         self.caps
+    }
+
+    /// Raw handles for a library that records its own commands on this device (the app's
+    /// UI renderer). Whatever it creates must be destroyed before the `Gpu` is dropped, and
+    /// whatever it records must go through the pass graph like any pass.
+    pub fn raw(&self) -> RawVulkan<'_> {
+        RawVulkan {
+            instance: &self.shared.instance.instance,
+            physical_device: self.report.physical,
+            device: &self.shared.device,
+            queue: self.queue,
+            queue_family: self.report.queue_family,
+        }
+    }
+
+    /// A gpu-allocator of its own for such a library (its memory stays apart from the
+    /// renderer's). Drop it before the `Gpu`.
+    pub fn new_allocator(&self) -> Result<Allocator> {
+        Allocator::new(&AllocatorCreateDesc {
+            instance: self.shared.instance.instance.clone(),
+            device: self.shared.device.clone(),
+            physical_device: self.report.physical,
+            debug_settings: Default::default(),
+            buffer_device_address: false,
+            allocation_sizes: Default::default(),
+        })
+        .map_err(|e| DeviceError::Alloc { what: "an allocator".into(), message: e.to_string() })
     }
 
     /// How long a submission may run before it counts as a lost device (`LEAKLESS_GPU_TIMEOUT`).
@@ -247,13 +330,29 @@ impl Drop for Gpu {
     }
 }
 
-fn create_device(instance: &ash::Instance, report: &DeviceReport, ray_tracing: bool) -> Result<ash::Device> {
+fn create_surface(parts: &InstanceParts, window: &WindowHandles) -> Result<Surface> {
+    // SAFETY: the handles come from a live window that outlives the Gpu (GpuOptions contract);
+    // the instance was created with the extensions ash-window asked for.
+    let raw = unsafe { ash_window::create_surface(&parts.entry, &parts.instance, window.display, window.window, None) }
+        .vk("vkCreate*SurfaceKHR")?;
+    Ok(Surface { loader: khr::surface::Instance::new(&parts.entry, &parts.instance), raw })
+}
+
+fn create_device(
+    instance: &ash::Instance,
+    report: &DeviceReport,
+    ray_tracing: bool,
+    swapchain: bool,
+) -> Result<ash::Device> {
     let priorities = [1.0f32];
     let queues =
         [vk::DeviceQueueCreateInfo::default().queue_family_index(report.queue_family).queue_priorities(&priorities)];
     let mut ext_names = vec![khr::push_descriptor::NAME.as_ptr()];
     if ray_tracing {
         ext_names.extend(RAY_EXTENSIONS.iter().map(|n| n.as_ptr()));
+    }
+    if swapchain {
+        ext_names.push(khr::swapchain::NAME.as_ptr());
     }
     let base = vk::PhysicalDeviceFeatures::default()
         .shader_storage_image_write_without_format(true)

@@ -18,7 +18,7 @@ pub(crate) struct ValidationLog {
 
 pub(crate) struct InstanceParts {
     /// Keeps the loader library loaded while the instance lives.
-    pub _entry: ash::Entry,
+    pub entry: ash::Entry,
     pub instance: ash::Instance,
     pub debug_utils: Option<ext::debug_utils::Instance>,
     pub messenger: vk::DebugUtilsMessengerEXT,
@@ -37,7 +37,9 @@ pub(crate) fn validation_wanted(default: bool) -> bool {
     }
 }
 
-pub(crate) fn create(want_validation: bool) -> Result<InstanceParts> {
+/// Creates the instance, with `extra_extensions` (the window system's surface extensions
+/// when the device will present).
+pub(crate) fn create(want_validation: bool, extra_extensions: &[*const std::ffi::c_char]) -> Result<InstanceParts> {
     // SAFETY: loading the Vulkan loader library; its symbols are only used through ash.
     let entry = unsafe { ash::Entry::load() }.map_err(|e| DeviceError::Loader(e.to_string()))?;
     // SAFETY: plain queries on a loaded entry.
@@ -57,7 +59,8 @@ pub(crate) fn create(want_validation: bool) -> Result<InstanceParts> {
         .engine_name(c"leakless")
         .api_version(vk::API_VERSION_1_3);
     let layer_names = if validation { vec![VALIDATION_LAYER.as_ptr()] } else { vec![] };
-    let ext_names = if has_debug_utils { vec![ext::debug_utils::NAME.as_ptr()] } else { vec![] };
+    let mut ext_names = if has_debug_utils { vec![ext::debug_utils::NAME.as_ptr()] } else { vec![] };
+    ext_names.extend_from_slice(extra_extensions);
     let info = vk::InstanceCreateInfo::default()
         .application_info(&app)
         .enabled_layer_names(&layer_names)
@@ -82,7 +85,7 @@ pub(crate) fn create(want_validation: bool) -> Result<InstanceParts> {
         // destroys the messenger before dropping it.
         messenger = unsafe { du.create_debug_utils_messenger(&info, None) }.vk("vkCreateDebugUtilsMessengerEXT")?;
     }
-    Ok(InstanceParts { _entry: entry, instance, debug_utils, messenger, validation, log })
+    Ok(InstanceParts { entry, instance, debug_utils, messenger, validation, log })
 }
 
 unsafe extern "system" fn on_message(

@@ -20,6 +20,7 @@ mod pipeline;
 mod query;
 mod select;
 pub mod shader;
+mod swapchain;
 pub mod sync;
 
 pub use accel::{
@@ -31,9 +32,10 @@ pub use bind::{check_bindings, check_push_constants, BindingDecl, Bound, Content
 pub use cmd::Cmd;
 pub use commands::{CommandSlot, Semaphore, SubmitSync};
 pub use error::{DeviceError, Result};
-pub use gpu::{Capabilities, Gpu, GpuOptions};
+pub use gpu::{Capabilities, Gpu, GpuOptions, RawVulkan, WindowHandles};
 pub use layout::{GpuStruct, RustLayout};
 pub use memory::{Buffer, BufferDesc, Image, ImageDesc, MemoryLocation};
 pub use pipeline::{ColorTarget, ComputePipeline, GraphicsDesc, GraphicsPipeline, VertexLayout};
 pub use query::TimestampPool;
 pub use select::{DeviceReport, DeviceType};
+pub use swapchain::{Acquired, PresentMode, PresentOutcome, Swapchain};

@@ -288,6 +288,38 @@ impl Image {
         })
     }
 
+    /// A view on an image this crate did not allocate (a swapchain's): dropping it destroys
+    /// the view, not the image.
+    pub(crate) fn external(
+        gpu: &Gpu,
+        raw: vk::Image,
+        name: &str,
+        extent: vk::Extent2D,
+        format: vk::Format,
+    ) -> Result<Image> {
+        let shared = &gpu.shared;
+        let aspect = vk::ImageAspectFlags::COLOR;
+        let view_info = vk::ImageViewCreateInfo::default()
+            .image(raw)
+            .view_type(vk::ImageViewType::TYPE_2D)
+            .format(format)
+            .subresource_range(vk::ImageSubresourceRange::default().aspect_mask(aspect).level_count(1).layer_count(1));
+        // SAFETY: `raw` is a live image of this device with this format.
+        let view = unsafe { shared.device.create_image_view(&view_info, None) }.vk("vkCreateImageView")?;
+        shared.set_name(view, name);
+        Ok(Image {
+            shared: shared.clone(),
+            raw,
+            view,
+            allocation: None,
+            desc_name: name.to_string(),
+            extent,
+            format,
+            aspect,
+            layout: Mutex::new(vk::ImageLayout::UNDEFINED),
+        })
+    }
+
     pub fn raw(&self) -> vk::Image {
         self.raw
     }
@@ -318,13 +350,14 @@ impl Image {
 
 impl Drop for Image {
     fn drop(&mut self) {
-        // SAFETY: no pending GPU work uses the image (see Buffer::drop).
+        // SAFETY: no pending GPU work uses the image (see Buffer::drop). An image without an
+        // allocation belongs to someone else (a swapchain), which destroys it.
         unsafe {
             self.shared.device.destroy_image_view(self.view, None);
-            self.shared.device.destroy_image(self.raw, None);
-        }
-        if let Some(a) = self.allocation.take() {
-            free(&self.shared, a);
+            if let Some(a) = self.allocation.take() {
+                self.shared.device.destroy_image(self.raw, None);
+                free(&self.shared, a);
+            }
         }
     }
 }

@@ -54,13 +54,24 @@ pub struct DeviceReport {
 pub(crate) const RAY_EXTENSIONS: [&CStr; 3] =
     [khr::acceleration_structure::NAME, khr::ray_query::NAME, khr::deferred_host_operations::NAME];
 
-pub(crate) fn enumerate(instance: &ash::Instance) -> Result<Vec<DeviceReport>> {
-    // SAFETY: queries on a valid instance.
-    let physicals = unsafe { instance.enumerate_physical_devices() }.vk("vkEnumeratePhysicalDevices")?;
-    physicals.iter().enumerate().map(|(index, &pd)| describe(instance, index, pd)).collect()
+/// A window surface devices must be able to present to.
+pub(crate) struct PresentTo<'a> {
+    pub loader: &'a khr::surface::Instance,
+    pub surface: vk::SurfaceKHR,
 }
 
-fn describe(instance: &ash::Instance, index: usize, pd: vk::PhysicalDevice) -> Result<DeviceReport> {
+pub(crate) fn enumerate(instance: &ash::Instance, present: Option<&PresentTo<'_>>) -> Result<Vec<DeviceReport>> {
+    // SAFETY: queries on a valid instance.
+    let physicals = unsafe { instance.enumerate_physical_devices() }.vk("vkEnumeratePhysicalDevices")?;
+    physicals.iter().enumerate().map(|(index, &pd)| describe(instance, index, pd, present)).collect()
+}
+
+fn describe(
+    instance: &ash::Instance,
+    index: usize,
+    pd: vk::PhysicalDevice,
+    present: Option<&PresentTo<'_>>,
+) -> Result<DeviceReport> {
     // SAFETY: valid physical device.
     let exts =
         unsafe { instance.enumerate_device_extension_properties(pd) }.vk("vkEnumerateDeviceExtensionProperties")?;
@@ -101,7 +112,16 @@ fn describe(instance: &ash::Instance, index: usize, pd: vk::PhysicalDevice) -> R
     // SAFETY: valid physical device.
     let families = unsafe { instance.get_physical_device_queue_family_properties(pd) };
     let wanted = vk::QueueFlags::GRAPHICS | vk::QueueFlags::COMPUTE;
-    let queue_family = families.iter().position(|f| f.queue_flags.contains(wanted) && f.timestamp_valid_bits > 0);
+    let presents = |family: usize| {
+        present.is_none_or(|p| {
+            // SAFETY: valid physical device, family index and surface of this instance.
+            unsafe { p.loader.get_physical_device_surface_support(pd, family as u32, p.surface) }.unwrap_or(false)
+        })
+    };
+    let queue_family = families
+        .iter()
+        .enumerate()
+        .position(|(i, f)| f.queue_flags.contains(wanted) && f.timestamp_valid_bits > 0 && presents(i));
 
     let acceleration_structure =
         ray_exts && fas.acceleration_structure == vk::TRUE && f12.buffer_device_address == vk::TRUE;
@@ -131,7 +151,14 @@ fn describe(instance: &ash::Instance, index: usize, pd: vk::PhysicalDevice) -> R
         missing.push("VK_KHR_push_descriptor".into());
     }
     if queue_family.is_none() {
-        missing.push("a graphics+compute queue with timestamps".into());
+        missing.push(if present.is_some() {
+            "a graphics+compute queue with timestamps that presents to the window".into()
+        } else {
+            "a graphics+compute queue with timestamps".into()
+        });
+    }
+    if present.is_some() && !has(khr::swapchain::NAME) {
+        missing.push("VK_KHR_swapchain".into());
     }
     let rejected = (!missing.is_empty()).then(|| format!("lacks {}", missing.join(", ")));
 

@@ -138,6 +138,12 @@ impl GraphRunner {
         self.frame
     }
 
+    /// The frame slot the next graph records into (per-frame objects outside the graph, such
+    /// as a swapchain's acquire semaphores, are indexed by it).
+    pub fn next_slot(&self) -> usize {
+        self.next
+    }
+
     /// The index the next submitted frame gets (frames count from 0 in submission order).
     pub fn next_frame(&self) -> u64 {
         self.frame

@@ -55,8 +55,7 @@ impl Camera {
             return None;
         }
         let up = back.cross(right);
-        let world_from_camera =
-            Mat4::from_cols(right.extend(0.0), up.extend(0.0), back.extend(0.0), eye.extend(1.0));
+        let world_from_camera = Mat4::from_cols(right.extend(0.0), up.extend(0.0), back.extend(0.0), eye.extend(1.0));
         Some(Camera { world_from_camera, yfov, znear: clip.znear, zfar: clip.zfar })
     }
 

@@ -97,7 +97,8 @@ pub(crate) fn load(path: &Path) -> Result<Scene, SceneError> {
     let poses: Vec<Vec<glam::Mat4>> = rig.bounds_times().into_iter().map(|t| rig.world_at(t)).collect();
     for p in walk.instances {
         let vertices = instance::world_vertices(&p.local_vertices, &world[p.slot]);
-        let finite = |vs: &[crate::Vertex]| vs.iter().all(|v| v.position.iter().chain(&v.normal).all(|x| x.is_finite()));
+        let finite =
+            |vs: &[crate::Vertex]| vs.iter().all(|v| v.position.iter().chain(&v.normal).all(|x| x.is_finite()));
         if !finite(&vertices) || poses.iter().any(|w| !finite(&instance::world_vertices(&p.local_vertices, &w[p.slot])))
         {
             return Err(SceneError::NonFinitePosition { name, mesh: p.mesh });

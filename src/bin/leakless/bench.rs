@@ -100,7 +100,7 @@ fn splat(path: PathBuf, (w, h): (u32, u32), paths: u32) -> anyhow::Result<()> {
     use leakless::{Method, RenderSettings, SplatSettings};
     let scene = Scene::load(&path).with_context(|| format!("loading {}", path.display()))?;
     let auto = 0.05 * scene.bounds().bounding_radius();
-    let open = || Ok(leakless::Gpu::new(&leakless::GpuOptions { validation: None, ray_tracing: true })?);
+    let open = || Ok(leakless::Gpu::new(&leakless::GpuOptions { validation: None, ray_tracing: true, window: None })?);
     let s =
         |paths, radius: f32, branching| SplatSettings { paths, radius: Some(radius), branching, ..Default::default() };
     let gpu_name = open()?.report().name.clone();
@@ -208,7 +208,11 @@ fn leak(
     use leakless::{Method, RenderSettings, SplatSettings};
     let scene = Scene::load(&path).with_context(|| format!("loading {}", path.display()))?;
     let open = || {
-        Ok(leakless::Gpu::new(&leakless::GpuOptions { validation: None, ray_tracing: backend.wants_ray_queries() })?)
+        Ok(leakless::Gpu::new(&leakless::GpuOptions {
+            validation: None,
+            ray_tracing: backend.wants_ray_queries(),
+            window: None,
+        })?)
     };
     let gpu = open()?;
     let resolved = backend.resolve(gpu.capabilities(), &gpu.report().name)?;

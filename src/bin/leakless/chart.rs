@@ -121,7 +121,8 @@ pub fn run(args: ChartArgs) -> anyhow::Result<()> {
         .collect::<anyhow::Result<Vec<_>>>()?;
     let wants_rayquery = config.backends.is_empty() || config.backends.contains(&Backend::RayQuery);
     let open = |ray_tracing: bool| -> leakless::Result<leakless::Gpu> {
-        let options = leakless::GpuOptions { validation: None, ray_tracing: ray_tracing && wants_rayquery };
+        let options =
+            leakless::GpuOptions { validation: None, ray_tracing: ray_tracing && wants_rayquery, window: None };
         Ok(leakless::Gpu::new(&options)?)
     };
     let methods: Vec<_> = config.methods.iter().map(|m| m.name()).collect();

@@ -15,7 +15,8 @@ pub fn run(args: InfoArgs) -> anyhow::Result<()> {
     if reports.is_empty() {
         bail!("the Vulkan loader sees no device (install mesa-vulkan-drivers: tools/install-deps)");
     }
-    let gpu = Gpu::new(&GpuOptions { validation: Some(false), ray_tracing: args.backend.wants_ray_queries() });
+    let gpu =
+        Gpu::new(&GpuOptions { validation: Some(false), ray_tracing: args.backend.wants_ray_queries(), window: None });
     let chosen = gpu.as_ref().ok().map(|g| g.report().index);
     for r in &reports {
         let mark = if Some(r.index) == chosen { "*" } else { " " };

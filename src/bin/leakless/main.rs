@@ -4,7 +4,9 @@
 mod bench;
 mod chart;
 mod info;
+mod options;
 mod render;
+mod view;
 
 use std::process::ExitCode;
 
@@ -21,6 +23,8 @@ struct Cli {
 enum Command {
     /// Render a glTF scene to a layered EXR (and optionally a PNG and a stats file).
     Render(render::RenderArgs),
+    /// Open the scene in a window: fly camera, keyboard toggles, overlay, captures (F12).
+    View(view::ViewArgs),
     /// Measure: `bench rays SCENE` (rays per second per backend).
     #[command(subcommand)]
     Bench(bench::BenchCommand),
@@ -34,6 +38,7 @@ enum Command {
 fn main() -> ExitCode {
     let result = match Cli::parse().command {
         Command::Render(args) => render::run(args),
+        Command::View(args) => view::run(args),
         Command::Bench(cmd) => bench::run(cmd),
         Command::Chart(args) => chart::run(args),
         Command::Info(args) => info::run(args),
@@ -63,6 +68,6 @@ pub fn parse_backend(s: &str) -> Result<leakless::BackendChoice, String> {
 /// Opens the device the way a backend choice needs it (ray tracing unless `compute`).
 pub fn open_gpu(backend: leakless::BackendChoice) -> anyhow::Result<leakless::Gpu> {
     use anyhow::Context;
-    let options = leakless::GpuOptions { validation: None, ray_tracing: backend.wants_ray_queries() };
+    let options = leakless::GpuOptions { validation: None, ray_tracing: backend.wants_ray_queries(), window: None };
     leakless::Gpu::new(&options).context("opening the Vulkan device")
 }

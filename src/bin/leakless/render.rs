@@ -1,60 +1,24 @@
-//! `leakless render`: one frame to a layered EXR, optionally a PNG and stats.
+//! `leakless render`: one image to a layered EXR, optionally a PNG and stats.
 
 use std::path::PathBuf;
 
 use anyhow::Context;
-use leakless::output::{self, exr::ExrLayer, stats::Stats};
-use leakless::{BackendChoice, Method, RenderSettings, Renderer, Scene, SplatSettings};
+use leakless::output::{self, OutputPaths};
+use leakless::{Method, Renderer};
 use leakless_graph::Timing;
+
+use crate::options::RenderOptions;
 
 #[derive(clap::Args)]
 pub struct RenderArgs {
-    /// The scene (.gltf or .glb).
-    scene: PathBuf,
+    #[command(flatten)]
+    options: RenderOptions,
     /// Output EXR (default: <scene name>.exr in the current directory).
     #[arg(long)]
     out: Option<PathBuf>,
-    /// Also write a tonemapped PNG.
+    /// Also write the tonemapped PNG (what the window shows).
     #[arg(long)]
     png: Option<PathBuf>,
-    /// Output size, WIDTHxHEIGHT.
-    #[arg(long, default_value = "640x480", value_parser = crate::parse_size)]
-    size: (u32, u32),
-    /// `leakless` (ours: splatting with a visibility ray to every photon), `leakless-capped`
-    /// (the thesis: no trivial accept, at most --cap photons per pixel), `splat` (Moreau et
-    /// al., leaks), `reference` (path-traced indirect light) or `direct` (direct light only).
-    #[arg(long, default_value = "leakless", value_parser = ["leakless", "leakless-capped", "splat", "reference", "direct"])]
-    method: String,
-    /// Photons gathered per pixel at most by `leakless-capped` (the thesis used 25).
-    #[arg(long)]
-    cap: Option<u32>,
-    /// Light paths traced per frame by the photon methods.
-    #[arg(long, default_value_t = 10_000)]
-    paths: u32,
-    /// Photon gather radius in scene units (default: 5% of the scene's bounding radius).
-    #[arg(long)]
-    radius: Option<f32>,
-    /// Branching factor of the view-sample hierarchy.
-    #[arg(long, default_value_t = 8)]
-    branching: u32,
-    /// Walk to the leaves instead of listing photons on enveloped nodes (same image).
-    #[arg(long)]
-    no_trivial_accept: bool,
-    /// Node-list entries per frame (default: 16 per photon); more are dropped and reported.
-    #[arg(long)]
-    list_capacity: Option<u32>,
-    /// Trace backend: ray queries, the compute-shader BVH, or `auto` (ray queries if present).
-    #[arg(long, default_value = "auto", value_parser = crate::parse_backend)]
-    backend: BackendChoice,
-    /// Samples per pixel of the reference path tracer.
-    #[arg(long, default_value_t = 64)]
-    spp: u32,
-    /// Indirect bounces after the first surface.
-    #[arg(long, default_value_t = 8)]
-    max_bounces: u32,
-    /// Seed of every random sequence (a fixed seed gives an identical frame).
-    #[arg(long, default_value_t = 0)]
-    seed: u32,
     /// Write per-pass GPU times, build costs and counts as JSON.
     #[arg(long)]
     stats: Option<PathBuf>,
@@ -63,40 +27,19 @@ pub struct RenderArgs {
     /// such as lavapipe, whose timestamps inside one submission do not bracket compute work.
     #[arg(long, default_value = "auto", value_parser = ["auto", "timestamps", "per-pass"])]
     timing: String,
-    /// PNG exposure multiplier (default: automatic).
-    #[arg(long)]
-    exposure: Option<f32>,
 }
 
+/// The size `render` renders at without `--size`.
+pub const DEFAULT_SIZE: (u32, u32) = (640, 480);
+
 pub fn run(args: RenderArgs) -> anyhow::Result<()> {
-    let settings = RenderSettings {
-        width: args.size.0,
-        height: args.size.1,
-        backend: args.backend,
-        method: Method::parse(&args.method).expect("clap checked the value"),
-        spp: args.spp,
-        max_bounces: args.max_bounces,
-        seed: args.seed,
-        splat: SplatSettings {
-            paths: args.paths,
-            radius: args.radius,
-            branching: args.branching,
-            trivial_accept: !args.no_trivial_accept,
-            list_capacity: args.list_capacity,
-            // Both follow from the method (RenderSettings::photon_settings).
-            visibility: false,
-            cap: args.cap,
-        },
-    };
+    let settings = args.options.settings(DEFAULT_SIZE);
     settings.validate()?;
-    let scene = Scene::load(&args.scene).with_context(|| format!("loading {}", args.scene.display()))?;
-    for w in &scene.warnings {
-        eprintln!("warning: {}: {w}", args.scene.display());
-    }
+    let scene = args.options.load_scene()?;
     let gpu = crate::open_gpu(settings.backend)?;
-    let report = gpu.report().clone();
+    let cpu_device = gpu.report().device_type == leakless_device::DeviceType::Cpu;
     let mut renderer = Renderer::new(gpu, &scene, settings.clone()).context("setting up the renderer")?;
-    let cpu_device = report.device_type == leakless_device::DeviceType::Cpu;
+    args.options.apply_view(&mut renderer, &scene)?;
     if args.timing == "per-pass" || (args.timing == "auto" && cpu_device) {
         renderer.set_timing(Timing::PerPassSubmit);
     }
@@ -109,29 +52,12 @@ pub fn run(args: RenderArgs) -> anyhow::Result<()> {
             );
         }
     }
-
-    let out = args.out.unwrap_or_else(|| PathBuf::from(format!("{}.exr", scene.name)));
-    let layers = [
-        ExrLayer { name: "", pixels: &frame.radiance },
-        ExrLayer { name: "direct", pixels: &frame.direct },
-        ExrLayer { name: "indirect", pixels: &frame.indirect },
-        ExrLayer { name: "leaked", pixels: &frame.leaked },
-    ];
-    let attributes = [
-        ("leakless.scene", args.scene.display().to_string()),
-        ("leakless.method", settings.method.name().to_string()),
-        ("leakless.parameters", format!("{} backend={}", settings.describe(), renderer.backend().name())),
-        ("leakless.device", report.name.clone()),
-    ];
-    output::exr::write(&out, frame.width, frame.height, &layers, &attributes)?;
-    println!("wrote {}", out.display());
-    if let Some(png) = &args.png {
-        output::png::write(png, frame.width, frame.height, &frame.radiance, args.exposure)?;
-        println!("wrote {}", png.display());
-    }
-    if let Some(path) = &args.stats {
-        let stats = Stats::new(&scene, &report, &renderer, &frame);
-        output::stats::write(path, &stats)?;
+    let paths = OutputPaths {
+        exr: args.out.unwrap_or_else(|| PathBuf::from(format!("{}.exr", scene.name))),
+        png: args.png,
+        stats: args.stats,
+    };
+    for path in output::write_render(&paths, &args.options.scene, &renderer, &frame, None)? {
         println!("wrote {}", path.display());
     }
     Ok(())

@@ -1,0 +1,192 @@
+//! The render options `render` and `view` share: what to render and how, as flags.
+
+use std::path::PathBuf;
+
+use anyhow::Context;
+use glam::Vec3;
+use leakless::{BackendChoice, Method, RenderSettings, Scene, SplatSettings};
+use leakless_scene::Camera;
+
+#[derive(clap::Args, Clone, Debug)]
+pub struct RenderOptions {
+    /// The scene (.gltf or .glb).
+    pub scene: PathBuf,
+    /// Output size, WIDTHxHEIGHT (`view`: the window's starting size).
+    #[arg(long, value_parser = crate::parse_size)]
+    pub size: Option<(u32, u32)>,
+    /// `leakless` (ours: splatting with a visibility ray to every photon), `leakless-capped`
+    /// (the thesis: no trivial accept, at most --cap photons per pixel), `splat` (Moreau et
+    /// al., leaks), `reference` (path-traced indirect light) or `direct` (direct light only).
+    #[arg(long, default_value = "leakless", value_parser = ["leakless", "leakless-capped", "splat", "reference", "direct"])]
+    pub method: String,
+    /// Photons gathered per pixel at most by `leakless-capped` (the thesis used 25).
+    #[arg(long)]
+    pub cap: Option<u32>,
+    /// Light paths traced per frame by the photon methods.
+    #[arg(long, default_value_t = 10_000)]
+    pub paths: u32,
+    /// Photon gather radius in scene units (default: 5% of the scene's bounding radius).
+    #[arg(long)]
+    pub radius: Option<f32>,
+    /// Branching factor of the view-sample hierarchy.
+    #[arg(long, default_value_t = 8)]
+    pub branching: u32,
+    /// Walk to the leaves instead of listing photons on enveloped nodes (same image).
+    #[arg(long)]
+    pub no_trivial_accept: bool,
+    /// Node-list entries per frame (default: 16 per photon, grown as frames need);
+    /// more are dropped and reported.
+    #[arg(long)]
+    pub list_capacity: Option<u32>,
+    /// Trace backend: ray queries, the compute-shader BVH, or `auto` (ray queries if present).
+    #[arg(long, default_value = "auto", value_parser = crate::parse_backend)]
+    pub backend: BackendChoice,
+    /// Samples per pixel of the reference path tracer.
+    #[arg(long, default_value_t = 64)]
+    pub spp: u32,
+    /// Indirect bounces after the first surface.
+    #[arg(long, default_value_t = 8)]
+    pub max_bounces: u32,
+    /// Seed of every random sequence (a fixed seed gives an identical frame).
+    #[arg(long, default_value_t = 0)]
+    pub seed: u32,
+    /// The view, instead of the scene's camera: EYE,TARGET,UP,YFOV as ten numbers
+    /// `ex,ey,ez,tx,ty,tz,ux,uy,uz,yfov_degrees` (the app's captures write it).
+    #[arg(long, value_parser = parse_camera)]
+    pub camera: Option<CameraSpec>,
+    /// Moves the scene's first light to X,Y,Z (the app's captures write it when the light was
+    /// moved).
+    #[arg(long, value_parser = parse_vec3)]
+    pub light_position: Option<Vec3>,
+    /// PNG and window exposure multiplier (default: automatic).
+    #[arg(long)]
+    pub exposure: Option<f32>,
+}
+
+/// `--camera`: the view as the app's fly camera holds it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CameraSpec {
+    pub eye: Vec3,
+    pub target: Vec3,
+    pub up: Vec3,
+    pub yfov_degrees: f32,
+}
+
+impl CameraSpec {
+    /// The camera, with the clip distances of the scene's own view.
+    pub fn camera(&self, scene: &Scene) -> anyhow::Result<Camera> {
+        Camera::look_at(self.eye, self.target, self.up, self.yfov_degrees.to_radians(), &scene.camera_or_framing())
+            .context("--camera: eye and target coincide, up is parallel to the view, or yfov is not within (0, 180)")
+    }
+
+    /// The flag value that gives back exactly this view (f32's shortest round-trip form).
+    pub fn flag(&self) -> String {
+        let v = [
+            self.eye.x,
+            self.eye.y,
+            self.eye.z,
+            self.target.x,
+            self.target.y,
+            self.target.z,
+            self.up.x,
+            self.up.y,
+            self.up.z,
+            self.yfov_degrees,
+        ];
+        v.iter().map(|x| x.to_string()).collect::<Vec<_>>().join(",")
+    }
+}
+
+fn numbers(s: &str, n: usize, what: &str) -> Result<Vec<f32>, String> {
+    let v: Vec<f32> = s
+        .split(',')
+        .map(|x| x.trim().parse::<f32>().map_err(|_| format!("{x:?} is not a number")))
+        .collect::<Result<_, _>>()?;
+    if v.len() != n || v.iter().any(|x| !x.is_finite()) {
+        return Err(format!("{s:?} is not {n} finite numbers ({what})"));
+    }
+    Ok(v)
+}
+
+fn parse_camera(s: &str) -> Result<CameraSpec, String> {
+    let v = numbers(s, 10, "ex,ey,ez,tx,ty,tz,ux,uy,uz,yfov_degrees")?;
+    Ok(CameraSpec {
+        eye: Vec3::new(v[0], v[1], v[2]),
+        target: Vec3::new(v[3], v[4], v[5]),
+        up: Vec3::new(v[6], v[7], v[8]),
+        yfov_degrees: v[9],
+    })
+}
+
+fn parse_vec3(s: &str) -> Result<Vec3, String> {
+    let v = numbers(s, 3, "x,y,z")?;
+    Ok(Vec3::new(v[0], v[1], v[2]))
+}
+
+impl RenderOptions {
+    /// The settings these flags ask for, at `default_size` when `--size` is not given.
+    pub fn settings(&self, default_size: (u32, u32)) -> RenderSettings {
+        let (width, height) = self.size.unwrap_or(default_size);
+        RenderSettings {
+            width,
+            height,
+            backend: self.backend,
+            method: Method::parse(&self.method).expect("clap checked the value"),
+            spp: self.spp,
+            max_bounces: self.max_bounces,
+            seed: self.seed,
+            splat: SplatSettings {
+                paths: self.paths,
+                radius: self.radius,
+                branching: self.branching,
+                trivial_accept: !self.no_trivial_accept,
+                list_capacity: self.list_capacity,
+                // Both follow from the method (RenderSettings::photon_settings).
+                visibility: false,
+                cap: self.cap,
+            },
+        }
+    }
+
+    /// Loads the scene, printing its warnings.
+    pub fn load_scene(&self) -> anyhow::Result<Scene> {
+        let scene = Scene::load(&self.scene).with_context(|| format!("loading {}", self.scene.display()))?;
+        for w in &scene.warnings {
+            eprintln!("warning: {}: {w}", self.scene.display());
+        }
+        Ok(scene)
+    }
+
+    /// Applies `--camera` and `--light-position` to a renderer.
+    pub fn apply_view(&self, renderer: &mut leakless::Renderer, scene: &Scene) -> anyhow::Result<()> {
+        if let Some(spec) = &self.camera {
+            renderer.set_camera(spec.camera(scene)?);
+        }
+        if let Some(p) = self.light_position {
+            let mut light = scene.lights[0].clone();
+            light.position = p;
+            renderer.set_light(0, light)?;
+        }
+        renderer.set_exposure(self.exposure);
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn camera_flag_round_trips_bit_for_bit() {
+        let spec = CameraSpec {
+            eye: Vec3::new(0.1, -2.000_000_2, 1e-7),
+            target: Vec3::new(std::f32::consts::PI, 0.3, -0.7),
+            up: Vec3::Y,
+            yfov_degrees: 39.597752,
+        };
+        let back = parse_camera(&spec.flag()).unwrap();
+        assert_eq!(back, spec);
+        assert!(parse_camera("1,2,3").is_err());
+        assert!(parse_camera("1,2,3,4,5,6,7,8,9,NaN").is_err());
+    }
+}

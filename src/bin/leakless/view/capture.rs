@@ -1,0 +1,97 @@
+//! Captures (F12, or `capture` in a script): the next frame of the current state rendered
+//! with a readback, written as `render` writes a render (layered EXR, PNG, stats JSON), with
+//! the `leakless render` command that renders the same image again in the JSON.
+
+use std::path::{Path, PathBuf};
+
+use anyhow::Context;
+use leakless::output::{self, OutputPaths};
+use leakless::{Method, RenderSettings, Scene};
+
+use super::Running;
+use crate::options::CameraSpec;
+
+/// `captures/<scene>-<n>.exr` for the first `n` not taken.
+pub fn next_path(scene: &str) -> anyhow::Result<PathBuf> {
+    let dir = PathBuf::from("captures");
+    std::fs::create_dir_all(&dir).with_context(|| format!("creating {}", dir.display()))?;
+    let path = (1..).map(|n| dir.join(format!("{scene}-{n}.exr"))).find(|p| !p.exists()).expect("unbounded");
+    Ok(path)
+}
+
+/// Captures the next frame to `exr` (+ `.png`, `.json` beside it).
+pub fn capture(r: &mut Running, scene: &Scene, exr: &Path) -> anyhow::Result<()> {
+    if let Some(dir) = exr.parent().filter(|d| !d.as_os_str().is_empty()) {
+        std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
+    }
+    let frame = r.renderer.capture_frame().context("capturing")?;
+    let light = r.light_moved.then(|| r.renderer.lights()[0].position);
+    let command = command(r.renderer.settings(), r.renderer.backend(), scene, &frame, r.camera.spec(), light, exr);
+    let paths = OutputPaths {
+        exr: exr.to_path_buf(),
+        png: Some(exr.with_extension("png")),
+        stats: Some(exr.with_extension("json")),
+    };
+    let scene_path = scene_path(scene);
+    for path in output::write_render(&paths, &scene_path, &r.renderer, &frame, Some(command))? {
+        println!("captured {}", path.display());
+    }
+    Ok(())
+}
+
+/// The scene's file as the command line names it (the app was started with it).
+fn scene_path(scene: &Scene) -> PathBuf {
+    std::env::args_os()
+        .skip(2)
+        .map(PathBuf::from)
+        .find(|p| p.file_stem().is_some_and(|s| s.to_string_lossy() == scene.name) && p.exists())
+        .unwrap_or_else(|| PathBuf::from(format!("{}.gltf", scene.name)))
+}
+
+/// The `leakless render` command that renders `frame` again: every setting explicit, the
+/// frame's own seed, the view and (if moved) the light.
+fn command(
+    s: &RenderSettings,
+    backend: leakless::Backend,
+    scene: &Scene,
+    frame: &leakless::RenderedFrame,
+    camera: CameraSpec,
+    light: Option<glam::Vec3>,
+    exr: &Path,
+) -> String {
+    let mut c = vec![
+        "leakless".to_string(),
+        "render".into(),
+        scene_path(scene).display().to_string(),
+        format!("--size {}x{}", s.width, s.height),
+        format!("--method {}", s.method.name()),
+        format!("--backend {}", backend.name()),
+        format!("--max-bounces {}", s.max_bounces),
+        format!("--seed {}", frame.seed),
+    ];
+    if s.method.splats() {
+        c.push(format!("--paths {}", s.splat.paths));
+        if let Some(r) = s.splat.radius {
+            c.push(format!("--radius {r}"));
+        }
+        c.push(format!("--branching {}", s.splat.branching));
+        if !s.splat.trivial_accept {
+            c.push("--no-trivial-accept".into());
+        }
+        if let Some(cap) = s.splat.cap {
+            c.push(format!("--cap {cap}"));
+        }
+        if let Some(n) = s.splat.list_capacity {
+            c.push(format!("--list-capacity {n}"));
+        }
+    }
+    if s.method == Method::Reference {
+        c.push(format!("--spp {}", frame.accumulated));
+    }
+    c.push(format!("--camera {}", camera.flag()));
+    if let Some(p) = light {
+        c.push(format!("--light-position {},{},{}", p.x, p.y, p.z));
+    }
+    c.push(format!("--out {}", exr.display()));
+    c.join(" ")
+}

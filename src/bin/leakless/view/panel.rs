@@ -1,0 +1,133 @@
+//! What the overlay shows: the scene, device and backend, the frame's cost pass by pass, the
+//! photon counts, sliders for radius, paths and cap, and the key map.
+
+use egui::{Color32, RichText};
+use leakless::{FrameReport, Method, ViewLayer};
+
+use super::keys;
+
+/// What the panel reports on this frame.
+pub struct PanelInfo<'a> {
+    pub scene: &'a str,
+    pub device: &'a str,
+    pub backend: &'a str,
+    pub backend_why: &'a str,
+    pub width: u32,
+    pub height: u32,
+    pub method: Method,
+    pub layer: ViewLayer,
+    /// Host time between shown frames.
+    pub frame_ms: f64,
+    pub report: Option<&'a FrameReport>,
+    /// Per-pass times of the newest frame that measured them.
+    pub timings: Option<&'a [leakless_graph::PassTiming]>,
+    /// How per-pass times are measured on this device.
+    pub timing_note: &'a str,
+    pub paused: bool,
+    pub seed_frozen: bool,
+    pub trivial_accept: bool,
+    pub light_moved: bool,
+}
+
+/// The sliders' values; the app applies what changed.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Sliders {
+    pub radius: f32,
+    pub radius_range: (f32, f32),
+    pub paths: u32,
+    pub cap: u32,
+}
+
+/// Short groups of passes, so the bars stay readable (the sort's 24 passes are one bar).
+fn group(pass: &str) -> &str {
+    for prefix in ["sort", "hierarchy", "luminance", "photon", "splat", "gather", "sample bounds"] {
+        if pass.starts_with(prefix) {
+            return prefix;
+        }
+    }
+    pass
+}
+
+pub fn show(ctx: &egui::Context, info: &PanelInfo<'_>, sliders: &mut Sliders, help: &mut bool) {
+    egui::Window::new("leakless").default_pos([8.0, 8.0]).resizable(false).collapsible(true).show(ctx, |ui| {
+        ui.label(RichText::new(info.scene).strong());
+        ui.label(format!("{} — {} ({})", info.device, info.backend, info.backend_why));
+        ui.label(format!("{}×{}   {}   layer: {}", info.width, info.height, info.method.name(), info.layer.name()));
+        let fps = if info.frame_ms > 0.0 { 1000.0 / info.frame_ms } else { 0.0 };
+        let mut flags = Vec::new();
+        if info.paused {
+            flags.push("paused");
+        }
+        if info.seed_frozen {
+            flags.push("seed frozen");
+        }
+        if !info.trivial_accept {
+            flags.push("trivial accept off");
+        }
+        if info.light_moved {
+            flags.push("light moved");
+        }
+        ui.label(format!("{:.1} ms/frame, {:.1} fps   {}", info.frame_ms, fps, flags.join(", ")));
+        if let Some(report) = info.report {
+            if report.method == Method::Reference {
+                ui.label(format!("reference: {} spp accumulated", report.accumulated));
+            }
+            if let Some(timings) = info.timings {
+                ui.separator();
+                pass_bars(ui, timings, info.timing_note);
+            }
+            if let Some(s) = &report.splat {
+                ui.separator();
+                ui.label(format!("photons stored {}   paths {}   radius {:.4}", s.photons_stored, s.paths, s.radius));
+                ui.label(format!("visibility rays {}   leaks culled {}", s.visibility_rays, s.leaks_culled));
+                ui.label(format!("leaked energy {:.2}%", 100.0 * s.leaked_energy_fraction));
+                let drops = s.photons_dropped as u64 + s.list_entries_dropped as u64;
+                let text = format!("drops: photons {}, list entries {}", s.photons_dropped, s.list_entries_dropped);
+                ui.label(if drops > 0 { RichText::new(text).color(Color32::LIGHT_RED) } else { RichText::new(text) });
+            }
+        }
+        ui.separator();
+        let (lo, hi) = sliders.radius_range;
+        ui.add(egui::Slider::new(&mut sliders.radius, lo..=hi).logarithmic(true).text("radius"));
+        ui.add(egui::Slider::new(&mut sliders.paths, 1_000..=1_000_000).logarithmic(true).text("paths"));
+        ui.add(egui::Slider::new(&mut sliders.cap, 1..=200).text("cap"));
+        ui.label("H / F1: keys   Tab: hide");
+    });
+    if *help {
+        egui::Window::new("keys").anchor(egui::Align2::RIGHT_TOP, [-8.0, 8.0]).open(help).show(ctx, |ui| {
+            egui::Grid::new("keymap").striped(true).show(ui, |ui| {
+                ui.label("W A S D");
+                ui.label("fly; Q / E down / up; drag to look; wheel: speed");
+                ui.end_row();
+                for (_, _, key, what) in keys::ACTIONS {
+                    ui.label(*key);
+                    ui.label(*what);
+                    ui.end_row();
+                }
+            });
+        });
+    }
+}
+
+fn pass_bars(ui: &mut egui::Ui, timings: &[leakless_graph::PassTiming], note: &str) {
+    let mut groups: Vec<(&str, f64)> = Vec::new();
+    for t in timings {
+        let ms = t.wall_ms.unwrap_or(t.ms);
+        match groups.iter_mut().find(|(g, _)| *g == group(&t.name)) {
+            Some((_, total)) => *total += ms,
+            None => groups.push((group(&t.name), ms)),
+        }
+    }
+    let total: f64 = groups.iter().map(|(_, ms)| ms).sum();
+    // Passes under 2% of the frame share one bar.
+    let small: f64 = groups.iter().filter(|(_, ms)| *ms < 0.02 * total).map(|(_, ms)| ms).sum();
+    groups.retain(|(_, ms)| *ms >= 0.02 * total);
+    if small > 0.0 {
+        groups.push(("other passes", small));
+    }
+    let max = groups.iter().map(|(_, ms)| *ms).fold(1e-3, f64::max);
+    ui.label(format!("GPU {total:.1} ms per frame ({note})"));
+    for (name, ms) in groups {
+        ui.add(egui::ProgressBar::new((ms / max) as f32).desired_width(260.0).text(format!("{name} {ms:.1} ms")));
+    }
+}

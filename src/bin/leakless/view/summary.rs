@@ -1,0 +1,72 @@
+//! The line the app prints on exit: frames, frame times, and resident memory (peak, at frame
+//! 100, at the last frame), which the soak test reads to catch leaks.
+
+use std::time::Instant;
+
+/// Resident set size and its peak, in bytes (Linux `/proc/self/status`; `None` elsewhere).
+pub fn rss() -> Option<(u64, u64)> {
+    let status = std::fs::read_to_string("/proc/self/status").ok()?;
+    let field = |name: &str| {
+        status
+            .lines()
+            .find(|l| l.starts_with(name))
+            .and_then(|l| l.split_whitespace().nth(1).and_then(|kb| kb.parse::<u64>().ok()).map(|kb| kb * 1024))
+    };
+    Some((field("VmRSS:")?, field("VmHWM:")?))
+}
+
+#[derive(Default)]
+pub struct Summary {
+    frames: u64,
+    total_ms: f64,
+    max_ms: f64,
+    last: Option<Instant>,
+    rss_at_100: Option<u64>,
+    /// At the last frame shown (before the window and device are torn down).
+    rss_last: Option<u64>,
+}
+
+impl Summary {
+    /// Counts a frame that was shown (the time since the previous one).
+    pub fn frame(&mut self) {
+        let now = Instant::now();
+        if let Some(last) = self.last {
+            let ms = (now - last).as_secs_f64() * 1e3;
+            self.total_ms += ms;
+            self.max_ms = self.max_ms.max(ms);
+        }
+        self.last = Some(now);
+        self.frames += 1;
+        self.rss_last = rss().map(|(now, _)| now);
+        if self.frames == 100 {
+            self.rss_at_100 = self.rss_last;
+        }
+    }
+
+    pub fn frames(&self) -> u64 {
+        self.frames
+    }
+
+    /// Mean ms per frame so far.
+    pub fn mean_ms(&self) -> f64 {
+        if self.frames > 1 {
+            self.total_ms / (self.frames - 1) as f64
+        } else {
+            0.0
+        }
+    }
+
+    pub fn line(&self) -> String {
+        let mib = |b: Option<u64>| b.map_or("n/a".to_string(), |b| format!("{:.1} MiB", b as f64 / 1048576.0));
+        let peak = rss().map(|(_, peak)| peak);
+        format!(
+            "frames {}, mean {:.1} ms, max {:.1} ms, peak RSS {}, RSS at frame 100 {}, RSS at end {}",
+            self.frames,
+            self.mean_ms(),
+            self.max_ms,
+            mib(peak),
+            mib(self.rss_at_100),
+            mib(self.rss_last)
+        )
+    }
+}

@@ -1,0 +1,285 @@
+//! One iteration of the app's loop: the script's events, the camera, the overlay's UI, then
+//! a frame acquired, rendered and presented. And what each key does.
+
+use std::time::{Duration, Instant};
+
+use ash::vk;
+use leakless::{BackendChoice, DisplayTarget, Gpu, Scene};
+use leakless_device::{PresentOutcome, SubmitSync, Swapchain};
+use leakless_graph::Timing;
+use winit::keyboard::KeyCode;
+
+use super::camera::Motion;
+use super::keys::{self, Action};
+use super::panel::{self, PanelInfo, Sliders};
+use super::script::{Event, Script};
+use super::summary::Summary;
+use super::{capture, Running, ViewArgs};
+
+/// The time step of scripted runs: the same motion whatever the machine's speed.
+const SCRIPT_DT: f32 = 1.0 / 30.0;
+
+/// Which backend runs and why, for the overlay.
+pub fn backend_why(gpu: &Gpu, choice: BackendChoice) -> String {
+    let caps = gpu.capabilities();
+    match (choice, caps.ray_query) {
+        (BackendChoice::Compute, _) => "forced by --backend compute".into(),
+        (BackendChoice::RayQuery, _) => "forced by --backend rayquery".into(),
+        (BackendChoice::Auto, true) => "auto: the device has ray queries".into(),
+        (BackendChoice::Auto, false) => "auto: no ray queries on this device".into(),
+    }
+}
+
+impl Running {
+    pub(super) fn resize(&mut self, width: u32, height: u32) {
+        if width == 0 || height == 0 {
+            self.minimized = true;
+        } else {
+            self.minimized = false;
+            self.size = (width, height);
+            self.recreate = true;
+        }
+    }
+
+    /// One press of `code`.
+    pub(super) fn key(&mut self, code: KeyCode, scene: &Scene) -> anyhow::Result<()> {
+        let Some(action) = keys::action(code) else { return Ok(()) };
+        let r = &mut self.renderer;
+        match action {
+            Action::Method(m) => r.set_method(m)?,
+            Action::CycleLayer => r.set_view_layer(r.view_layer().next()),
+            Action::RadiusDown | Action::RadiusUp => {
+                let radius = r.settings().splat.radius.unwrap_or(0.05 * scene.bounds().bounding_radius());
+                let radius = if action == Action::RadiusUp { radius * 1.25 } else { radius / 1.25 };
+                r.update(|s| s.splat.radius = Some(radius))?;
+            }
+            Action::PathsDown => r.update(|s| s.splat.paths = (s.splat.paths / 2).max(1))?,
+            Action::PathsUp => {
+                let paths = r.settings().splat.paths.saturating_mul(2);
+                r.update(|s| s.splat.paths = paths)?
+            }
+            Action::CapDown | Action::CapUp => {
+                let cap = r.settings().splat.cap.unwrap_or(leakless::settings::DEFAULT_CAP);
+                let cap = if action == Action::CapUp { cap + 5 } else { cap.saturating_sub(5).max(1) };
+                r.update(|s| s.splat.cap = Some(cap))?;
+            }
+            Action::ToggleTrivialAccept => r.update(|s| s.splat.trivial_accept = !s.splat.trivial_accept)?,
+            Action::SwitchBackend => {
+                if r.gpu().capabilities().ray_query {
+                    let next = match r.backend() {
+                        leakless::Backend::RayQuery => BackendChoice::Compute,
+                        leakless::Backend::Compute => BackendChoice::RayQuery,
+                    };
+                    r.set_backend(next)?;
+                    self.backend_why = "switched with B".into();
+                } else {
+                    self.backend_why = "B: this device has no ray queries".into();
+                }
+            }
+            Action::MoveLight(d) => {
+                let step = 0.02 * scene.bounds().bounding_radius();
+                let mut light = r.lights()[0].clone();
+                light.position += glam::Vec3::new(d[0] as f32, d[1] as f32, d[2] as f32) * step;
+                r.set_light(0, light)?;
+                self.light_moved = true;
+            }
+            Action::FreezeSeed => {
+                self.seed_frozen = !self.seed_frozen;
+                r.set_advance_seed(!self.seed_frozen);
+            }
+            Action::Pause => r.set_paused(!r.paused()),
+            Action::Capture => {
+                let path = capture::next_path(&scene.name)?;
+                capture::capture(self, scene, &path)?;
+            }
+            Action::ResetCamera => self.camera.reset(),
+            Action::Help => self.show_help = !self.show_help,
+            Action::ToggleOverlay => self.show_overlay = !self.show_overlay,
+        }
+        Ok(())
+    }
+
+    /// One loop iteration.
+    pub(super) fn tick(
+        &mut self,
+        scene: &Scene,
+        script: Option<&mut Script>,
+        summary: &mut Summary,
+        args: &ViewArgs,
+    ) -> anyhow::Result<()> {
+        let scripted = script.is_some();
+        if let Some(script) = script {
+            for event in script.take(self.frame) {
+                match event {
+                    Event::Key(code) => {
+                        if keys::motion(code).is_some() {
+                            self.tapped.push(code);
+                        } else {
+                            self.key(code, scene)?;
+                        }
+                    }
+                    Event::Drag(dx, dy) => self.camera.turn(dx, dy),
+                    Event::Resize(w, h) => {
+                        if w > 0 && h > 0 {
+                            let _ = self.window.request_inner_size(winit::dpi::PhysicalSize::new(w, h));
+                        }
+                        // Handled now as the window's own event would be, so a script runs
+                        // the same whether or not the window system honours the request.
+                        self.resize(w, h);
+                    }
+                    Event::Capture(path) => capture::capture(self, scene, &path)?,
+                    Event::Quit => self.quit = true,
+                }
+            }
+        }
+        self.frame += 1;
+        if self.quit || args.exit_after.is_some_and(|n| summary.frames() >= n) {
+            self.quit = true;
+            return Ok(());
+        }
+
+        let now = Instant::now();
+        let dt = match (scripted, self.last_shown) {
+            (true, _) | (false, None) => SCRIPT_DT,
+            (false, Some(last)) => (now - last).as_secs_f32().min(0.1),
+        };
+        let mut motion = Motion::default();
+        for code in self.held.iter().chain(&self.tapped) {
+            if let Some([x, y, z]) = keys::motion(*code) {
+                motion.right += x;
+                motion.up += y;
+                motion.forward += z;
+            }
+        }
+        self.tapped.clear();
+        self.camera.advance(motion, dt);
+        let (dx, dy) = std::mem::take(&mut self.drag);
+        self.camera.turn(dx, dy);
+        self.renderer.set_camera(self.camera.camera());
+
+        if self.minimized {
+            // Nothing to show: no frame until the window is restored.
+            std::thread::sleep(Duration::from_millis(10));
+            return Ok(());
+        }
+        if self.recreate || self.swapchain.is_none() {
+            self.recreate_swapchain(args)?;
+        }
+        self.run_overlay(scene)?;
+        let profile = self.profile_every > 0 && self.frame % self.profile_every == 1;
+        self.renderer.set_timing(if profile { Timing::PerPassSubmit } else { Timing::Timestamps });
+
+        let slot = self.renderer.wait_for_slot()?;
+        let swapchain = self.swapchain.as_ref().expect("made above");
+        let Some(acquired) = swapchain.acquire(slot)? else {
+            self.recreate = true;
+            return Ok(());
+        };
+        let index = acquired.index;
+        let sync = SubmitSync {
+            wait: vec![(acquired.ready, vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT)],
+            signal: vec![acquired.rendered],
+        };
+        let overlay: Option<&dyn leakless::Overlay> = self.show_overlay.then_some(&self.overlay);
+        self.renderer.render_frame(Some(DisplayTarget { image: acquired.image, sync, overlay }))?;
+        match swapchain.present(self.renderer.gpu(), index)? {
+            PresentOutcome::Presented => {}
+            PresentOutcome::Suboptimal | PresentOutcome::OutOfDate => self.recreate = true,
+        }
+        if let Some(last) = self.last_shown {
+            self.frame_ms = (now - last).as_secs_f64() * 1e3;
+        }
+        self.last_shown = Some(now);
+        summary.frame();
+        Ok(())
+    }
+
+    fn recreate_swapchain(&mut self, args: &ViewArgs) -> anyhow::Result<()> {
+        // The old swapchain's semaphores may still be waited on by a present, which no fence
+        // tracks: only an idle device (queue included) frees them.
+        self.renderer.wait_idle()?;
+        self.renderer.gpu().wait_idle()?;
+        let extent = vk::Extent2D { width: self.size.0, height: self.size.1 };
+        let old = self.swapchain.take();
+        let mode =
+            old.as_ref().map_or(leakless_device::PresentMode::parse(&args.present).unwrap_or_default(), |s| s.mode());
+        let swapchain = Swapchain::new(self.renderer.gpu(), extent, mode, leakless::renderer::FRAMES_IN_FLIGHT, old)?;
+        let e = swapchain.extent();
+        if e.width == 0 || e.height == 0 {
+            self.minimized = true;
+            return Ok(());
+        }
+        let scaled = |v: u32| ((v as f32 * self.render_scale).round() as u32).max(1);
+        self.renderer.set_size(scaled(e.width), scaled(e.height))?;
+        self.renderer.prepare_display(swapchain.format())?;
+        self.overlay.set_format(swapchain.format())?;
+        self.swapchain = Some(swapchain);
+        self.recreate = false;
+        Ok(())
+    }
+
+    fn run_overlay(&mut self, scene: &Scene) -> anyhow::Result<()> {
+        if !self.show_overlay {
+            self.overlay.clear();
+            return Ok(());
+        }
+        let r = &self.renderer;
+        let s = r.settings();
+        let auto_radius = 0.05 * scene.bounds().bounding_radius();
+        let mut sliders = Sliders {
+            radius: s.splat.radius.unwrap_or(auto_radius),
+            radius_range: (auto_radius / 50.0, auto_radius * 50.0),
+            paths: s.splat.paths,
+            cap: s.splat.cap.unwrap_or(leakless::settings::DEFAULT_CAP),
+        };
+        let before = sliders;
+        if let Some(report) = r.last_report() {
+            // Per-pass submissions leave host times; on a GPU every frame's timestamps count.
+            if self.profile_every == 0 || report.timings.iter().any(|t| t.wall_ms.is_some()) {
+                self.timings = Some(report.timings.clone());
+            }
+        }
+        let gpu = r.gpu().report();
+        let timing_note = if self.profile_every > 0 {
+            format!(
+                "each pass submitted alone, every {} frames: this CPU device's timestamps do not bracket compute work",
+                self.profile_every
+            )
+        } else {
+            "GPU timestamps".into()
+        };
+        let info = PanelInfo {
+            scene: &scene.name,
+            device: &gpu.name,
+            backend: r.backend().name(),
+            backend_why: &self.backend_why,
+            width: s.width,
+            height: s.height,
+            method: s.method,
+            layer: r.view_layer(),
+            frame_ms: self.frame_ms,
+            report: r.last_report(),
+            timings: self.timings.as_deref(),
+            timing_note: &timing_note,
+            paused: r.paused(),
+            seed_frozen: self.seed_frozen,
+            trivial_accept: s.splat.trivial_accept,
+            light_moved: self.light_moved,
+        };
+        let mut help = self.show_help;
+        self.overlay.run(&self.window, self.frame, |ctx| panel::show(ctx, &info, &mut sliders, &mut help))?;
+        self.show_help = help;
+        if sliders != before {
+            self.renderer.update(|s| {
+                if sliders.radius != before.radius {
+                    s.splat.radius = Some(sliders.radius);
+                }
+                s.splat.paths = sliders.paths;
+                if sliders.cap != before.cap {
+                    s.splat.cap = Some(sliders.cap);
+                }
+            })?;
+        }
+        Ok(())
+    }
+}
