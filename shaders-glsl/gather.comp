@@ -9,6 +9,14 @@
 // through geometry: it is dropped from the indirect layer and added to the `leaked` layer.
 // With `cap`, at most `cap` photons are gathered per sample (the thesis' per-pixel cap).
 //
+// Most segments need no ray (`prove_clear`): photon_clearance.comp gives each photon a ball
+// around its lifted position that holds no triangle except those lying wholly on or under the
+// plane τ (a quarter of the photon's lift) above the photon's surface. A segment from a lifted
+// sample inside the ball, more than 2τ above the surface, to the lifted photon stays in the
+// ball (which is convex) and above that plane (a half-space): it meets no triangle, so
+// tracing it would find nothing. The images are bit-identical either way
+// (tests/leak.rs checks it on every leak scene and both backends).
+//
 // Sums are kept in 64-bit fixed point: the splat appends to the lists with atomics, so their
 // order changes from run to run, and only an order-independent sum makes a frame
 // bit-identical for a fixed seed.
@@ -31,16 +39,20 @@ layout(set = 0, binding = 8, std430) readonly buffer ListEntries { ListEntry ent
 layout(set = 0, binding = 9, std430) buffer GatherCounters {
     uint candidates_lo;   // photons examined (64-bit totals as lo/hi words)
     uint candidates_hi;
-    uint accepted_lo;     // within the radius and facing: visibility rays when tracing
+    uint accepted_lo;     // within the radius and facing: visibility tests when tracing
     uint accepted_hi;
     uint occluded_lo;     // of those, blocked: leaks removed
     uint occluded_hi;
+    uint proven_lo;       // of the tests, proven clear without a ray
+    uint proven_hi;
     uint valid_samples;   // view samples with a surface
     uint capped_samples;  // samples that reached the cap
+    uint pad0;
+    uint pad1;
 } gather_counters;
 layout(set = 0, binding = 10, rgba32f) uniform writeonly image2D indirect_sum;
 layout(set = 0, binding = 11, rgba32f) uniform writeonly image2D leaked;
-// Per pixel: photons examined, visibility rays traced, of those blocked (the heat-map layers).
+// Per pixel: photons examined, visibility rays traced, blocked rays (the heat-map layers).
 layout(set = 0, binding = 13, rgba32f) uniform writeonly image2D gather_counts;
 layout(push_constant) uniform GatherParams {
     float radius;
@@ -50,8 +62,10 @@ layout(push_constant) uniform GatherParams {
     uint image_width;
     uint visibility;    // 1: trace a visibility segment to every photon
     uint cap;           // 0: no cap; else gather at most this many photons per sample
-    uint pad0;
+    uint prove_clear;   // 1: skip the rays photon_clearance.comp proves clear
 } params;
+// Per photon (photon_clearance.comp): its lifted position and its clearance radius.
+layout(set = 0, binding = 14, std430) readonly buffer Clearances { Clearance items[]; } clearance;
 
 // Adds to a 64-bit counter kept as two words (no 64-bit atomics needed).
 #define ADD64(LO, HI, VALUE)                          \
@@ -62,18 +76,28 @@ layout(push_constant) uniform GatherParams {
         }                                             \
     }
 
-// Whether the segment from the sample to the photon is free of geometry.
-bool photon_visible(vec3 x, vec3 ng_x, Photon ph) {
-    vec3 from = offset_ray(x, ng_x);
-    vec3 to = offset_ray(ph.position, ph.normal);
+// Whether the segment from the lifted sample `from` to the photon is free of geometry;
+// `proven` when that needed no ray.
+bool photon_visible(vec3 from, Photon ph, Clearance photon_clearance, inout uint occluder, out bool proven) {
+    vec3 to = photon_clearance.lifted;  // offset_ray(ph.position, ph.normal)
+    float lift = dot(to - ph.position, ph.normal);
     vec3 d = to - from;
-    float dist = length(d);
-    if (dist <= 0.0) {
+    float dist2 = dot(d, d);
+    proven = params.prove_clear != 0u && dist2 < photon_clearance.radius * photon_clearance.radius
+        && dot(from - ph.position, ph.normal) > 0.5 * lift;
+    if (proven) {
         return true;
     }
-    // Stop a relative 2^-12 short of the photon: scale-free, so a scene scaled ×1000 decides
-    // the same way, and never counting the photon's own surface.
-    return !traceOccluded(from, d / dist, 0.0, dist * (1.0 - 1.0 / 4096.0));
+    float dist = sqrt(dist2);
+    // Stop half the photon's lift short of it, whatever the segment's length: the end stays
+    // above the photon's own surface (never counted), and a segment arriving from behind that
+    // surface (a zero-thickness wall) still crosses it. A relative gap would miss the wall
+    // when the sample is far.
+    float tmax = dist - 0.5 * lift;
+    if (tmax <= 0.0) {
+        return true;
+    }
+    return !traceOccludedCached(from, d / dist, 0.0, tmax, occluder);
 }
 
 void main() {
@@ -92,10 +116,10 @@ void main() {
     vec4 position = imageLoad(gbuffer_position, xy);
     vec3 x = position.xyz;
     vec3 n = imageLoad(gbuffer_normal, xy).xyz;
-    vec3 ng = vec3(0.0);
+    vec3 from = x;
     if (params.visibility != 0u) {
-        ng = triangle_geometric_normal(uint(position.w) - 1u);
-        ng = dot(ng, n) < 0.0 ? -ng : ng;
+        vec3 ng = triangle_geometric_normal(uint(position.w) - 1u);
+        from = offset_ray(x, dot(ng, n) < 0.0 ? -ng : ng);
     }
     float r = params.radius;
     i64vec3 kept = i64vec3(0);
@@ -103,12 +127,15 @@ void main() {
     uint candidates = 0u;
     uint accepted = 0u;
     uint occluded = 0u;
+    uint proven = 0u;
+    uint occluder = NO_HIT;  // the surface that blocked this sample's last blocked segment
     bool capped = false;
     for (uint l = 0u; l < params.level_count && !capped; ++l) {
         Level lv = levels.levels[l];
         uint node = lv.offset + s / lv.span;
         for (uint e = node_heads.heads[node]; e != END_OF_LIST; e = list_entries.entries[e].next) {
-            Photon ph = photons.photons[list_entries.entries[e].photon];
+            uint index = list_entries.entries[e].photon;
+            Photon ph = photons.photons[index];
             candidates += 1u;
             float d = distance(x, ph.position);
             if (d >= r || dot(n, -ph.direction) <= 0.0) {
@@ -120,7 +147,13 @@ void main() {
             }
             accepted += 1u;
             i64vec3 contribution = i64vec3(ph.flux * (biweight(d, r) * params.fixed_scale));
-            if (params.visibility == 0u || photon_visible(x, ng, ph)) {
+            bool clear = true;
+            if (params.visibility != 0u) {
+                bool without_ray;
+                clear = photon_visible(from, ph, clearance.items[index], occluder, without_ray);
+                proven += without_ray ? 1u : 0u;
+            }
+            if (clear) {
                 kept += contribution;
             } else {
                 occluded += 1u;
@@ -131,7 +164,7 @@ void main() {
     vec3 albedo_over_pi = imageLoad(gbuffer_albedo, xy).rgb / PI;
     imageStore(indirect_sum, xy, vec4(albedo_over_pi * vec3(kept) / params.fixed_scale, 1.0));
     imageStore(leaked, xy, vec4(albedo_over_pi * vec3(lost) / params.fixed_scale, 1.0));
-    float rays = params.visibility != 0u ? float(accepted) : 0.0;
+    float rays = params.visibility != 0u ? float(accepted - proven) : 0.0;
     imageStore(gather_counts, xy, vec4(float(candidates), rays, float(occluded), 0.0));
     atomicAdd(gather_counters.valid_samples, 1u);
     if (capped) {
@@ -140,4 +173,5 @@ void main() {
     ADD64(gather_counters.candidates_lo, gather_counters.candidates_hi, candidates);
     ADD64(gather_counters.accepted_lo, gather_counters.accepted_hi, accepted);
     ADD64(gather_counters.occluded_lo, gather_counters.occluded_hi, occluded);
+    ADD64(gather_counters.proven_lo, gather_counters.proven_hi, proven);
 }

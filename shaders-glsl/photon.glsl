@@ -14,6 +14,14 @@ struct Photon {
     uint pad0;
 };
 
+// A photon's clearance (photon_clearance.comp): its lifted position, where the gather's
+// visibility segments end, and the radius of the ball around it that holds no geometry but
+// the photon's own plane.
+struct Clearance {
+    vec3 lifted;
+    float radius;
+};
+
 const uint END_OF_LIST = 0xffffffffu;
 
 // One entry of a node's photon list: the photon, and the next entry of the same list.

@@ -37,6 +37,8 @@ layout(set = 0, binding = 3, std430) writeonly buffer Photons { Photon photons[]
 layout(set = 0, binding = 4, std430) buffer PhotonCounters {
     uint stored;      // photons written (never more than capacity)
     uint overflowed;  // photons dropped because the buffer was full
+    uint rays;        // closest-hit rays traced (for `bench`'s rays per second)
+    uint pad0;
 } photon_counters;
 
 // Sample groups of a path (lowdiscrepancy.glsl): emission, then one per bounce.
@@ -154,8 +156,10 @@ void main() {
     // Hits h = 0, 1, ..., max_bounces (0-based; h = bounces before the hit). h = 0 is direct
     // light, stored only with store_direct; h = 1..=max_bounces are the stored indirect hits.
     uint last_hit = params.max_bounces;
+    uint rays = 0u;
     for (uint h = 0u; h <= last_hit; ++h) {
         Hit hit = traceClosest(origin, dir, 0.0, 1e30);
+        rays += 1u;
         if (hit.triangle == NO_HIT) {
             break;
         }
@@ -189,4 +193,5 @@ void main() {
         origin = offset_ray(y, ng);
         dir = next;
     }
+    atomicAdd(photon_counters.rays, rays);
 }

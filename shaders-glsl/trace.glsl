@@ -18,16 +18,7 @@ struct Hit {
 };
 const uint NO_HIT = 0xffffffffu;
 
-#define TRACE_BINDING 16
-
-// The scene's size (its bounding radius), so that ray offsets scale with the scene: a scene
-// scaled ×1000 traces the same rays. Bound by every tracing pass on both backends.
-layout(set = 0, binding = TRACE_BINDING + 3) uniform TraceScale {
-    float scene_scale;
-    float pad0;
-    float pad1;
-    float pad2;
-} trace_scale;
+#include "offset.glsl"
 
 // False when an alpha-masked material cuts the surface away at this point: such candidates
 // neither occlude nor count as hits, on both backends.
@@ -89,23 +80,16 @@ bool traceOccluded(vec3 origin, vec3 dir, float tmin, float tmax) {
     return trace_backend(origin, dir, tmin, tmax, true).triangle != NO_HIT;
 }
 
-// Moves a ray origin on a surface off it along the geometric normal `n` (pointing to the side
-// the ray leaves on): a fixed number of float ULPs of the position, which scales with its
-// magnitude, and near the world origin, where ULPs vanish, a fixed fraction of the scene's
-// size (Wächter and Binder, "A Fast and Robust Method for Avoiding Self-Intersection", Ray
-// Tracing Gems, 2019, with their constants made relative to the scene so that the offsets
-// scale with it).
-vec3 offset_ray(vec3 p, vec3 n) {
-    float origin = trace_scale.scene_scale / 32.0;
-    float float_scale = trace_scale.scene_scale / 65536.0;
-    const float int_scale = 256.0;
-    ivec3 of_i = ivec3(int_scale * n);
-    vec3 p_i = vec3(intBitsToFloat(floatBitsToInt(p.x) + ((p.x < 0.0) ? -of_i.x : of_i.x)),
-                    intBitsToFloat(floatBitsToInt(p.y) + ((p.y < 0.0) ? -of_i.y : of_i.y)),
-                    intBitsToFloat(floatBitsToInt(p.z) + ((p.z < 0.0) ? -of_i.z : of_i.z)));
-    return vec3(abs(p.x) < origin ? p.x + float_scale * n.x : p_i.x,
-                abs(p.y) < origin ? p.y + float_scale * n.y : p_i.y,
-                abs(p.z) < origin ? p.z + float_scale * n.z : p_i.z);
+// traceOccluded for many rays of one invocation that tend to be blocked by the same surface:
+// `cache` (start it at NO_HIT) carries what the last blocked ray learnt. The answer is always
+// traceOccluded's; only the compute backend uses the cache (trace_bvh_occluded_cached), since
+// a ray query cannot be asked about one triangle.
+bool traceOccludedCached(vec3 origin, vec3 dir, float tmin, float tmax, inout uint cache) {
+#if defined(TRACE_COMPUTE)
+    return trace_bvh_occluded_cached(origin, dir, tmin, tmax, cache);
+#else
+    return traceOccluded(origin, dir, tmin, tmax);
+#endif
 }
 
 #endif

@@ -1,6 +1,6 @@
 // The compute-shader trace backend (docs/architecture.md §3): a stack-based traversal of the binary BVH
 // that crates/accel builds on the CPU. trace.glsl includes this file under TRACE_COMPUTE after
-// defining Hit, NO_HIT, TRACE_BINDING and trace_alpha_pass.
+// defining Hit, NO_HIT and trace_alpha_pass.
 //
 // Bvh::traverse and intersect_triangle in crates/accel/src/bvh*.rs are this file's CPU twin,
 // operation for operation, and the tests there (brute force, watertightness) speak for it:
@@ -8,34 +8,7 @@
 #ifndef LEAKLESS_TRACE_COMPUTE_GLSL
 #define LEAKLESS_TRACE_COMPUTE_GLSL
 
-// Rust twins: BvhNode and BvhTriangle in crates/accel/src/bvh.rs (checked by reflection).
-// count == 0: interior node, children left_or_first and left_or_first + 1; count > 0: a leaf
-// with triangles left_or_first .. left_or_first + count - 1. The root is node 0.
-struct BvhNode {
-    vec3 bounds_min;
-    uint left_or_first;
-    vec3 bounds_max;
-    uint count;
-};
-
-// Raw vertices, since the watertight test needs them, and the original scene triangle index,
-// which is what a Hit reports (triangles are stored in BVH order).
-struct BvhTriangle {
-    vec3 v0;
-    uint triangle;
-    vec3 v1;
-    uint pad0;
-    vec3 v2;
-    uint pad1;
-};
-
-layout(set = 0, binding = TRACE_BINDING, std430) readonly buffer BvhNodes {
-    BvhNode nodes[];
-} bvh_nodes;
-
-layout(set = 0, binding = TRACE_BINDING + 1, std430) readonly buffer BvhTriangles {
-    BvhTriangle triangles[];
-} bvh_triangles;
+#include "bvh.glsl"
 
 // The traversal pushes at most one node per tree level, and no BVH is deeper than
 // BVH_MAX_DEPTH = 64 (crates/accel: PLOC trees are 20-35 deep for 200k triangles, and a deeper
@@ -135,8 +108,9 @@ bool bvh_triangle(BvhRay ray, BvhTriangle tri, float tmin, float tmax, out float
 
 // The closest hit with t in (tmin, tmax), or with any_hit the first accepted one (occlusion).
 // Every candidate goes through trace_alpha_pass before it counts. On a miss, triangle is
-// NO_HIT and t is tmax.
-Hit trace_bvh(vec3 origin, vec3 dir, float tmin, float tmax, bool any_hit) {
+// NO_HIT and t is tmax. `slot` is the hit's index in bvh_triangles (for trace_bvh_occluded_cached).
+Hit trace_bvh_slot(vec3 origin, vec3 dir, float tmin, float tmax, bool any_hit, out uint slot) {
+    slot = NO_HIT;
     Hit hit;
     hit.t = tmax;
     hit.triangle = NO_HIT;
@@ -182,6 +156,7 @@ Hit trace_bvh(vec3 origin, vec3 dir, float tmin, float tmax, bool any_hit) {
                     hit.t = t;
                     hit.triangle = tri.triangle;
                     hit.barycentrics = barycentrics;
+                    slot = i;
                     if (any_hit) {
                         return hit;
                     }
@@ -195,6 +170,32 @@ Hit trace_bvh(vec3 origin, vec3 dir, float tmin, float tmax, bool any_hit) {
         node = stack[sp];
     }
     return hit;
+}
+
+Hit trace_bvh(vec3 origin, vec3 dir, float tmin, float tmax, bool any_hit) {
+    uint slot;
+    return trace_bvh_slot(origin, dir, tmin, tmax, any_hit, slot);
+}
+
+// Occlusion, trying first the triangle that blocked this invocation's last blocked ray
+// (`cached_slot`, NO_HIT for none). Rays from one view sample to the photons around it are
+// mostly blocked by the same wall, and one triangle test is far cheaper than a traversal.
+// Exact: a triangle the test reports is one the traversal would reach too (its boxes are
+// padded and tested robustly, above), so the answer is the traversal's.
+bool trace_bvh_occluded_cached(vec3 origin, vec3 dir, float tmin, float tmax, inout uint cached_slot) {
+    if (cached_slot != NO_HIT) {
+        BvhTriangle tri = bvh_triangles.triangles[cached_slot];
+        float t;
+        vec2 barycentrics;
+        if (bvh_triangle(bvh_ray(origin, dir), tri, tmin, tmax, t, barycentrics)
+            && trace_alpha_pass(tri.triangle, barycentrics)) {
+            return true;
+        }
+    }
+    uint slot;
+    bool occluded = trace_bvh_slot(origin, dir, tmin, tmax, true, slot).triangle != NO_HIT;
+    cached_slot = occluded ? slot : cached_slot;
+    return occluded;
 }
 
 #endif

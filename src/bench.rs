@@ -117,8 +117,13 @@ impl Measured {
     pub fn frame_ms(&self) -> f64 {
         self.passes.iter().map(|(_, ms)| ms).sum()
     }
+    /// The time of the pass named exactly `name`.
+    pub fn pass_ms(&self, name: &str) -> f64 {
+        // (+ 0.0: an empty f64 sum is -0.0.)
+        self.passes.iter().filter(|(n, _)| n == name).map(|(_, ms)| ms).sum::<f64>() + 0.0
+    }
     pub fn photons_ms(&self) -> f64 {
-        self.ms(&["photon"])
+        self.pass_ms("photons")
     }
     pub fn hierarchy_ms(&self) -> f64 {
         self.ms(&["sample bounds", "morton", "sort ", "hierarchy"])

@@ -9,6 +9,7 @@ use leakless_scene::{LightKind, Scene};
 
 use crate::error::{RenderError, Result};
 use crate::gpu_types::{self, Light, Material, VERTEX_LAYOUT};
+use crate::trace::SceneBvh;
 
 shader_bindings! {
     /// What `scene.glsl` binds: the surfaces, by triangle index.
@@ -32,6 +33,9 @@ pub struct GpuScene {
     pub materials: Buffer,
     /// Every texture's texels, RGBA8 packed in one word each.
     pub texels: Buffer,
+    /// The BVH over `vertices` (the compute backend traverses it; every backend's clearance
+    /// pass searches it) and the scene's trace scale.
+    pub bvh: SceneBvh,
 }
 
 impl GpuScene {
@@ -75,7 +79,8 @@ impl GpuScene {
             .collect();
         let materials = Buffer::with_data(gpu, "materials", storage, bytemuck::cast_slice(&materials))?;
         let texels = Buffer::with_data(gpu, "texels", storage, bytemuck::cast_slice(&texels))?;
-        Ok(GpuScene { vertices, vertex_count: scene.vertices.len() as u32, triangle_materials, materials, texels })
+        let bvh = SceneBvh::build(gpu, scene)?;
+        Ok(GpuScene { vertices, vertex_count: scene.vertices.len() as u32, triangle_materials, materials, texels, bvh })
     }
 }
 

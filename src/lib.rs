@@ -25,4 +25,4 @@ pub use leakless_scene::Scene;
 pub use passes::tonemap::ViewLayer;
 pub use renderer::{Capture, DisplayTarget, FrameReport, Overlay, RenderedFrame, Renderer};
 pub use settings::{Method, RenderSettings, SplatSettings};
-pub use trace::{Backend, BackendChoice};
+pub use trace::{Backend, BackendChoice, ResolvedBackend};

@@ -55,7 +55,7 @@ impl<'g> RayCaster<'g> {
         let hit_buffer = Buffer::new(self.gpu, &desc)?;
         let mut graph = self.runner.graph(self.gpu)?;
         let scene = self.scene.import(&mut graph);
-        let trace = self.trace.import(&mut graph);
+        let trace = self.trace.import(&mut graph, &self.scene);
         let rays_h = graph.import_buffer(&ray_buffer);
         let mut hits_h = graph.import_buffer(&hit_buffer);
         self.pass.add(&mut graph, rays.len() as u32, occlusion, &scene, &trace, &rays_h, &mut hits_h);

@@ -12,6 +12,7 @@ use crate::gpu_scene::SceneHandles;
 use crate::passes::gather::{self, GatherCounters, GatherInputs, GatherOutputs, GatherPass};
 use crate::passes::gbuffer::GBufferHandles;
 use crate::passes::hierarchy::{HierarchyHandles, HierarchyPasses, Shape};
+use crate::passes::photon_clearance::{self, ClearancePass};
 use crate::passes::photons::{
     photon_buffer_size, PhotonCounters, PhotonParams, PhotonPass, COUNTER_BUFFER_USAGE, PHOTON_BUFFER_USAGE,
 };
@@ -37,6 +38,9 @@ pub struct SplatSettings {
     pub visibility: bool,
     /// Gather at most this many photons per pixel (`leakless-capped`; `--cap`).
     pub cap: Option<u32>,
+    /// Skip the visibility rays the photons' clearance proves clear (same image; off with
+    /// `--trace-every-pair`, to measure what the proofs save and check they change nothing).
+    pub prove_clear: bool,
 }
 
 impl Default for SplatSettings {
@@ -49,6 +53,7 @@ impl Default for SplatSettings {
             list_capacity: None,
             visibility: false,
             cap: None,
+            prove_clear: true,
         }
     }
 }
@@ -62,6 +67,8 @@ pub struct SplatStats {
     pub trivial_accept: bool,
     pub photons_stored: u32,
     pub photons_dropped: u32,
+    /// Closest-hit rays the photon pass traced.
+    pub photon_rays: u32,
     pub list_entries: u32,
     pub list_entries_dropped: u32,
     pub list_capacity: u32,
@@ -70,8 +77,13 @@ pub struct SplatStats {
     pub candidate_tests: u64,
     /// Of those, within the radius and facing the sample (gathered).
     pub accepted: u64,
-    /// Visibility segments traced (the gathered photons, when the method traces).
+    /// Visibility tests (the gathered photons, when the method traces): rays traced plus those
+    /// proven clear without a ray.
+    pub visibility_tests: u64,
+    /// Visibility rays traced.
     pub visibility_rays: u64,
+    /// Visibility tests proven clear by the photons' clearance, without a ray.
+    pub proven_clear: u64,
     /// Gathered photons whose segment hit geometry: leaks removed.
     pub leaks_culled: u64,
     /// Samples that reached the per-pixel cap.
@@ -86,6 +98,7 @@ pub struct SplatStats {
 /// The pipelines of the photon part of a frame.
 pub struct SplattingPasses<'a> {
     pub photons: &'a PhotonPass,
+    pub clearance: &'a ClearancePass,
     pub hierarchy: &'a HierarchyPasses,
     pub splat: &'a SplatPass,
     pub gather: &'a GatherPass,
@@ -178,6 +191,14 @@ pub fn add<'r>(
     };
     passes.splat.add(graph, &shape, splat, &h, &mut lists);
 
+    // The photons' clearance, for the gather to prove segments clear (visibility only). The
+    // search stops a little beyond the radius: a segment is no longer than the radius plus
+    // both ends' tiny lifts, and one that is gets traced, so the bound only limits the work.
+    let mut clearance = photon_clearance::buffer(graph, capacity)?;
+    if frame.settings.visibility {
+        let max_radius = 1.01 * frame.radius;
+        passes.clearance.add(graph, input.trace, &photons, &photon_counters, capacity, max_radius, &mut clearance);
+    }
     let table = &input.lights.table;
     let max_flux = table.entries.iter().flat_map(|e| e.flux).fold(0.0f32, f32::max) / frame.settings.paths as f32;
     let gather_input = GatherInputs {
@@ -186,6 +207,8 @@ pub fn add<'r>(
         fixed_scale: gather::fixed_scale(capacity, max_flux, frame.radius),
         visibility: frame.settings.visibility,
         cap: frame.settings.cap,
+        clearance: &clearance,
+        prove_clear: frame.settings.prove_clear,
     };
     passes.gather.add(graph, &shape, gather_input, input.gbuffer, input.scene, input.trace, &h, &lists, out);
     Ok(SplatCounterHandles { photons: photon_counters, lists: lists.counters })
@@ -207,13 +230,16 @@ impl SplatStats {
             trivial_accept: frame.settings.trivial_accept,
             photons_stored: photons.stored,
             photons_dropped: photons.overflowed,
+            photon_rays: photons.rays,
             list_entries: lists.entries_used.min(frame.list_capacity),
             list_entries_dropped: lists.entries_dropped,
             list_capacity: frame.list_capacity,
             nodes_visited: lists.nodes_visited,
             candidate_tests: gather.candidates(),
             accepted: gather.accepted(),
-            visibility_rays: if frame.settings.visibility { gather.accepted() } else { 0 },
+            visibility_tests: if frame.settings.visibility { gather.accepted() } else { 0 },
+            visibility_rays: if frame.settings.visibility { gather.accepted() - gather.proven() } else { 0 },
+            proven_clear: gather.proven(),
             leaks_culled: gather.occluded(),
             capped_samples: gather.capped_samples,
             leaked_energy_fraction: 0.0,

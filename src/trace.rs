@@ -4,7 +4,7 @@
 
 use leakless_accel::{Bvh, BvhStats, RayQueryAccel, RayQueryStats, BVH_NODE_LAYOUT, BVH_TRIANGLE_LAYOUT};
 use leakless_device::shader::ShaderInfo;
-use leakless_device::{gpu_struct, vk, BindingDecl, Bound, Buffer, Capabilities, Gpu, GpuStruct};
+use leakless_device::{gpu_struct, vk, BindingDecl, Bound, Buffer, Capabilities, DeviceType, Gpu, GpuStruct};
 use leakless_graph::{shader_bindings, Access, Bindings, BufferHandle, Graph, PassBuilder, Resolved};
 use leakless_scene::{Scene, Vertex};
 
@@ -19,6 +19,14 @@ pub enum BackendChoice {
     Auto,
     RayQuery,
     Compute,
+}
+
+/// A backend choice resolved on a device.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct ResolvedBackend {
+    pub backend: Backend,
+    /// Why this backend (for `leakless info`, the stats and the overlay).
+    pub why: &'static str,
 }
 
 /// The backend that runs.
@@ -43,14 +51,36 @@ impl BackendChoice {
         self != Self::Compute
     }
 
-    pub fn resolve(self, caps: Capabilities, device: &str) -> Result<Backend> {
+    /// The backend that runs on a device, and why. `auto` picks what the device is best at:
+    /// ray queries on a GPU that has them; the compute BVH on a CPU device such as lavapipe,
+    /// where it is faster than the device's ray queries (`leakless bench rays`: up to 2× on
+    /// the sphere, and the leak scenes' visibility rays) and watertight where lavapipe's ray
+    /// queries are not (tests/trace.rs); the compute BVH on any device without ray queries.
+    pub fn resolve(self, caps: Capabilities, device_type: DeviceType, device: &str) -> Result<ResolvedBackend> {
+        let (backend, why) = match self {
+            Self::Compute => (Backend::Compute, "forced by --backend compute"),
+            Self::RayQuery if caps.ray_query => (Backend::RayQuery, "forced by --backend rayquery"),
+            Self::RayQuery => {
+                return Err(RenderError::Settings(format!(
+                    "--backend rayquery: {device} has no VK_KHR_ray_query (use --backend compute or auto)"
+                )))
+            }
+            Self::Auto if !caps.ray_query => (Backend::Compute, "auto: the device has no ray queries"),
+            Self::Auto if device_type == DeviceType::Cpu => (
+                Backend::Compute,
+                "auto: a CPU device, where the compute BVH is faster than its ray queries and watertight",
+            ),
+            Self::Auto => (Backend::RayQuery, "auto: a GPU with ray queries"),
+        };
+        Ok(ResolvedBackend { backend, why })
+    }
+
+    /// What `--backend` calls it.
+    pub fn name(self) -> &'static str {
         match self {
-            Self::Auto if caps.ray_query => Ok(Backend::RayQuery),
-            Self::Auto | Self::Compute => Ok(Backend::Compute),
-            Self::RayQuery if caps.ray_query => Ok(Backend::RayQuery),
-            Self::RayQuery => Err(RenderError::Settings(format!(
-                "--backend rayquery: {device} has no VK_KHR_ray_query (use --backend compute or auto)"
-            ))),
+            Self::Auto => "auto",
+            Self::RayQuery => "rayquery",
+            Self::Compute => "compute",
         }
     }
 }
@@ -138,26 +168,18 @@ pub struct TraceStats {
     pub detail: String,
 }
 
-// One per scene, built once and never moved in a hot path: no need to box the larger one.
-#[allow(clippy::large_enum_variant)]
-enum Structures {
-    RayQuery(RayQueryAccel),
-    Compute { nodes: Buffer, triangles: Buffer },
-}
-
-/// The scene's trace structures for one backend.
+/// The scene's trace structures for one backend: the ray-query backend's BLAS and TLAS; the
+/// compute backend needs nothing beyond the BVH every `GpuScene` has.
 pub struct TraceScene {
     backend: Backend,
-    structures: Structures,
-    /// The `trace_scale` uniform.
-    scale: Buffer,
+    accel: Option<RayQueryAccel>,
     stats: TraceStats,
 }
 
 impl TraceScene {
     pub fn build(gpu: &Gpu, scene: &Scene, gpu_scene: &GpuScene, backend: Backend) -> Result<TraceScene> {
         let triangles = scene.triangle_count() as u32;
-        let (structures, stats) = match backend {
+        let (accel, stats) = match backend {
             Backend::RayQuery => {
                 let opaque = scene.materials.iter().all(|m| m.alpha_cutoff.is_none());
                 let accel = RayQueryAccel::build(
@@ -177,27 +199,20 @@ impl TraceScene {
                         "BLAS {blas_bytes} B (uncompacted {blas_uncompacted_bytes} B), TLAS {tlas_bytes} B, scratch {scratch_bytes} B"
                     ),
                 };
-                (Structures::RayQuery(accel), stats)
+                (Some(accel), stats)
             }
             Backend::Compute => {
-                let bvh = Bvh::build(&scene.vertices)?;
-                let BvhStats { build_ms, node_count, bytes, sah_cost, .. } = bvh.stats.clone();
-                let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
-                let nodes = Buffer::with_data(gpu, "bvh nodes", storage, bytemuck::cast_slice(&bvh.nodes))?;
-                let tris = Buffer::with_data(gpu, "bvh triangles", storage, bytemuck::cast_slice(&bvh.triangles))?;
+                let BvhStats { build_ms, node_count, bytes, sah_cost, .. } = gpu_scene.bvh.stats.clone();
                 let stats = TraceStats {
                     backend,
                     build_ms,
                     bytes: bytes as u64,
                     detail: format!("{node_count} nodes, {triangles} triangles, SAH cost {sah_cost:.1}"),
                 };
-                (Structures::Compute { nodes, triangles: tris }, stats)
+                (None, stats)
             }
         };
-        let scale = TraceScale { scene_scale: scene_scale(scene), ..Default::default() };
-        let scale =
-            Buffer::with_data(gpu, "trace scale", vk::BufferUsageFlags::UNIFORM_BUFFER, bytemuck::bytes_of(&scale))?;
-        Ok(TraceScene { backend, structures, scale, stats })
+        Ok(TraceScene { backend, accel, stats })
     }
 
     pub fn backend(&self) -> Backend {
@@ -208,50 +223,82 @@ impl TraceScene {
         &self.stats
     }
 
-    pub fn import<'r>(&'r self, graph: &mut Graph<'r>) -> TraceHandles {
-        let structures = match &self.structures {
-            Structures::RayQuery(accel) => HandledStructures::RayQuery {
-                tlas: accel.tlas.raw(),
-                tlas_buffer: graph.import_buffer(accel.tlas.buffer()),
-                blas_buffer: graph.import_buffer(accel.blas.buffer()),
-            },
-            Structures::Compute { nodes, triangles } => HandledStructures::Compute {
-                nodes: graph.import_buffer(nodes),
-                triangles: graph.import_buffer(triangles),
-            },
-        };
-        TraceHandles { structures, scale: graph.import_buffer(&self.scale) }
+    /// The structures in one frame's graph, with the scene's BVH (`gpu_scene`) that the
+    /// compute backend traverses and every backend's clearance pass searches.
+    pub fn import<'r>(&'r self, graph: &mut Graph<'r>, gpu_scene: &'r GpuScene) -> TraceHandles {
+        let rayquery = self.accel.as_ref().map(|accel| RayQueryHandles {
+            tlas: accel.tlas.raw(),
+            tlas_buffer: graph.import_buffer(accel.tlas.buffer()),
+            blas_buffer: graph.import_buffer(accel.blas.buffer()),
+        });
+        let bvh = &gpu_scene.bvh;
+        TraceHandles {
+            rayquery,
+            nodes: graph.import_buffer(&bvh.nodes),
+            triangles: graph.import_buffer(&bvh.triangles),
+            scale: graph.import_buffer(&bvh.scale),
+        }
     }
 }
 
-enum HandledStructures {
-    RayQuery { tlas: vk::AccelerationStructureKHR, tlas_buffer: BufferHandle, blas_buffer: BufferHandle },
-    Compute { nodes: BufferHandle, triangles: BufferHandle },
+/// The scene's BVH on the GPU (what the compute backend traverses), and the `trace_scale`
+/// uniform every tracing pass binds.
+pub struct SceneBvh {
+    pub nodes: Buffer,
+    pub triangles: Buffer,
+    pub scale: Buffer,
+    pub stats: BvhStats,
+}
+
+impl SceneBvh {
+    pub fn build(gpu: &Gpu, scene: &Scene) -> Result<SceneBvh> {
+        let bvh = Bvh::build(&scene.vertices)?;
+        let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
+        let nodes = Buffer::with_data(gpu, "bvh nodes", storage, bytemuck::cast_slice(&bvh.nodes))?;
+        let triangles = Buffer::with_data(gpu, "bvh triangles", storage, bytemuck::cast_slice(&bvh.triangles))?;
+        let scale = TraceScale { scene_scale: scene_scale(scene), ..Default::default() };
+        let scale =
+            Buffer::with_data(gpu, "trace scale", vk::BufferUsageFlags::UNIFORM_BUFFER, bytemuck::bytes_of(&scale))?;
+        Ok(SceneBvh { nodes, triangles, scale, stats: bvh.stats.clone() })
+    }
+}
+
+struct RayQueryHandles {
+    tlas: vk::AccelerationStructureKHR,
+    tlas_buffer: BufferHandle,
+    blas_buffer: BufferHandle,
 }
 
 /// The trace structures of one frame's graph.
 pub struct TraceHandles {
-    structures: HandledStructures,
+    rayquery: Option<RayQueryHandles>,
+    nodes: BufferHandle,
+    triangles: BufferHandle,
     scale: BufferHandle,
 }
 
 impl TraceHandles {
     /// Declares that `pass` traces rays.
     pub fn declare(&self, pass: &mut PassBuilder<'_, '_>) -> TraceBindings {
-        let trace_scale = pass.read(&self.scale, Access::ComputeRead);
-        match &self.structures {
-            HandledStructures::RayQuery { tlas, tlas_buffer, blas_buffer } => {
+        match &self.rayquery {
+            Some(rq) => {
+                let trace_scale = pass.read(&self.scale, Access::ComputeRead);
                 // Traversal reads the BLAS through the TLAS: both are declared, only the TLAS
                 // is bound.
-                pass.read(tlas_buffer, Access::RayQueryRead);
-                pass.read(blas_buffer, Access::RayQueryRead);
-                TraceBindings::RayQuery(RayQueryTrace { tlas: *tlas, trace_scale })
+                pass.read(&rq.tlas_buffer, Access::RayQueryRead);
+                pass.read(&rq.blas_buffer, Access::RayQueryRead);
+                TraceBindings::RayQuery(RayQueryTrace { tlas: rq.tlas, trace_scale })
             }
-            HandledStructures::Compute { nodes, triangles } => TraceBindings::Compute(ComputeTrace {
-                bvh_nodes: pass.read(nodes, Access::ComputeRead),
-                bvh_triangles: pass.read(triangles, Access::ComputeRead),
-                trace_scale,
-            }),
+            None => TraceBindings::Compute(self.declare_bvh(pass)),
+        }
+    }
+
+    /// Declares that `pass` searches the scene's BVH (on any backend).
+    pub fn declare_bvh(&self, pass: &mut PassBuilder<'_, '_>) -> ComputeTrace {
+        ComputeTrace {
+            bvh_nodes: pass.read(&self.nodes, Access::ComputeRead),
+            bvh_triangles: pass.read(&self.triangles, Access::ComputeRead),
+            trace_scale: pass.read(&self.scale, Access::ComputeRead),
         }
     }
 }

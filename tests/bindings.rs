@@ -4,7 +4,8 @@
 
 use leakless::passes::hierarchy::{build, morton, sample_bounds};
 use leakless::passes::{
-    compose, direct, gather, gbuffer, luminance, photons, raycast, reference, sort, splat, tonemap, view_bindings,
+    compose, direct, gather, gbuffer, luminance, photon_clearance, photons, raycast, reference, sort, splat, tonemap,
+    view_bindings,
 };
 use leakless::shaders;
 use leakless::Backend;
@@ -44,6 +45,12 @@ fn compute_passes(backend: Backend) -> Vec<(&'static str, &'static ShaderInfo, V
             pick(&shaders::GATHER_COMP_RAYQUERY, &shaders::GATHER_COMP_COMPUTE),
             gather::bindings(backend),
             Some(gather::GatherParams::LAYOUT),
+        ),
+        (
+            "photon clearance",
+            &shaders::PHOTON_CLEARANCE_COMP,
+            [photon_clearance::ClearanceBindings::DECLS, leakless::trace::ComputeTrace::DECLS].concat(),
+            Some(photon_clearance::ClearanceParams::LAYOUT),
         ),
         (
             "compose",

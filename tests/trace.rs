@@ -194,10 +194,18 @@ fn reference_converges_to_the_sphere_closed_form() {
 
 #[test]
 fn forcing_ray_queries_without_them_is_a_clear_error() {
-    let caps = leakless_device::Capabilities { ray_query: false, acceleration_structure: false, validation: false };
-    let err = BackendChoice::RayQuery.resolve(caps, "some device").unwrap_err().to_string();
+    use leakless_device::{Capabilities, DeviceType};
+    let none = Capabilities { ray_query: false, acceleration_structure: false, validation: false };
+    let err = BackendChoice::RayQuery.resolve(none, DeviceType::Discrete, "some device").unwrap_err().to_string();
     assert!(err.contains("rayquery") && err.contains("some device") && err.contains("compute"), "{err}");
-    assert_eq!(BackendChoice::Auto.resolve(caps, "d").unwrap(), Backend::Compute);
+    let auto = |caps, ty| BackendChoice::Auto.resolve(caps, ty, "d").unwrap().backend;
+    let rq = Capabilities { ray_query: true, acceleration_structure: true, validation: false };
+    assert_eq!(auto(none, DeviceType::Discrete), Backend::Compute);
+    // What each device is best at: ray queries on GPUs, the compute BVH on CPU devices.
+    assert_eq!(auto(rq, DeviceType::Discrete), Backend::RayQuery);
+    assert_eq!(auto(rq, DeviceType::Integrated), Backend::RayQuery);
+    assert_eq!(auto(rq, DeviceType::Cpu), Backend::Compute);
+    assert_eq!(BackendChoice::RayQuery.resolve(rq, DeviceType::Cpu, "d").unwrap().backend, Backend::RayQuery);
 }
 
 /// The compute backend's GLSL traversal is the CPU traversal of the same BVH, ray for ray.

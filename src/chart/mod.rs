@@ -340,7 +340,7 @@ fn choice(backend: Backend) -> BackendChoice {
 /// that trace them (`leaked_energy_fraction`: leaked / (leaked + kept), luminance over the
 /// image); `None` for the others.
 pub fn leaked_fraction(stats: &SplatStats) -> Option<f64> {
-    (stats.visibility_rays > 0).then_some(stats.leaked_energy_fraction)
+    (stats.visibility_tests > 0).then_some(stats.leaked_energy_fraction)
 }
 
 /// The columns of [`write_csv`], in order.

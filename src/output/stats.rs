@@ -32,6 +32,8 @@ pub struct Stats {
     pub device: String,
     pub driver: String,
     pub backend: String,
+    /// Why that backend (`auto`'s choice, or the flag that forced it).
+    pub backend_why: String,
     pub method: String,
     pub parameters: String,
     pub width: u32,
@@ -65,6 +67,7 @@ impl Stats {
             device: device.name.clone(),
             driver: device.driver.clone(),
             backend: renderer.backend().name().into(),
+            backend_why: renderer.backend_why().into(),
             method: settings.method.name().into(),
             parameters: settings.describe(),
             width: frame.width,

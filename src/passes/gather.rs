@@ -11,6 +11,7 @@ use crate::error::Result;
 use crate::gpu_scene::{SceneBindings, SceneHandles};
 use crate::passes::gbuffer::GBufferHandles;
 use crate::passes::hierarchy::{HierarchyHandles, Level, Shape};
+use crate::passes::photon_clearance::Clearance;
 use crate::passes::photons::Photon;
 use crate::passes::splat::{ListEntry, NodeListHandles};
 use crate::shaders;
@@ -30,7 +31,8 @@ gpu_struct! {
         pub visibility: u32,
         /// 0: no cap; else gather at most this many photons per sample.
         pub cap: u32,
-        pub pad0: u32,
+        /// 1: skip the rays the photons' clearance proves clear.
+        pub prove_clear: u32,
     }
 }
 
@@ -44,8 +46,12 @@ gpu_struct! {
         pub accepted_hi: u32,
         pub occluded_lo: u32,
         pub occluded_hi: u32,
+        pub proven_lo: u32,
+        pub proven_hi: u32,
         pub valid_samples: u32,
         pub capped_samples: u32,
+        pub pad0: u32,
+        pub pad1: u32,
     }
 }
 
@@ -66,6 +72,10 @@ impl GatherCounters {
     pub fn occluded(&self) -> u64 {
         wide(self.occluded_lo, self.occluded_hi)
     }
+    /// Visibility tests the photons' clearance answered without a ray.
+    pub fn proven(&self) -> u64 {
+        wide(self.proven_lo, self.proven_hi)
+    }
 }
 
 shader_bindings! {
@@ -85,6 +95,7 @@ shader_bindings! {
         indirect_sum: image,
         leaked: image,
         gather_counts: image,
+        clearance: array(Clearance::LAYOUT),
     }
 }
 
@@ -107,6 +118,10 @@ pub struct GatherInputs<'a> {
     pub visibility: bool,
     /// Gather at most this many photons per sample (the thesis' cap); `None` = all.
     pub cap: Option<u32>,
+    /// Each photon's clearance (photon_clearance.rs), to prove segments clear without a ray
+    /// when `prove_clear`.
+    pub clearance: &'a BufferHandle,
+    pub prove_clear: bool,
 }
 
 /// What the gather writes.
@@ -174,7 +189,7 @@ impl GatherPass {
             image_width: gbuffer.position.extent().width,
             visibility: input.visibility as u32,
             cap: input.cap.unwrap_or(0),
-            pad0: 0,
+            prove_clear: input.prove_clear as u32,
         };
         let mut pass = graph.pass("gather");
         let own = GatherBindings {
@@ -191,6 +206,7 @@ impl GatherPass {
             indirect_sum: pass.write(out.indirect_sum, Access::ComputeWrite),
             leaked: pass.write(out.leaked, Access::ComputeWrite),
             gather_counts: pass.write(out.counts, Access::ComputeWrite),
+            clearance: pass.read(input.clearance, Access::ComputeRead),
         };
         let surfaces = scene.declare(&mut pass, Access::ComputeRead);
         let trace = trace.declare(&mut pass);

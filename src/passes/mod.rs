@@ -8,6 +8,7 @@ pub mod gather;
 pub mod gbuffer;
 pub mod hierarchy;
 pub mod luminance;
+pub mod photon_clearance;
 pub mod photons;
 pub mod raycast;
 pub mod readback;

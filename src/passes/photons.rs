@@ -17,6 +17,7 @@ use leakless_scene::Scene;
 use crate::error::{RenderError, Result};
 use crate::gpu_scene::{GpuScene, SceneBindings, SceneHandles};
 use crate::gpu_types::Light;
+use crate::passes::photon_clearance::{Clearance, ClearancePass};
 use crate::photon_lights::{upload_lights, LightHandles, LightTable};
 use crate::shaders;
 use crate::trace::{Backend, TraceHandles, TraceScene};
@@ -52,6 +53,9 @@ gpu_struct! {
         pub stored: u32,
         /// Photons dropped because the buffer was full.
         pub overflowed: u32,
+        /// Closest-hit rays traced.
+        pub rays: u32,
+        pub pad0: u32,
     }
 }
 
@@ -294,22 +298,64 @@ impl<'g> PhotonTracer<'g> {
     }
 
     pub fn trace(&mut self, params: &PhotonParams) -> Result<PhotonTrace> {
+        Ok(self.run(params, None)?.0)
+    }
+
+    /// Traces, then computes the stored photons' clearance (photon_clearance.comp) searching
+    /// up to `max_radius`, and reads both back: the clearance in photon order.
+    pub fn trace_with_clearance(
+        &mut self,
+        params: &PhotonParams,
+        max_radius: f32,
+    ) -> Result<(PhotonTrace, Vec<Clearance>)> {
+        let (trace, clearance) = self.run(params, Some(max_radius))?;
+        Ok((trace, clearance.unwrap_or_default()))
+    }
+
+    fn run(
+        &mut self,
+        params: &PhotonParams,
+        clearance_radius: Option<f32>,
+    ) -> Result<(PhotonTrace, Option<Vec<Clearance>>)> {
         let capacity = self.capacity;
         // Fill the whole buffer (photons and guard) with the pattern: no stale photon of an
         // earlier run can pass for a new one, and the guard shows any write past the capacity.
         let words = (capacity + GUARD_PHOTONS) as usize * std::mem::size_of::<Photon>() / 4;
         self.photons.write(0, bytemuck::cast_slice(&vec![GUARD_WORD; words]))?;
+        let clearance_pass = match clearance_radius {
+            Some(_) => Some(ClearancePass::new(self.gpu)?),
+            None => None,
+        };
+        let clearance_buffer = match clearance_radius {
+            Some(_) => Some(Buffer::new(
+                self.gpu,
+                &BufferDesc {
+                    name: "photon clearance",
+                    size: capacity.max(1) as u64 * std::mem::size_of::<Clearance>() as u64,
+                    usage: vk::BufferUsageFlags::STORAGE_BUFFER,
+                    location: MemoryLocation::GpuToCpu,
+                },
+            )?),
+            None => None,
+        };
         let mut graph = self.runner.graph(self.gpu)?;
         let scene = self.scene.import(&mut graph);
-        let trace = self.trace.import(&mut graph);
+        let trace = self.trace.import(&mut graph, &self.scene);
         let lights = upload_lights(&mut graph, &self.lights, &self.bounds)?;
         let mut photons = graph.import_buffer(&self.photons);
         let mut counters = graph.import_buffer(&self.counters);
         // The pass writes up to the capacity, never into the guard after it.
         self.pass.add(&mut graph, params, &scene, &trace, &lights, &mut photons, capacity, &mut counters)?;
+        let mut clearance = clearance_buffer.as_ref().map(|b| graph.import_buffer(b));
+        if let (Some(pass), Some(out), Some(radius)) = (&clearance_pass, &mut clearance, clearance_radius) {
+            pass.add(&mut graph, &trace, &photons, &counters, capacity, radius, out);
+        }
         let mut host = graph.pass("to host");
         host.read(&photons, Access::HostRead);
         host.read(&counters, Access::HostRead);
+        if let Some(c) = &clearance {
+            host.read(c, Access::HostRead);
+        }
         host.record(|_| Ok(()));
         let submitted = graph.submit(&Default::default())?;
         let done = self.runner.wait_for(self.gpu, submitted)?;
@@ -319,7 +365,11 @@ impl<'g> PhotonTracer<'g> {
         let stored = (counters.stored.min(capacity)) as usize;
         let guard_intact =
             bytemuck::cast_slice::<Photon, u32>(&all[capacity as usize..]).iter().all(|&w| w == GUARD_WORD);
-        Ok(PhotonTrace { photons: all[..stored].to_vec(), counters, guard_intact, trace_ms })
+        let clearance = match &clearance_buffer {
+            Some(b) => Some(b.read_vec::<Clearance>(stored)?),
+            None => None,
+        };
+        Ok((PhotonTrace { photons: all[..stored].to_vec(), counters, guard_intact, trace_ms }, clearance))
     }
 }
 /// Traces `params` once in `scene` on `backend` with room for `capacity` photons.

@@ -102,7 +102,7 @@ impl Renderer {
             pad0: 0,
         };
         let extent = self.extent();
-        let backend = self.backends[self.backend as usize].as_ref().expect("current backend made");
+        let backend = self.backends[self.backend.backend as usize].as_ref().expect("current backend made");
         let (passes, tracing) = (&self.passes, &backend.passes);
         let mut g = self.runner.graph(&self.gpu)?;
 
@@ -111,7 +111,7 @@ impl Renderer {
             g.upload("frame", ash::vk::BufferUsageFlags::UNIFORM_BUFFER, bytemuck::bytes_of(&frame_constants))?;
         let lights = upload_lights(&mut g, &self.lights, &self.scene.bounds())?;
         let scene = self.gpu_scene.import(&mut g);
-        let trace = backend.trace.import(&mut g);
+        let trace = backend.trace.import(&mut g, &self.gpu_scene);
 
         // View samples and their direct light.
         let mut gbuffer = GBufferHandles::new(&mut g, extent)?;
@@ -137,6 +137,7 @@ impl Renderer {
         if let Some(splat) = &splat {
             let splat_passes = SplattingPasses {
                 photons: &tracing.photons,
+                clearance: &passes.clearance,
                 hierarchy: &passes.hierarchy,
                 splat: &passes.splat,
                 gather: &tracing.gather,

@@ -35,13 +35,14 @@ use crate::passes::gather::GatherPass;
 use crate::passes::gbuffer::GBufferPass;
 use crate::passes::hierarchy::HierarchyPasses;
 use crate::passes::luminance::{LuminancePass, LuminanceStats};
+use crate::passes::photon_clearance::ClearancePass;
 use crate::passes::photons::PhotonPass;
 use crate::passes::reference::ReferencePass;
 use crate::passes::splat::SplatPass;
 use crate::passes::tonemap::{TonemapPass, ViewLayer};
 use crate::settings::{Method, RenderSettings};
 use crate::splatting::{default_list_capacity, SplatFrame, SplatStats};
-use crate::trace::{Backend, BackendChoice, TraceScene, TraceStats};
+use crate::trace::{Backend, BackendChoice, ResolvedBackend, TraceScene, TraceStats};
 
 /// Frames the renderer keeps in flight: the host records one while the GPU runs the other.
 pub const FRAMES_IN_FLIGHT: usize = 2;
@@ -49,6 +50,7 @@ pub const FRAMES_IN_FLIGHT: usize = 2;
 /// The passes that do not trace rays (one set per renderer).
 struct Passes {
     gbuffer: GBufferPass,
+    clearance: ClearancePass,
     hierarchy: HierarchyPasses,
     splat: SplatPass,
     compose: ComposePass,
@@ -109,7 +111,7 @@ pub struct Renderer {
     lights: Vec<Light>,
     scene: Scene,
     gpu_scene: GpuScene,
-    backend: Backend,
+    backend: ResolvedBackend,
     backends: [Option<BackendState>; 2],
     passes: Passes,
     view: ViewLayer,
@@ -135,10 +137,11 @@ pub struct Renderer {
 impl Renderer {
     pub fn new(gpu: Gpu, scene: &Scene, settings: RenderSettings) -> Result<Renderer> {
         settings.validate()?;
-        let backend = settings.backend.resolve(gpu.capabilities(), &gpu.report().name)?;
+        let resolved = resolve(&gpu, settings.backend)?;
         let gpu_scene = GpuScene::upload(&gpu, scene)?;
         let passes = Passes {
             gbuffer: GBufferPass::new(&gpu)?,
+            clearance: ClearancePass::new(&gpu)?,
             hierarchy: HierarchyPasses::new(&gpu)?,
             splat: SplatPass::new(&gpu)?,
             compose: ComposePass::new(&gpu)?,
@@ -152,7 +155,7 @@ impl Renderer {
             lights: scene.lights.clone(),
             scene: scene.clone(),
             gpu_scene,
-            backend,
+            backend: resolved,
             backends: [None, None],
             passes,
             view: ViewLayer::Final,
@@ -169,7 +172,7 @@ impl Renderer {
             gpu,
         };
         renderer.list_capacity = renderer.default_list_capacity();
-        renderer.backend_state(backend)?;
+        renderer.backend_state(resolved.backend)?;
         renderer.gpu.check_validation()?;
         Ok(renderer)
     }
@@ -202,12 +205,17 @@ impl Renderer {
     }
 
     pub fn backend(&self) -> Backend {
-        self.backend
+        self.backend.backend
+    }
+
+    /// Why this backend runs (`auto`'s choice, or the flag that forced it).
+    pub fn backend_why(&self) -> &'static str {
+        self.backend.why
     }
 
     /// What building the current backend's trace structures cost.
     pub fn trace_stats(&self) -> &TraceStats {
-        self.backends[self.backend as usize].as_ref().expect("current backend made").trace.stats()
+        self.backends[self.backend.backend as usize].as_ref().expect("current backend made").trace.stats()
     }
 
     pub fn settings(&self) -> &RenderSettings {
@@ -280,8 +288,8 @@ impl Renderer {
     /// makes its structures (the old backend's stay, for switching back).
     pub fn set_settings(&mut self, settings: RenderSettings) -> Result<()> {
         settings.validate()?;
-        let backend = settings.backend.resolve(self.gpu.capabilities(), &self.gpu.report().name)?;
-        self.backend_state(backend)?;
+        let backend = resolve(&self.gpu, settings.backend)?;
+        self.backend_state(backend.backend)?;
         let capacity_inputs =
             |s: &RenderSettings| (s.splat.paths, s.max_bounces, s.width, s.height, s.splat.list_capacity);
         let regrow = capacity_inputs(&settings) != capacity_inputs(&self.settings);
@@ -395,6 +403,11 @@ impl Renderer {
         }
         Ok(())
     }
+}
+
+fn resolve(gpu: &Gpu, choice: BackendChoice) -> Result<ResolvedBackend> {
+    let report = gpu.report();
+    choice.resolve(gpu.capabilities(), report.device_type, &report.name)
 }
 
 impl Drop for Renderer {

@@ -65,6 +65,7 @@ impl Channel {
         let n = self.times.len();
         let cubic = self.interp == Interp::CubicSpline;
         let key = |k: usize| self.values[if cubic { 3 * k + 1 } else { k }];
+        #[allow(clippy::neg_cmp_op_on_partial_ord)] // NaN t clamps to the first key, on purpose
         if !(t > self.times[0]) {
             return key(0);
         }

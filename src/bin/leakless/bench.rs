@@ -18,22 +18,27 @@ pub enum BenchCommand {
         #[arg(long, default_value_t = 3)]
         repeats: u32,
     },
-    /// Leakage removal: frame time of splat, leakless-capped and leakless at the same
-    /// settings, what trivial accept saves, and visibility rays per second against the
-    /// device's occlusion-ray rate.
+    /// Leakage removal, per scene: frame time of splat, leakless-capped and leakless at the
+    /// same settings (best of --repeats), the visibility tests proven clear without a ray,
+    /// what trivial accept saves, and the photon and visibility passes' rays per second
+    /// against the device's own closest-hit and occlusion rates (`bench rays`).
     Leak {
-        /// The scene (.gltf or .glb).
-        scene: PathBuf,
+        /// The scenes (.gltf or .glb).
+        #[arg(required = true)]
+        scenes: Vec<PathBuf>,
         #[arg(long, default_value = "320x240", value_parser = crate::parse_size)]
         size: (u32, u32),
         #[arg(long, default_value_t = 10_000)]
         paths: u32,
-        /// Gather radius (default: 5% of the scene's bounding radius).
+        /// Gather radius (default: 5% of each scene's bounding radius).
         #[arg(long)]
         radius: Option<f32>,
         /// Trace backend.
         #[arg(long, default_value = "auto", value_parser = crate::parse_backend)]
         backend: BackendChoice,
+        /// Timed frames per configuration after a warm-up frame (the fastest counts).
+        #[arg(long, default_value_t = 3)]
+        repeats: u32,
     },
     /// Photon splatting: per-pass times, hierarchy tests against brute force, growth with
     /// paths and resolution, and the branching factor B.
@@ -53,7 +58,9 @@ pub fn run(cmd: BenchCommand) -> anyhow::Result<()> {
     match cmd {
         BenchCommand::Rays { scene, size, repeats } => rays(scene, size, repeats),
         BenchCommand::Splat { scene, size, paths } => splat(scene, size, paths),
-        BenchCommand::Leak { scene, size, paths, radius, backend } => leak(scene, size, paths, radius, backend),
+        BenchCommand::Leak { scenes, size, paths, radius, backend, repeats } => {
+            crate::bench_leak::run(&scenes, size, paths, radius, backend, repeats)
+        }
     }
 }
 
@@ -195,109 +202,5 @@ fn splat(path: PathBuf, (w, h): (u32, u32), paths: u32) -> anyhow::Result<()> {
         })
         .expect("four rows");
     println!("fastest hierarchy + splat + gather: B = {}", best.stats().branching);
-    Ok(())
-}
-
-fn leak(
-    path: PathBuf,
-    (w, h): (u32, u32),
-    paths: u32,
-    radius: Option<f32>,
-    backend: BackendChoice,
-) -> anyhow::Result<()> {
-    use leakless::{Method, RenderSettings, SplatSettings};
-    let scene = Scene::load(&path).with_context(|| format!("loading {}", path.display()))?;
-    let open = || {
-        Ok(leakless::Gpu::new(&leakless::GpuOptions {
-            validation: None,
-            ray_tracing: backend.wants_ray_queries(),
-            window: None,
-        })?)
-    };
-    let gpu = open()?;
-    let resolved = backend.resolve(gpu.capabilities(), &gpu.report().name)?;
-    println!(
-        "bench leak {} ({}x{}, {paths} paths) on {}, {} backend; wall time of each pass submitted alone, second frame",
-        path.display(),
-        w,
-        h,
-        gpu.report().name,
-        resolved.name()
-    );
-    let run = |method, trivial_accept| RenderSettings {
-        width: w,
-        height: h,
-        backend,
-        method,
-        splat: SplatSettings { paths, radius, trivial_accept, ..Default::default() },
-        ..Default::default()
-    };
-    let runs = [
-        ("splat".to_string(), run(Method::Splat, true)),
-        ("leakless-capped".to_string(), run(Method::LeakLessCapped, false)),
-        ("leakless".to_string(), run(Method::LeakLess, true)),
-        ("leakless, trivial accept off".to_string(), run(Method::LeakLess, false)),
-    ];
-    let rows = runs
-        .iter()
-        .map(|(label, settings)| leakless::bench::Measured::run(&open, &scene, label, settings))
-        .collect::<leakless::Result<Vec<_>>>()?;
-    println!(
-        "{:<29} {:>9} {:>9} {:>9} {:>11} {:>11} {:>10} {:>8}",
-        "method", "frame ms", "splat ms", "gather ms", "node tests", "vis. rays", "culled", "leaked"
-    );
-    for r in &rows {
-        let s = r.stats();
-        println!(
-            "{:<29} {:>9.1} {:>9.1} {:>9.1} {:>11} {:>11} {:>10} {:>7.2}%",
-            r.label,
-            r.frame_ms(),
-            r.ms(&["splat"]),
-            r.ms(&["gather"]),
-            s.nodes_visited,
-            s.visibility_rays,
-            s.leaks_culled,
-            100.0 * s.leaked_energy_fraction
-        );
-    }
-    let (splat, capped, ours, no_ta) = (&rows[0], &rows[1], &rows[2], &rows[3]);
-    println!(
-        "frame time: leakless-capped / splat = {:.2}, leakless / splat = {:.2}, leakless / leakless-capped = {:.2}",
-        capped.frame_ms() / splat.frame_ms(),
-        ours.frame_ms() / splat.frame_ms(),
-        ours.frame_ms() / capped.frame_ms()
-    );
-    println!(
-        "trivial accept in leakless: splat pass {:.1} ms vs {:.1} ms without ({} vs {} node tests, {} vs {} list entries); images identical: {}",
-        ours.ms(&["splat"]),
-        no_ta.ms(&["splat"]),
-        ours.stats().nodes_visited,
-        no_ta.stats().nodes_visited,
-        ours.stats().list_entries,
-        no_ta.stats().list_entries,
-        if ours.frame.radiance == no_ta.frame.radiance { "yes (bit for bit)" } else { "NO" }
-    );
-    // The visibility rays' share of the gather: leakless gather minus the same gather without
-    // visibility (splat's).
-    let vis_ms = (ours.ms(&["gather"]) - splat.ms(&["gather"])).max(1e-3);
-    let vis_rate = ours.stats().visibility_rays as f64 / (vis_ms * 1e3);
-    let rates = leakless::bench::rays(&gpu, &scene, w, h, 3)?;
-    let occl = |set: &str| {
-        rates.iter().find(|r| r.backend == resolved && r.set == set && r.query == "occluded").map(|r| r.mrays_per_s())
-    };
-    println!(
-        "visibility rays: {} in {:.1} ms of gather beyond splat's = {:.2} Mrays/s",
-        ours.stats().visibility_rays,
-        vis_ms,
-        vis_rate
-    );
-    if let (Some(c), Some(i)) = (occl("coherent"), occl("incoherent")) {
-        println!(
-            "device occlusion rays ({}): coherent {c:.2} Mrays/s, incoherent {i:.2} Mrays/s -> visibility rays run at {:.0}% / {:.0}% of them",
-            resolved.name(),
-            100.0 * vis_rate / c,
-            100.0 * vis_rate / i
-        );
-    }
     Ok(())
 }

@@ -39,20 +39,12 @@ pub fn run(args: InfoArgs) -> anyhow::Result<()> {
     let gpu = gpu.context("opening a device")?;
     let r = gpu.report();
     println!("using device {} ({}); LEAKLESS_DEVICE=<index or name> picks another", r.index, r.name);
-    let why = match (args.backend, gpu.capabilities().ray_query) {
-        (BackendChoice::Compute, _) => "compute (forced by --backend compute)",
-        (_, true) => "rayquery (VK_KHR_ray_query and VK_KHR_acceleration_structure present)",
-        (BackendChoice::RayQuery, false) => "none: --backend rayquery, but the device has no VK_KHR_ray_query",
-        (BackendChoice::Auto, false) => "compute (no VK_KHR_ray_query: compute-shader BVH traversal)",
-    };
-    println!(
-        "trace backend ({}): {why}",
-        match args.backend {
-            BackendChoice::Auto => "auto",
-            BackendChoice::RayQuery => "rayquery",
-            BackendChoice::Compute => "compute",
+    match args.backend.resolve(gpu.capabilities(), r.device_type, &r.name) {
+        Ok(resolved) => {
+            println!("trace backend ({}): {} ({})", args.backend.name(), resolved.backend.name(), resolved.why)
         }
-    );
+        Err(e) => println!("trace backend ({}): none: {e}", args.backend.name()),
+    }
     Ok(())
 }
 

@@ -34,11 +34,16 @@ pub struct RenderOptions {
     /// Walk to the leaves instead of listing photons on enveloped nodes (same image).
     #[arg(long)]
     pub no_trivial_accept: bool,
+    /// Trace a visibility ray for every gathered pair instead of skipping the ones the photons'
+    /// clearance proves clear (same image, slower: for measuring what the proofs save).
+    #[arg(long)]
+    pub trace_every_pair: bool,
     /// Node-list entries per frame (default: 16 per photon, grown as frames need);
     /// more are dropped and reported.
     #[arg(long)]
     pub list_capacity: Option<u32>,
-    /// Trace backend: ray queries, the compute-shader BVH, or `auto` (ray queries if present).
+    /// Trace backend: ray queries, the compute-shader BVH, or `auto` (the compute BVH on CPU
+    /// devices, ray queries on GPUs that have them).
     #[arg(long, default_value = "auto", value_parser = crate::parse_backend)]
     pub backend: BackendChoice,
     /// Samples per pixel of the reference path tracer.
@@ -144,6 +149,7 @@ impl RenderOptions {
                 // Both follow from the method (RenderSettings::photon_settings).
                 visibility: false,
                 cap: self.cap,
+                prove_clear: !self.trace_every_pair,
             },
         }
     }

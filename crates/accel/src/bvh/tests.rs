@@ -304,9 +304,15 @@ fn gpu_structs_have_the_std430_layout() {
 #[test]
 fn shader_constants_match() {
     let glsl = include_str!("../../../../shaders-glsl/trace_compute.glsl");
+    let structs = include_str!("../../../../shaders-glsl/bvh.glsl");
+    let clearance = include_str!("../../../../shaders-glsl/photon_clearance.comp");
     assert!(
         glsl.contains(&format!("#define BVH_STACK_SIZE {BVH_MAX_DEPTH}\n")),
         "trace_compute.glsl: BVH_STACK_SIZE must be {BVH_MAX_DEPTH} (BVH_MAX_DEPTH)"
+    );
+    assert!(
+        clearance.contains(&format!("#define STACK_SIZE {BVH_MAX_DEPTH}\n")),
+        "photon_clearance.comp: STACK_SIZE must be {BVH_MAX_DEPTH} (BVH_MAX_DEPTH)"
     );
     assert!(
         glsl.contains(&format!("const float BVH_ROBUST_FAR = {:?};", intersect::ROBUST_FAR)),
@@ -317,7 +323,7 @@ fn shader_constants_match() {
         "struct BvhNode {\n    vec3 bounds_min;\n    uint left_or_first;\n    vec3 bounds_max;\n    uint count;\n};",
         "struct BvhTriangle {\n    vec3 v0;\n    uint triangle;",
     ] {
-        assert!(glsl.contains(decl), "trace_compute.glsl lacks {decl}");
+        assert!(structs.contains(decl), "bvh.glsl lacks {decl}");
     }
 }
 

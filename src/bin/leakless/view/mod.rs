@@ -143,7 +143,8 @@ struct Running {
     /// submitted alone (timestamps there do not bracket compute work); 0: every frame, from
     /// timestamps.
     profile_every: u64,
-    backend_why: String,
+    /// Why B did nothing, when it could not.
+    backend_note: Option<&'static str>,
     /// Per-pass times of the newest frame that measured them (see `profile_every`).
     timings: Option<Vec<leakless_graph::PassTiming>>,
     quit: bool,
@@ -187,7 +188,6 @@ impl App {
         if size != (w, h) {
             let _ = window.request_inner_size(winit::dpi::PhysicalSize::new(size.0, size.1));
         }
-        let backend_why = tick::backend_why(&gpu, options.backend);
         let mut renderer =
             Renderer::new(gpu, &self.scene, options.settings(render_size)).context("setting up the renderer")?;
         options.apply_view(&mut renderer, &self.scene)?;
@@ -226,7 +226,7 @@ impl App {
             last_shown: None,
             frame_ms: 0.0,
             profile_every: if device_type == DeviceType::Cpu { 30 } else { 0 },
-            backend_why,
+            backend_note: None,
             timings: None,
             quit: false,
         })

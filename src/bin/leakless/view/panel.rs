@@ -79,7 +79,11 @@ pub fn show(ctx: &egui::Context, info: &PanelInfo<'_>, sliders: &mut Sliders, he
             if let Some(s) = &report.splat {
                 ui.separator();
                 ui.label(format!("photons stored {}   paths {}   radius {:.4}", s.photons_stored, s.paths, s.radius));
-                ui.label(format!("visibility rays {}   leaks culled {}", s.visibility_rays, s.leaks_culled));
+                let proven = 100.0 * s.proven_clear as f64 / s.visibility_tests.max(1) as f64;
+                ui.label(format!(
+                    "visibility tests {} ({proven:.0}% proven clear)   rays {}   leaks culled {}",
+                    s.visibility_tests, s.visibility_rays, s.leaks_culled
+                ));
                 ui.label(format!("leaked energy {:.2}%", 100.0 * s.leaked_energy_fraction));
                 let drops = s.photons_dropped as u64 + s.list_entries_dropped as u64;
                 let text = format!("drops: photons {}, list entries {}", s.photons_dropped, s.list_entries_dropped);

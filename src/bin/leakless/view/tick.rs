@@ -4,7 +4,7 @@
 use std::time::{Duration, Instant};
 
 use ash::vk;
-use leakless::{BackendChoice, DisplayTarget, Gpu, Scene};
+use leakless::{BackendChoice, DisplayTarget, Scene};
 use leakless_device::{PresentOutcome, SubmitSync, Swapchain};
 use leakless_graph::Timing;
 use winit::keyboard::KeyCode;
@@ -18,17 +18,6 @@ use super::{capture, Running, ViewArgs};
 
 /// The time step of scripted runs: the same motion whatever the machine's speed.
 const SCRIPT_DT: f32 = 1.0 / 30.0;
-
-/// Which backend runs and why, for the overlay.
-pub fn backend_why(gpu: &Gpu, choice: BackendChoice) -> String {
-    let caps = gpu.capabilities();
-    match (choice, caps.ray_query) {
-        (BackendChoice::Compute, _) => "forced by --backend compute".into(),
-        (BackendChoice::RayQuery, _) => "forced by --backend rayquery".into(),
-        (BackendChoice::Auto, true) => "auto: the device has ray queries".into(),
-        (BackendChoice::Auto, false) => "auto: no ray queries on this device".into(),
-    }
-}
 
 impl Running {
     pub(super) fn resize(&mut self, width: u32, height: u32) {
@@ -71,9 +60,8 @@ impl Running {
                         leakless::Backend::Compute => BackendChoice::RayQuery,
                     };
                     r.set_backend(next)?;
-                    self.backend_why = "switched with B".into();
                 } else {
-                    self.backend_why = "B: this device has no ray queries".into();
+                    self.backend_note = Some("B: this device has no ray queries");
                 }
             }
             Action::MoveLight(d) => {
@@ -252,7 +240,7 @@ impl Running {
             scene: &scene.name,
             device: &gpu.name,
             backend: r.backend().name(),
-            backend_why: &self.backend_why,
+            backend_why: self.backend_note.unwrap_or(r.backend_why()),
             width: s.width,
             height: s.height,
             method: s.method,

@@ -1,0 +1,38 @@
+// Ray origins off surfaces, scaled with the scene: the `trace_scale` block and offset_ray.
+// Every tracing pass binds it (trace.glsl includes this file), and so does a pass that must
+// reproduce the gather's segment endpoints exactly (photon_clearance.comp).
+#ifndef LEAKLESS_OFFSET_GLSL
+#define LEAKLESS_OFFSET_GLSL
+
+// Bindings of the trace interface start here (offset.glsl, bvh.glsl, trace.glsl).
+#define TRACE_BINDING 16
+
+// The scene's size (its bounding radius), so that ray offsets scale with the scene: a scene
+// scaled ×1000 traces the same rays.
+layout(set = 0, binding = TRACE_BINDING + 3) uniform TraceScale {
+    float scene_scale;
+    float pad0;
+    float pad1;
+    float pad2;
+} trace_scale;
+
+// Moves a ray origin on a surface off it along the geometric normal `n` (pointing to the side
+// the ray leaves on): a fixed number of float ULPs of the position, which scales with its
+// magnitude, and near the world origin, where ULPs vanish, a fixed fraction of the scene's
+// size (Wächter and Binder, "A Fast and Robust Method for Avoiding Self-Intersection", Ray
+// Tracing Gems, 2019, with their constants made relative to the scene so that the offsets
+// scale with it).
+vec3 offset_ray(vec3 p, vec3 n) {
+    float origin = trace_scale.scene_scale / 32.0;
+    float float_scale = trace_scale.scene_scale / 65536.0;
+    const float int_scale = 256.0;
+    ivec3 of_i = ivec3(int_scale * n);
+    vec3 p_i = vec3(intBitsToFloat(floatBitsToInt(p.x) + ((p.x < 0.0) ? -of_i.x : of_i.x)),
+                    intBitsToFloat(floatBitsToInt(p.y) + ((p.y < 0.0) ? -of_i.y : of_i.y)),
+                    intBitsToFloat(floatBitsToInt(p.z) + ((p.z < 0.0) ? -of_i.z : of_i.z)));
+    return vec3(abs(p.x) < origin ? p.x + float_scale * n.x : p_i.x,
+                abs(p.y) < origin ? p.y + float_scale * n.y : p_i.y,
+                abs(p.z) < origin ? p.z + float_scale * n.z : p_i.z);
+}
+
+#endif

@@ -1,0 +1,132 @@
+#version 460
+// Photon clearance: for each stored photon, the ball around its lifted position (where the
+// gather's visibility segments end) that holds no geometry the gather's segments could meet.
+// The gather uses it to prove a segment clear without tracing it (see gather.comp): a segment
+// inside the ball that stays above a plane just over the photon's surface meets no triangle
+// lying wholly on or under that plane.
+//
+// The plane is dot(v − p, n) = τ, with p the photon, n its geometric normal (facing where it
+// came from) and τ a quarter of the lift of p above its surface. Triangles with all three
+// vertices on or under it (the photon's own surface, anything coplanar, and everything behind
+// it, such as the far face of a floor slab) are left out; the radius is the distance to the
+// nearest other triangle, at most `max_radius`, made smaller by a margin that covers float
+// rounding, so it never exceeds the true clearance.
+#include "common.glsl"
+#include "photon.glsl"
+#include "bvh.glsl"
+
+layout(local_size_x = 64) in;
+
+layout(set = 0, binding = 0, std430) readonly buffer Photons { Photon photons[]; } photons;
+layout(set = 0, binding = 1, std430) readonly buffer PhotonCounters { uint stored; uint overflowed; uint rays; uint pad0; } photon_counters;
+layout(set = 0, binding = 2, std430) writeonly buffer Clearances { Clearance items[]; } clearance;
+layout(push_constant) uniform ClearanceParams {
+    float max_radius;    // no segment of the gather is longer than this
+    uint capacity;       // photons the buffers hold
+    uint pad0;
+    uint pad1;
+} params;
+
+#define STACK_SIZE 64
+
+// Squared distance from q to the box (0 inside).
+float box_distance2(vec3 q, BvhNode node) {
+    vec3 d = max(max(node.bounds_min - q, q - node.bounds_max), vec3(0.0));
+    return dot(d, d);
+}
+
+// Squared distance from q to triangle abc (Ericson, Real-Time Collision Detection, 5.1.5).
+float triangle_distance2(vec3 q, vec3 a, vec3 b, vec3 c) {
+    vec3 ab = b - a;
+    vec3 ac = c - a;
+    vec3 ap = q - a;
+    float d1 = dot(ab, ap);
+    float d2 = dot(ac, ap);
+    if (d1 <= 0.0 && d2 <= 0.0) return dot(ap, ap);
+    vec3 bp = q - b;
+    float d3 = dot(ab, bp);
+    float d4 = dot(ac, bp);
+    if (d3 >= 0.0 && d4 <= d3) return dot(bp, bp);
+    float vc = d1 * d4 - d3 * d2;
+    if (vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0) {
+        vec3 e = ap - (d1 / (d1 - d3)) * ab;
+        return dot(e, e);
+    }
+    vec3 cp = q - c;
+    float d5 = dot(ab, cp);
+    float d6 = dot(ac, cp);
+    if (d6 >= 0.0 && d5 <= d6) return dot(cp, cp);
+    float vb = d5 * d2 - d1 * d6;
+    if (vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0) {
+        vec3 e = ap - (d2 / (d2 - d6)) * ac;
+        return dot(e, e);
+    }
+    float va = d3 * d6 - d5 * d4;
+    if (va <= 0.0 && (d4 - d3) >= 0.0 && (d5 - d6) >= 0.0) {
+        vec3 e = bp - ((d4 - d3) / ((d4 - d3) + (d5 - d6))) * (c - b);
+        return dot(e, e);
+    }
+    float denom = 1.0 / (va + vb + vc);
+    vec3 e = ap - ab * (vb * denom) - ac * (vc * denom);
+    return dot(e, e);
+}
+
+// Whether v lies on or under the plane τ above the photon's surface.
+bool below(vec3 v, vec3 p, vec3 n, float tau) {
+    return dot(v - p, n) <= tau;
+}
+
+// Whether the whole box lies on or under that plane (its highest corner does).
+bool box_below(BvhNode node, vec3 p, vec3 n, float tau) {
+    vec3 center = 0.5 * (node.bounds_min + node.bounds_max);
+    vec3 half_extent = 0.5 * (node.bounds_max - node.bounds_min);
+    return dot(center - p, n) + dot(half_extent, abs(n)) <= 0.5 * tau;
+}
+
+void main() {
+    uint i = gl_GlobalInvocationID.x;
+    if (i >= min(photon_counters.stored, params.capacity)) {
+        return;
+    }
+    Photon ph = photons.photons[i];
+    vec3 q = offset_ray(ph.position, ph.normal);
+    float tau = 0.25 * dot(q - ph.position, ph.normal);
+    // Boxes are compared with a little slack, so that rounding never culls a closer triangle.
+    float best2 = params.max_radius * params.max_radius;
+    uint stack[STACK_SIZE];
+    uint sp = 0u;
+    uint node = 0u;
+    while (true) {
+        BvhNode n = bvh_nodes.nodes[node];
+        if (box_distance2(q, n) * 0.999 < best2 && !box_below(n, ph.position, ph.normal, tau)) {
+            if (n.count == 0u) {
+                // Nearer child first: what it finds may cull the other.
+                uint left = n.left_or_first;
+                bool left_near = box_distance2(q, bvh_nodes.nodes[left]) <= box_distance2(q, bvh_nodes.nodes[left + 1u]);
+                if (sp < uint(STACK_SIZE)) {  // the tree is at most BVH_MAX_DEPTH deep
+                    stack[sp] = left_near ? left + 1u : left;
+                    sp++;
+                }
+                node = left_near ? left : left + 1u;
+                continue;
+            }
+            for (uint t = n.left_or_first; t < n.left_or_first + n.count; t++) {
+                BvhTriangle tri = bvh_triangles.triangles[t];
+                if (below(tri.v0, ph.position, ph.normal, tau) && below(tri.v1, ph.position, ph.normal, tau)
+                    && below(tri.v2, ph.position, ph.normal, tau)) {
+                    continue;
+                }
+                best2 = min(best2, triangle_distance2(q, tri.v0, tri.v1, tri.v2));
+            }
+        }
+        if (sp == 0u) {
+            break;
+        }
+        sp--;
+        node = stack[sp];
+    }
+    // Rounding of the distance: relative to it, and in ULPs of the coordinates involved.
+    float magnitude = max(max(abs(q.x), abs(q.y)), max(abs(q.z), trace_scale.scene_scale / 32.0));
+    float radius = sqrt(best2) * (1.0 - 1.0 / 1024.0) - magnitude * (64.0 / 8388608.0);
+    clearance.items[i] = Clearance(q, max(radius, 0.0));
+}

@@ -1,0 +1,208 @@
+//! `leakless bench leak`: what leak removal costs against the leaky splat it corrects, per
+//! scene, in one process; and how fast its tracing passes run against the device's own limits.
+
+use std::path::PathBuf;
+
+use anyhow::Context;
+use leakless::bench::{Measured, RayRate};
+use leakless::{Backend, BackendChoice, Method, RenderSettings, Scene, SplatSettings};
+
+/// One scene's outcome, for the summary table.
+struct Row {
+    scene: String,
+    splat_ms: f64,
+    leakless_ms: f64,
+    every_pair_ms: f64,
+    proven: f64,
+    photon_rate: f64,
+    photon_limit: Option<f64>,
+    visibility_rate: f64,
+    occlusion_limit: Option<f64>,
+}
+
+pub fn run(
+    scenes: &[PathBuf],
+    (w, h): (u32, u32),
+    paths: u32,
+    radius: Option<f32>,
+    backend: BackendChoice,
+    repeats: u32,
+) -> anyhow::Result<()> {
+    let open = || {
+        Ok(leakless::Gpu::new(&leakless::GpuOptions {
+            validation: None,
+            ray_tracing: backend.wants_ray_queries(),
+            window: None,
+        })?)
+    };
+    let gpu = open()?;
+    let report = gpu.report();
+    let resolved = backend.resolve(gpu.capabilities(), report.device_type, &report.name)?;
+    println!(
+        "bench leak ({w}x{h}, {paths} paths, best of {repeats}) on {}, {} backend ({}); wall time of each pass submitted alone",
+        report.name,
+        resolved.backend.name(),
+        resolved.why
+    );
+    let mut rows = Vec::new();
+    for path in scenes {
+        let scene = Scene::load(path).with_context(|| format!("loading {}", path.display()))?;
+        rows.push(one_scene(&gpu, &open, &scene, (w, h), paths, radius, backend, resolved.backend, repeats)?);
+    }
+    println!();
+    println!(
+        "{:<14} {:>9} {:>12} {:>9} {:>17} {:>9} {:>22} {:>22}",
+        "scene",
+        "splat ms",
+        "leakless ms",
+        "ratio",
+        "every pair ratio",
+        "proven",
+        "photons Mrays/s (lim)",
+        "visibility Mrays/s (lim)"
+    );
+    let limit = |x: Option<f64>| x.map_or("-".to_string(), |v| format!("{v:.2}"));
+    for r in &rows {
+        println!(
+            "{:<14} {:>9.1} {:>12.1} {:>8.2}x {:>16.2}x {:>8.1}% {:>13.2} ({:>6}) {:>13.2} ({:>6})",
+            r.scene,
+            r.splat_ms,
+            r.leakless_ms,
+            r.leakless_ms / r.splat_ms,
+            r.every_pair_ms / r.splat_ms,
+            100.0 * r.proven,
+            r.photon_rate,
+            limit(r.photon_limit),
+            r.visibility_rate,
+            limit(r.occlusion_limit)
+        );
+    }
+    println!(
+        "(lim: the device's incoherent closest-hit / occlusion rate from `bench rays` on the same scene and backend)"
+    );
+    Ok(())
+}
+
+#[allow(clippy::too_many_arguments)]
+fn one_scene(
+    gpu: &leakless::Gpu,
+    open: &dyn Fn() -> leakless::Result<leakless::Gpu>,
+    scene: &Scene,
+    (w, h): (u32, u32),
+    paths: u32,
+    radius: Option<f32>,
+    backend: BackendChoice,
+    resolved: Backend,
+    repeats: u32,
+) -> anyhow::Result<Row> {
+    let settings = |method, trivial_accept, prove_clear| RenderSettings {
+        width: w,
+        height: h,
+        backend,
+        method,
+        splat: SplatSettings { paths, radius, trivial_accept, prove_clear, ..Default::default() },
+        ..Default::default()
+    };
+    let runs = [
+        ("splat", settings(Method::Splat, true, true)),
+        ("leakless-capped", settings(Method::LeakLessCapped, false, true)),
+        ("leakless", settings(Method::LeakLess, true, true)),
+        ("leakless, every pair traced", settings(Method::LeakLess, true, false)),
+        ("leakless, no trivial accept", settings(Method::LeakLess, false, true)),
+    ];
+    let rows = runs
+        .iter()
+        .map(|(label, s)| Measured::best_of(open, scene, label, s, repeats))
+        .collect::<leakless::Result<Vec<_>>>()?;
+    println!("\n{}:", scene.name);
+    println!(
+        "{:<28} {:>8} {:>8} {:>8} {:>9} {:>8} {:>10} {:>7} {:>10} {:>9} {:>7}",
+        "method",
+        "frame ms",
+        "photons",
+        "splat",
+        "clearance",
+        "gather",
+        "vis. tests",
+        "proven",
+        "rays",
+        "culled",
+        "leaked"
+    );
+    for r in &rows {
+        let s = r.stats();
+        println!(
+            "{:<28} {:>8.1} {:>8.1} {:>8.1} {:>9.1} {:>8.1} {:>10} {:>6.1}% {:>10} {:>9} {:>6.2}%",
+            r.label,
+            r.frame_ms(),
+            r.photons_ms(),
+            r.splat_ms(),
+            r.pass_ms("photon clearance"),
+            r.gather_ms(),
+            s.visibility_tests,
+            100.0 * s.proven_clear as f64 / s.visibility_tests.max(1) as f64,
+            s.visibility_rays,
+            s.leaks_culled,
+            100.0 * s.leaked_energy_fraction
+        );
+    }
+    let (splat, capped, ours, every, no_ta) = (&rows[0], &rows[1], &rows[2], &rows[3], &rows[4]);
+    let identical =
+        |a: &Measured, b: &Measured| a.frame.radiance == b.frame.radiance && a.frame.leaked == b.frame.leaked;
+    println!(
+        "frame time: leakless / splat = {:.2}, leakless-capped / splat = {:.2}, every pair traced / splat = {:.2}",
+        ours.frame_ms() / splat.frame_ms(),
+        capped.frame_ms() / splat.frame_ms(),
+        every.frame_ms() / splat.frame_ms()
+    );
+    println!(
+        "images identical: proofs vs every pair traced {}, trivial accept vs none {}",
+        yes(identical(ours, every)),
+        yes(identical(ours, no_ta))
+    );
+    // The visibility rays' share of the gather: leakless's gather beyond splat's (the same
+    // gather without visibility), over the rays it traced.
+    let vis_ms = (ours.gather_ms() - splat.gather_ms()).max(1e-3);
+    let vis_rate = ours.stats().visibility_rays as f64 / (vis_ms * 1e3);
+    let photon_rate = ours.stats().photon_rays as f64 / (ours.photons_ms().max(1e-3) * 1e3);
+    let rates = leakless::bench::rays(gpu, scene, w, h, repeats)?;
+    let limit = |query: &str| find(&rates, resolved, "incoherent", query);
+    let (closest, occluded) = (limit("closest"), limit("occluded"));
+    let pct = |rate: f64, lim: Option<f64>| {
+        lim.map_or(String::new(), |l| format!(" = {:.0}% of the device's {l:.2}", 100.0 * rate / l))
+    };
+    println!(
+        "photon pass: {} rays in {:.1} ms = {photon_rate:.2} Mrays/s{}",
+        ours.stats().photon_rays,
+        ours.photons_ms(),
+        pct(photon_rate, closest)
+    );
+    println!(
+        "visibility: {} rays in {vis_ms:.1} ms of gather beyond splat's = {vis_rate:.2} Mrays/s{}",
+        ours.stats().visibility_rays,
+        pct(vis_rate, occluded)
+    );
+    Ok(Row {
+        scene: scene.name.clone(),
+        splat_ms: splat.frame_ms(),
+        leakless_ms: ours.frame_ms(),
+        every_pair_ms: every.frame_ms(),
+        proven: ours.stats().proven_clear as f64 / ours.stats().visibility_tests.max(1) as f64,
+        photon_rate,
+        photon_limit: closest,
+        visibility_rate: vis_rate,
+        occlusion_limit: occluded,
+    })
+}
+
+fn find(rates: &[RayRate], backend: Backend, set: &str, query: &str) -> Option<f64> {
+    rates.iter().find(|r| r.backend == backend && r.set == set && r.query == query).map(|r| r.mrays_per_s())
+}
+
+fn yes(b: bool) -> &'static str {
+    if b {
+        "yes (bit for bit)"
+    } else {
+        "NO"
+    }
+}

@@ -1,0 +1,89 @@
+//! Photon clearance (`photon_clearance.comp`): per stored photon, its lifted position and the
+//! radius of the ball around it that holds no geometry but the photon's own plane. The gather
+//! proves visibility segments inside that ball clear without tracing them (gather.comp).
+
+use ash::vk;
+use bytemuck::{Pod, Zeroable};
+use leakless_device::{gpu_struct, BufferDesc, ComputePipeline, Gpu, GpuStruct, MemoryLocation};
+use leakless_graph::{shader_bindings, Access, BufferHandle, Graph};
+
+use crate::error::Result;
+use crate::passes::photons::{Photon, PhotonCounters};
+use crate::shaders;
+use crate::trace::{ComputeTrace, TraceHandles};
+
+gpu_struct! {
+    /// The `ClearanceParams` push constants of photon_clearance.comp.
+    #[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
+    pub struct ClearanceParams {
+        /// No visibility segment of the gather is longer than this: the search stops there.
+        pub max_radius: f32,
+        pub capacity: u32,
+        pub pad0: u32,
+        pub pad1: u32,
+    }
+}
+
+gpu_struct! {
+    /// One photon's entry: its lifted position (where the gather's segments end) and radius.
+    #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+    pub struct Clearance {
+        pub lifted: [f32; 3],
+        pub radius: f32,
+    }
+}
+
+shader_bindings! {
+    pub struct ClearanceBindings {
+        photons: array(Photon::LAYOUT),
+        photon_counters: block(PhotonCounters::LAYOUT),
+        clearance: array(Clearance::LAYOUT),
+    }
+}
+
+/// The clearance buffer for `capacity` photons (of the graph's pool).
+pub fn buffer(graph: &mut Graph<'_>, capacity: u32) -> Result<BufferHandle> {
+    Ok(graph.buffer(&BufferDesc {
+        name: "photon clearance",
+        size: capacity.max(1) as u64 * std::mem::size_of::<Clearance>() as u64,
+        usage: vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_SRC,
+        location: MemoryLocation::GpuOnly,
+    })?)
+}
+
+pub struct ClearancePass {
+    pipeline: ComputePipeline,
+}
+
+impl ClearancePass {
+    pub fn new(gpu: &Gpu) -> Result<Self> {
+        let decls = [ClearanceBindings::DECLS, ComputeTrace::DECLS].concat();
+        let shader = &shaders::PHOTON_CLEARANCE_COMP;
+        let pipeline = ComputePipeline::new(gpu, "photon clearance", shader, &decls, Some(&ClearanceParams::LAYOUT))?;
+        Ok(ClearancePass { pipeline })
+    }
+
+    /// Computes the clearance of the stored photons (up to `capacity`) into `clearance`,
+    /// searching up to `max_radius` (the longest segment the gather may trace).
+    #[allow(clippy::too_many_arguments)]
+    pub fn add<'r>(
+        &'r self,
+        graph: &mut Graph<'r>,
+        trace: &TraceHandles,
+        photons: &BufferHandle,
+        photon_counters: &BufferHandle,
+        capacity: u32,
+        max_radius: f32,
+        clearance: &mut BufferHandle,
+    ) {
+        let params = ClearanceParams { max_radius, capacity, ..Default::default() };
+        let mut pass = graph.pass("photon clearance");
+        let own = ClearanceBindings {
+            photons: pass.read(photons, Access::ComputeRead),
+            photon_counters: pass.read(photon_counters, Access::ComputeRead),
+            clearance: pass.write(clearance, Access::ComputeWrite),
+        };
+        let bvh = trace.declare_bvh(&mut pass);
+        pass.record(move |ctx| ctx.dispatch(&self.pipeline, &[&own, &bvh], &params, [capacity, 1, 1]));
+    }
+}
