@@ -28,7 +28,7 @@ layout(push_constant) uniform PhotonParams {
     uint capacity;       // photons the output buffer holds
     uint light_count;
     uint store_direct;   // 1: store the first hit too (diagnostic: emitted flux)
-    uint pad0;
+    uint path_offset;    // index of path 0 in the sequence: accumulated frames continue it
     uint pad1;
 } params;
 layout(set = 0, binding = 1, std430) readonly buffer Lights { Light lights[]; } lights;
@@ -133,7 +133,9 @@ void main() {
     }
     // Emission: dimensions 0, 1 (the (0,2)-pair) place the direction or the disk point,
     // dimension 2 picks the light.
-    vec3 u = ld_sample3(path, GROUP_EMISSION, params.seed);
+    // Frames that accumulate continue one low-discrepancy sequence instead of reseeding it.
+    uint index = path + params.path_offset;
+    vec3 u = ld_sample3(index, GROUP_EMISSION, params.seed);
     uint light_index = select_light(u.z);
     Light light = lights.lights[light_index];
     vec3 flux = photon_lights.entries[light_index].flux / float(params.paths);
@@ -180,7 +182,7 @@ void main() {
         }
         // Lambertian bounce: cosine-weighted around the facing shading normal; the cosine pdf
         // cancels the BRDF's cos/π, leaving flux × albedo.
-        vec2 v = ld_sample2(path, GROUP_FIRST_BOUNCE + h, params.seed);
+        vec2 v = ld_sample2(index, GROUP_FIRST_BOUNCE + h, params.seed);
         vec3 next = sample_cosine(ns, v.x, v.y);
         if (dot(next, ng) <= 0.0) {
             break;  // below the actual surface: the shading normal lied; no light this way

@@ -22,7 +22,7 @@ layout(push_constant) uniform ReferenceParams {
     uint max_bounces;    // indirect bounces after the view sample
     uint seed;
     uint roulette_start; // bounces before Russian roulette may end a path
-    uint pad0;
+    uint restart;        // 1: start the sum over although first_sample continues the sequence
     uint pad1;
     uint pad2;
 } params;
@@ -82,7 +82,7 @@ void main() {
     if (pixel.x >= int(frame.width) || pixel.y >= int(frame.height)) {
         return;
     }
-    vec3 sum = params.first_sample == 0u ? vec3(0.0) : imageLoad(accumulated, pixel).rgb;
+    vec3 sum = params.first_sample == 0u || params.restart != 0u ? vec3(0.0) : imageLoad(accumulated, pixel).rgb;
     vec4 position = imageLoad(gbuffer_position, pixel);
     if (position.w > 0.0) {
         uint triangle = uint(position.w) - 1u;

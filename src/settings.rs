@@ -20,6 +20,10 @@ pub struct RenderSettings {
     pub seed: u32,
     /// The photon methods' parameters.
     pub splat: SplatSettings,
+    /// Photon frames averaged into the image (`--frames`): each traces fresh photons further
+    /// along one low-discrepancy sequence, with a gather radius that shrinks as in progressive
+    /// photon mapping, and jittered pixel positions. 1: a single frame.
+    pub frames: u32,
 }
 
 /// What computes the indirect light (docs/architecture.md §2).
@@ -75,6 +79,7 @@ impl Default for RenderSettings {
             max_bounces: 8,
             seed: 0,
             splat: SplatSettings::default(),
+            frames: 1,
         }
     }
 }
@@ -85,6 +90,7 @@ pub const DEFAULT_CAP: u32 = 25;
 /// Upper bounds that keep a typo from asking for hours or gigabytes.
 pub const MAX_SPP: u32 = 1 << 20;
 pub const MAX_BOUNCES: u32 = 64;
+pub const MAX_FRAMES: u32 = 1 << 16;
 
 /// Largest image side accepted: bounds memory (a 16k² frame of this renderer's layers would
 /// need tens of GiB).
@@ -101,6 +107,9 @@ impl RenderSettings {
         }
         if self.splat.cap == Some(0) {
             return bad("--cap 0: a cap must let at least one photon through (omit --cap for the thesis' 25)".into());
+        }
+        if self.frames == 0 || self.frames > MAX_FRAMES {
+            return bad(format!("--frames {} must be within 1..={MAX_FRAMES}", self.frames));
         }
         if self.max_bounces > MAX_BOUNCES {
             return bad(format!("--max-bounces {} must be at most {MAX_BOUNCES}", self.max_bounces));

@@ -113,8 +113,31 @@ pub struct SplatFrame {
     pub max_bounces: u32,
     /// This frame's seed of the photon sequences.
     pub seed: u32,
+    /// Index of this frame's first path in the sequence (frames that accumulate continue it).
+    pub path_offset: u32,
     /// Node-list entries this frame may use.
     pub list_capacity: u32,
+}
+
+/// The exponent α of the radius reduction of progressive photon mapping (Knaus and Zwicker,
+/// "Progressive Photon Mapping: A Probabilistic Approach", 2011): r²ᵢ₊₁ = r²ᵢ (i + α)/(i + 1).
+/// Any α in (0, 1) makes the average of the frames converge; 2/3 is their choice, balancing
+/// the variance that a shrinking radius adds against the bias it removes.
+pub const PPM_ALPHA: f64 = 2.0 / 3.0;
+
+/// The gather radius of frame `index` (0-based) of an accumulation that starts at `radius`:
+/// the global radius sequence of Knaus and Zwicker, one radius per frame for every pixel. It
+/// needs no per-pixel state (unlike SPPM's per-pixel radius, which needs each pixel's photon
+/// count), so each frame stays an independent estimate and the image is their plain average.
+pub fn progressive_radius(radius: f32, index: u32) -> f32 {
+    if index == 0 {
+        return radius; // exactly: a single frame is the frame without accumulation
+    }
+    let mut r2 = 1.0f64;
+    for i in 1..=index {
+        r2 *= (i as f64 + PPM_ALPHA) / (i as f64 + 1.0);
+    }
+    (radius as f64 * r2.sqrt()) as f32
 }
 
 impl SplatFrame {
@@ -164,6 +187,7 @@ pub fn add<'r>(
         max_bounces: frame.max_bounces,
         seed: frame.seed,
         store_direct: false,
+        path_offset: frame.path_offset,
     };
     passes.photons.add(
         graph,

@@ -4,8 +4,8 @@
 
 use leakless::passes::hierarchy::{build, morton, sample_bounds};
 use leakless::passes::{
-    compose, direct, gather, gbuffer, luminance, photon_clearance, photons, raycast, reference, sort, splat, tonemap,
-    view_bindings,
+    accumulate, compose, direct, gather, gbuffer, luminance, photon_clearance, photons, raycast, reference, sort,
+    splat, tonemap, view_bindings,
 };
 use leakless::shaders;
 use leakless::Backend;
@@ -51,6 +51,12 @@ fn compute_passes(backend: Backend) -> Vec<(&'static str, &'static ShaderInfo, V
             &shaders::PHOTON_CLEARANCE_COMP,
             [photon_clearance::ClearanceBindings::DECLS, leakless::trace::ComputeTrace::DECLS].concat(),
             Some(photon_clearance::ClearanceParams::LAYOUT),
+        ),
+        (
+            "accumulate",
+            &shaders::ACCUMULATE_COMP,
+            accumulate::AccumulateBindings::DECLS.to_vec(),
+            Some(accumulate::AccumulateParams::LAYOUT),
         ),
         (
             "compose",

@@ -116,7 +116,7 @@ fn sphere_photons_carry_the_geometric_series() {
         .fold(f64::INFINITY, f64::min);
     let (n, k_max, rho, phi) = (10_000u32, 3u32, 0.5f64, 4.0 * PI);
     for backend in common::backends(&gpu) {
-        let params = PhotonParams { paths: n, max_bounces: k_max, seed: 1, store_direct: false };
+        let params = PhotonParams { paths: n, max_bounces: k_max, seed: 1, store_direct: false, ..Default::default() };
         let t = trace(&gpu, &scene, backend, n * k_max, &params);
         assert_eq!(t.counters.overflowed, 0);
         assert_eq!(t.counters.stored as usize, t.photons.len());
@@ -160,7 +160,7 @@ fn same_seed_same_photons_another_seed_others() {
     let scene = common::scene("scenes/cornell-box.gltf");
     let backend = common::backends(&gpu)[0];
     let mut tracer = PhotonTracer::new(&gpu, &scene, backend, 40_000).unwrap();
-    let params = PhotonParams { paths: 4096, max_bounces: 8, seed: 11, store_direct: false };
+    let params = PhotonParams { paths: 4096, max_bounces: 8, seed: 11, store_direct: false, ..Default::default() };
     let a = tracer.trace(&params).unwrap();
     let b = tracer.trace(&params).unwrap();
     let c = tracer.trace(&PhotonParams { seed: 12, ..params }).unwrap();
@@ -189,7 +189,7 @@ fn the_first_hit_is_never_stored() {
     let scene = common::scene("tests/scenes/floor-light.gltf");
     for backend in common::backends(&gpu) {
         let mut tracer = PhotonTracer::new(&gpu, &scene, backend, 50_000).unwrap();
-        let params = PhotonParams { paths: 10_000, max_bounces: 8, seed: 3, store_direct: false };
+        let params = PhotonParams { paths: 10_000, max_bounces: 8, seed: 3, store_direct: false, ..Default::default() };
         let t = tracer.trace(&params).unwrap();
         assert_eq!((t.counters.stored, t.counters.overflowed, t.photons.len()), (0, 0, 0), "{backend:?}");
         // Control: the same paths do hit the floor: those inside the solid angle of the
@@ -210,7 +210,7 @@ fn the_first_hit_is_never_stored() {
 fn overflow_is_counted_and_nothing_is_written_past_the_capacity() {
     let Some(gpu) = common::gpu() else { return };
     let scene = common::scene("scenes/cornell-box.gltf");
-    let params = PhotonParams { paths: 4096, max_bounces: 4, seed: 5, store_direct: false };
+    let params = PhotonParams { paths: 4096, max_bounces: 4, seed: 5, store_direct: false, ..Default::default() };
     for backend in common::backends(&gpu) {
         let all = trace(&gpu, &scene, backend, 4096 * 4, &params);
         assert_eq!(all.counters.overflowed, 0);
@@ -239,7 +239,7 @@ fn backends_trace_the_same_photons() {
     }
     for (path, k) in [("scenes/cornell-box.gltf", 8u32), ("scenes/sphere.gltf", 4)] {
         let scene = common::scene(path);
-        let params = PhotonParams { paths: 10_000, max_bounces: k, seed: 7, store_direct: false };
+        let params = PhotonParams { paths: 10_000, max_bounces: k, seed: 7, store_direct: false, ..Default::default() };
         let [rq, cs] =
             [Backend::RayQuery, Backend::Compute].map(|b| sorted(trace(&gpu, &scene, b, 10_000 * k, &params).photons));
         let key = |p: &Photon| (p.path, p.bounce);
@@ -279,7 +279,7 @@ fn spot_and_directional_emit_their_power() {
     for backend in common::backends(&gpu) {
         let mut tracer = PhotonTracer::new(&gpu, &scene, backend, n).unwrap();
         let table = tracer.light_table().clone();
-        let params = PhotonParams { paths: n, max_bounces: 0, seed: 9, store_direct: true };
+        let params = PhotonParams { paths: n, max_bounces: 0, seed: 9, store_direct: true, ..Default::default() };
         let t = tracer.trace(&params).unwrap();
         let of = |light: usize| t.photons.iter().filter(move |p| p.light as usize == light);
         for p in &t.photons {
@@ -336,7 +336,7 @@ fn cornell_photon_timings() {
     for backend in common::backends(&gpu) {
         let mut tracer = PhotonTracer::new(&gpu, &scene, backend, 800_000).unwrap();
         for paths in [10_000u32, 100_000] {
-            let params = PhotonParams { paths, max_bounces: 8, seed: 0, store_direct: false };
+            let params = PhotonParams { paths, max_bounces: 8, seed: 0, store_direct: false, ..Default::default() };
             let runs: Vec<PhotonTrace> = (0..3).map(|_| tracer.trace(&params).unwrap()).collect();
             let best = runs.iter().map(|r| r.trace_ms).fold(f64::INFINITY, f64::min);
             let stored = runs[0].counters.stored;

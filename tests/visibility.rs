@@ -159,7 +159,7 @@ fn clearance_is_conservative_and_tight() {
     {
         let scene: Scene = common::scene(path);
         let mut tracer = PhotonTracer::new(&gpu, &scene, Backend::Compute, 2000 * 4).expect("tracer");
-        let params = PhotonParams { paths: 2000, max_bounces: 4, seed: 5, store_direct: false };
+        let params = PhotonParams { paths: 2000, max_bounces: 4, seed: 5, store_direct: false, ..Default::default() };
         let (trace, clearance) = tracer.trace_with_clearance(&params, radius).expect("clearance");
         assert_eq!(clearance.len(), trace.photons.len());
         let triangles: Vec<[DVec3; 3]> =

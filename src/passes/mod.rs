@@ -2,6 +2,7 @@
 //! (`shader_bindings!`) and adds itself to the frame's graph with the resources it reads and
 //! writes in its signature.
 
+pub mod accumulate;
 pub mod compose;
 pub mod direct;
 pub mod gather;

@@ -82,7 +82,7 @@ gpu_struct! {
         pub capacity: u32,
         pub light_count: u32,
         pub store_direct: u32,
-        pub pad0: u32,
+        pub path_offset: u32,
         pub pad1: u32,
     }
 }
@@ -110,11 +110,14 @@ pub struct PhotonParams {
     /// Diagnostic: also store the first hit (bounce 0), i.e. the emitted light arriving
     /// directly. Off in rendering, where direct light is computed exactly.
     pub store_direct: bool,
+    /// Index of path 0 in the low-discrepancy sequence: frame i of an accumulation traces
+    /// paths i·N .. (i+1)·N of one sequence, so frames continue it rather than reseed.
+    pub path_offset: u32,
 }
 
 impl Default for PhotonParams {
     fn default() -> Self {
-        PhotonParams { paths: 10_000, max_bounces: 8, seed: 0, store_direct: false }
+        PhotonParams { paths: 10_000, max_bounces: 8, seed: 0, store_direct: false, path_offset: 0 }
     }
 }
 
@@ -191,6 +194,7 @@ impl PhotonPass {
             capacity,
             light_count: table.entries.len() as u32,
             store_direct: params.store_direct as u32,
+            path_offset: params.path_offset,
             ..Default::default()
         };
 

@@ -22,7 +22,9 @@ gpu_struct! {
         pub seed: u32,
         /// Bounces before Russian roulette may end a path.
         pub roulette_start: u32,
-        pub pad0: u32,
+        /// 1: start the sum over while `first_sample` continues the sequence (a progressive
+        /// reference's frames: each is a whole image, averaged by the accumulate pass).
+        pub restart: u32,
         pub pad1: u32,
         pub pad2: u32,
     }

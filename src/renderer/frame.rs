@@ -13,6 +13,7 @@ use super::readback::{ReadbackRequest, LAYERS_BUFFER};
 use super::{FrameReport, Pending, Renderer};
 use crate::error::Result;
 use crate::gpu_types::Frame;
+use crate::passes::accumulate::{FrameLayers, Means, Sums};
 use crate::passes::compose::{ComposeImages, ComposeParams};
 use crate::passes::gather::{self, GatherCounters, GatherOutputs};
 use crate::passes::gbuffer::{self, GBufferHandles};
@@ -75,26 +76,41 @@ impl Renderer {
         let render = !self.paused;
         let first = self.accumulated == 0;
         let seed = self.frame_seed();
-        let splat = self.settings.photon_settings().filter(|_| render).map(|settings| SplatFrame {
-            radius: settings.radius.unwrap_or(0.05 * self.scene.bounds().bounding_radius()),
-            settings,
-            max_bounces: self.settings.max_bounces,
-            seed,
-            list_capacity: self.list_capacity,
-        });
-        if let Some(s) = &splat {
-            if !(s.radius.is_finite() && s.radius > 0.0) {
-                return Err(crate::RenderError::Settings(format!("--radius {} must be a positive number", s.radius)));
+        // A frame that adds to an accumulation of photon frames: number `index` (0-based) of
+        // it, with that frame's radius, path offset and pixel jitter. Frame 0 is exactly the
+        // frame without accumulation.
+        let progressive = render && self.accumulating();
+        let index = if progressive { self.accumulated } else { 0 };
+        let mut splat = None;
+        if let Some(settings) = self.settings.photon_settings().filter(|_| render) {
+            let radius = settings.radius.unwrap_or(0.05 * self.scene.bounds().bounding_radius());
+            if !(radius.is_finite() && radius > 0.0) {
+                return Err(crate::RenderError::Settings(format!("--radius {radius} must be a positive number")));
             }
+            splat = Some(SplatFrame {
+                radius: splatting::progressive_radius(radius, index),
+                path_offset: index.wrapping_mul(settings.paths),
+                settings,
+                max_bounces: self.settings.max_bounces,
+                seed,
+                list_capacity: self.list_capacity,
+            });
         }
-        let samples = if method == Method::Reference { self.samples_per_frame } else { 0 };
+        // A reference frame of an accumulation is a whole image of `spp` samples.
+        let samples = match method {
+            Method::Reference if progressive => self.settings.spp,
+            Method::Reference => self.samples_per_frame,
+            _ => 0,
+        };
         let accumulated = match (render, method) {
             (false, _) => self.accumulated,
+            (true, _) if progressive => self.accumulated + 1,
             (true, Method::Reference) => self.accumulated + samples,
             (true, _) => 1,
         };
+        let jitter = if progressive { pixel_jitter(index) } else { glam::Vec2::ZERO };
         let frame_constants = Frame {
-            view_proj: self.view_proj().to_cols_array_2d(),
+            view_proj: self.jittered_view_proj(jitter).to_cols_array_2d(),
             camera_position: self.camera.position().extend(1.0).to_array(),
             width: self.settings.width,
             height: self.settings.height,
@@ -153,8 +169,17 @@ impl Renderer {
             splat_counters = Some(splatting::add(&mut g, splat_passes, splat, input, out)?);
         }
         if render && method == Method::Reference {
+            // Progressive: frame `index` restarts the sum and continues the sequence.
+            let first_sample = if progressive {
+                index.wrapping_mul(samples)
+            } else if first {
+                0
+            } else {
+                self.accumulated
+            };
             let params = ReferenceParams {
-                first_sample: if first { 0 } else { self.accumulated },
+                first_sample,
+                restart: progressive as u32,
                 sample_count: samples,
                 max_bounces: self.settings.max_bounces,
                 seed: self.settings.seed,
@@ -168,6 +193,7 @@ impl Renderer {
         let mut indirect = layer(&mut g, "indirect")?;
         let mut radiance = layer(&mut g, "radiance")?;
         let (sum, indirect_scale) = match method {
+            Method::Reference if progressive => (&reference_sum, 1.0 / samples as f32),
             Method::Reference => (&reference_sum, 1.0 / accumulated as f32),
             Method::Splat | Method::LeakLessCapped | Method::LeakLess => (&indirect_sum, 1.0),
             Method::Direct => (&indirect_sum, 0.0),
@@ -183,6 +209,30 @@ impl Renderer {
         };
         if render {
             passes.compose.add(&mut g, params, &frame, images);
+        }
+        // Accumulating: the image is the mean of the frames so far.
+        if progressive {
+            let mut sum_direct = layer(&mut g, "accumulated direct")?;
+            let mut sum_indirect = layer(&mut g, "accumulated indirect")?;
+            let mut sum_leaked = layer(&mut g, "accumulated leaked")?;
+            let mut mean_direct = layer(&mut g, "mean direct")?;
+            let mut mean_indirect = layer(&mut g, "mean indirect")?;
+            let mut mean_leaked = layer(&mut g, "mean leaked")?;
+            let mut mean_radiance = layer(&mut g, "mean radiance")?;
+            passes.accumulate.add(
+                &mut g,
+                accumulated,
+                &frame,
+                FrameLayers { direct: &direct, indirect: &indirect, leaked: &leaked },
+                Sums { direct: &mut sum_direct, indirect: &mut sum_indirect, leaked: &mut sum_leaked },
+                Means {
+                    direct: &mut mean_direct,
+                    indirect: &mut mean_indirect,
+                    leaked: &mut mean_leaked,
+                    radiance: &mut mean_radiance,
+                },
+            );
+            (direct, indirect, leaked, radiance) = (mean_direct, mean_indirect, mean_leaked, mean_radiance);
         }
 
         // What the frame shows, and its luminance statistics (exposure, leaked energy).
@@ -234,7 +284,8 @@ impl Renderer {
         let index = self.runner.next_frame() - 1;
         self.pending.push_back(Pending { index, shown_only: !render, seed, splat, accumulated, method, started });
         self.accumulated = accumulated;
-        if self.advance_seed && method.splats() && render {
+        // Fresh photons for the next frame, unless it continues an accumulation's sequence.
+        if self.advance_seed && method.splats() && render && !progressive {
             self.seed_offset = self.seed_offset.wrapping_add(1);
         }
         Ok(())
@@ -264,7 +315,11 @@ impl Renderer {
         if let Some(frame) = &pending.splat {
             if self.settings.splat.list_capacity.is_none() {
                 if let Some(grown) = grown_list_capacity(frame.list_capacity, &counters.lists) {
-                    self.list_capacity = self.list_capacity.max(grown);
+                    if grown > self.list_capacity {
+                        // The frame lost photons: an accumulation restarts without it.
+                        self.list_capacity = grown;
+                        self.restart();
+                    }
                 }
             }
         }
@@ -288,4 +343,19 @@ impl Renderer {
         });
         Ok(())
     }
+}
+
+/// Frame `index`'s sub-pixel offset of the view, in pixels within ±½: none for frame 0 (the
+/// frame without accumulation), then the R2 sequence (Roberts 2018; the plastic number's
+/// powers), which covers the pixel evenly at every count, so accumulated frames are
+/// antialiased.
+fn pixel_jitter(index: u32) -> glam::Vec2 {
+    if index == 0 {
+        return glam::Vec2::ZERO;
+    }
+    const G: f64 = 1.324_717_957_244_746;
+    let i = index as f64;
+    let x = (0.5 + i / G).fract() - 0.5;
+    let y = (0.5 + i / (G * G)).fract() - 0.5;
+    glam::Vec2::new(x as f32, y as f32)
 }

@@ -29,6 +29,7 @@ pub use readback::RenderedFrame;
 
 use crate::error::{RenderError, Result};
 use crate::gpu_scene::GpuScene;
+use crate::passes::accumulate::AccumulatePass;
 use crate::passes::compose::ComposePass;
 use crate::passes::direct::DirectPass;
 use crate::passes::gather::GatherPass;
@@ -54,6 +55,7 @@ struct Passes {
     hierarchy: HierarchyPasses,
     splat: SplatPass,
     compose: ComposePass,
+    accumulate: AccumulatePass,
     luminance: LuminancePass,
     /// One per target format (the PNG's, the window's).
     tonemaps: Vec<TonemapPass>,
@@ -125,6 +127,9 @@ pub struct Renderer {
     /// Photon frames advance the seed unless frozen (a fixed seed fixes the frame).
     advance_seed: bool,
     seed_offset: u32,
+    /// Photon frames accumulate while nothing changes, with no end (the app), besides the
+    /// `settings.frames` a render asks for.
+    progressive: bool,
     /// Frames only show the last image again (tonemap and overlay): the app's pause.
     paused: bool,
     pending: VecDeque<Pending>,
@@ -145,6 +150,7 @@ impl Renderer {
             hierarchy: HierarchyPasses::new(&gpu)?,
             splat: SplatPass::new(&gpu)?,
             compose: ComposePass::new(&gpu)?,
+            accumulate: AccumulatePass::new(&gpu)?,
             luminance: LuminancePass::new(&gpu)?,
             tonemaps: vec![TonemapPass::new(&gpu, readback::DISPLAY_FORMAT)?],
         };
@@ -163,6 +169,7 @@ impl Renderer {
             accumulated: 0,
             samples_per_frame: 1,
             advance_seed: false,
+            progressive: false,
             seed_offset: 0,
             paused: false,
             pending: VecDeque::new(),
@@ -339,6 +346,22 @@ impl Renderer {
         self.advance_seed = advance;
     }
 
+    /// Whether photon frames accumulate while nothing changes, without end (the app while the
+    /// view is still). A render accumulates `settings.frames` either way.
+    pub fn set_progressive(&mut self, progressive: bool) {
+        if progressive != self.progressive {
+            self.progressive = progressive;
+            self.restart();
+        }
+    }
+
+    /// Whether this frame adds to an accumulation of frames, each at its own pixel jitter
+    /// (else it is the image): photon frames while progressive or when `frames` > 1; other
+    /// methods when `frames` > 1 (a reference frame is then `spp` samples, a whole image).
+    fn accumulating(&self) -> bool {
+        (self.settings.method.splats() && self.progressive) || self.settings.frames > 1
+    }
+
     /// While paused, frames show the last image again without rendering anything new.
     pub fn set_paused(&mut self, paused: bool) {
         self.paused = paused;
@@ -375,16 +398,27 @@ impl Renderer {
         proj * c.view_from_world()
     }
 
+    /// The view-projection moved by `jitter` pixels on the image (accumulated frames).
+    fn jittered_view_proj(&self, jitter: glam::Vec2) -> Mat4 {
+        if jitter == glam::Vec2::ZERO {
+            return self.view_proj();
+        }
+        let (w, h) = (self.settings.width as f32, self.settings.height as f32);
+        // Clip-space x' = x + t·w moves the image by t in NDC, which spans 2 over the image.
+        Mat4::from_translation(glam::Vec3::new(2.0 * jitter.x / w, 2.0 * jitter.y / h, 0.0)) * self.view_proj()
+    }
+
     fn extent(&self) -> vk::Extent2D {
         vk::Extent2D { width: self.settings.width, height: self.settings.height }
     }
 
-    /// Whether the image is complete for what was asked (`spp` reference samples; one photon
-    /// frame).
+    /// Whether the image is complete for what was asked (`spp` reference samples; `frames`
+    /// photon frames; never while accumulating progressively).
     pub fn converged(&self) -> bool {
         match self.settings.method {
-            Method::Reference => self.accumulated >= self.settings.spp,
-            _ => self.accumulated >= 1,
+            Method::Reference if self.settings.frames <= 1 => self.accumulated >= self.settings.spp,
+            _ if self.progressive && self.settings.method.splats() => false,
+            _ => self.accumulated >= self.settings.frames.max(1),
         }
     }
 

@@ -80,7 +80,9 @@ impl Renderer {
         let start = std::time::Instant::now();
         self.wait_idle()?;
         self.restart();
-        let total = if self.settings.method == Method::Reference { self.settings.spp } else { 1 };
+        // A reference of several frames renders `spp` samples per frame (`accumulating`).
+        let frames = self.settings.frames.max(1);
+        let total = if self.settings.method == Method::Reference && frames == 1 { self.settings.spp } else { frames };
         let mut timings = Timings::default();
         // Reference samples in submissions of about half a second: responsive progress, few
         // submissions, far from the lost-device timeout. Each waits, to measure the next.
@@ -95,7 +97,10 @@ impl Renderer {
             timings.add(&self.last.as_ref().expect("a frame completed").timings);
             progress(self.accumulated.min(total), total);
             let per_sample = t.elapsed().as_secs_f64() * 1e3 / chunk as f64;
-            chunk = ((500.0 / per_sample.max(1e-3)) as u32).clamp(1, 256);
+            // Photon frames go one per submission (a frame is one unit of accumulation).
+            if self.settings.method == Method::Reference && frames == 1 {
+                chunk = ((500.0 / per_sample.max(1e-3)) as u32).clamp(1, 256);
+            }
         }
         self.set_samples_per_frame(1);
         let report = self.last.clone().expect("a frame completed");

@@ -46,6 +46,10 @@ pub struct RenderOptions {
     /// devices, ray queries on GPUs that have them).
     #[arg(long, default_value = "auto", value_parser = crate::parse_backend)]
     pub backend: BackendChoice,
+    /// Photon frames to average (progressive photon mapping: fresh photons further along one
+    /// sequence, a shrinking radius, jittered pixels).
+    #[arg(long, default_value_t = 1)]
+    pub frames: u32,
     /// Samples per pixel of the reference path tracer.
     #[arg(long, default_value_t = 64)]
     pub spp: u32,
@@ -140,6 +144,7 @@ impl RenderOptions {
             spp: self.spp,
             max_bounces: self.max_bounces,
             seed: self.seed,
+            frames: self.frames,
             splat: SplatSettings {
                 paths: self.paths,
                 radius: self.radius,

@@ -84,6 +84,9 @@ fn command(
         if let Some(n) = s.splat.list_capacity {
             c.push(format!("--list-capacity {n}"));
         }
+        if frame.accumulated > 1 {
+            c.push(format!("--frames {}", frame.accumulated));
+        }
     }
     if s.method == Method::Reference {
         c.push(format!("--spp {}", frame.accumulated));

@@ -191,7 +191,9 @@ impl App {
         let mut renderer =
             Renderer::new(gpu, &self.scene, options.settings(render_size)).context("setting up the renderer")?;
         options.apply_view(&mut renderer, &self.scene)?;
+        // Photon frames accumulate while nothing changes (P freezes the photons instead).
         renderer.set_advance_seed(true);
+        renderer.set_progressive(true);
         let camera = FlyCamera::new(&self.scene, renderer.camera());
         let swapchain = Swapchain::new(
             renderer.gpu(),

@@ -71,6 +71,8 @@ pub fn show(ctx: &egui::Context, info: &PanelInfo<'_>, sliders: &mut Sliders, he
         if let Some(report) = info.report {
             if report.method == Method::Reference {
                 ui.label(format!("reference: {} spp accumulated", report.accumulated));
+            } else if let Some(s) = &report.splat {
+                ui.label(format!("{} photon frames accumulated, radius now {:.4}", report.accumulated, s.radius));
             }
             if let Some(timings) = info.timings {
                 ui.separator();

@@ -74,6 +74,7 @@ impl Running {
             Action::FreezeSeed => {
                 self.seed_frozen = !self.seed_frozen;
                 r.set_advance_seed(!self.seed_frozen);
+                r.set_progressive(!self.seed_frozen);
             }
             Action::Pause => r.set_paused(!r.paused()),
             Action::Capture => {
