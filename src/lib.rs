@@ -6,6 +6,7 @@
 pub mod bench;
 pub mod chart;
 pub mod error;
+pub mod flicker;
 pub mod gpu_scene;
 pub mod gpu_types;
 pub mod output;

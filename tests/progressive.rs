@@ -107,3 +107,34 @@ fn a_reset_gives_the_single_frame_bit_for_bit() {
         assert_eq!((single.accumulated, six.accumulated, reset.accumulated), (1, 6, 1));
     }
 }
+
+/// Flicker (a still view, fresh photons every frame, default paths and radius): `leakless`
+/// flickers no more than 1.1× `splat` on the leak scenes; and each frame of an accumulation changes the image less than
+/// the frames before it did (mean change over frames 2–4, 5–8, 9–16, 17–32).
+#[test]
+fn leakless_flickers_no_more_than_splat_and_accumulation_settles() {
+    use leakless::flicker::{accumulation_changes, flicker, FLICKER_FRAMES};
+    for path in ["scenes/doorway.gltf", "scenes/two-rooms.gltf", "scenes/atrium.gltf"] {
+        // The default paths and radius, as `bench flicker` measures it (the kernel, not the
+        // resolution, sets a pixel's noise).
+        let s = |method| {
+            let mut s = RenderSettings { method, ..settings(48, 36, 10_000, 1.0, 8, 1) };
+            s.splat.radius = None;
+            s
+        };
+        let Some(mut r) = renderer(path, s(Method::Splat)) else { return };
+        let splat = flicker(&mut r, FLICKER_FRAMES).expect("splat");
+        r.set_settings(s(Method::LeakLess)).expect("settings");
+        let ours = flicker(&mut r, FLICKER_FRAMES).expect("leakless");
+        eprintln!("{path}: flicker splat {splat:.4}, leakless {ours:.4}");
+        assert!(ours <= 1.1 * splat, "{path}: leakless flickers {ours} against splat's {splat}");
+        if path == "scenes/doorway.gltf" {
+            let changes = accumulation_changes(&mut r, 32).expect("accumulation");
+            let window = |a: usize, b: usize| changes[a - 2..b - 1].iter().sum::<f64>() / (b - a + 1) as f64;
+            let means = [window(2, 4), window(5, 8), window(9, 16), window(17, 32)];
+            eprintln!("{path}: mean change per frame of an accumulation, frames 2-4, 5-8, 9-16, 17-32: {means:.4?}");
+            assert!(means.windows(2).all(|w| w[1] < w[0]), "{path}: {means:?}");
+        }
+        r.gpu().check_validation().expect("validation clean");
+    }
+}

@@ -5,8 +5,11 @@
 //! The CLI and the tests drive the same three steps: [`measure`] one scene, then [`write_csv`]
 //! and [`plot::plot`] (or [`write_outputs`] for all of a scene's files).
 
+pub mod flip;
 pub mod metrics;
 pub mod plot;
+pub mod series;
+pub mod series_plot;
 
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -390,7 +393,7 @@ pub fn write_csv(points: &[Point], path: &Path) -> Result<()> {
 }
 
 /// Quotes a CSV field that needs it (RFC 4180).
-fn csv_field(s: &str) -> String {
+pub(crate) fn csv_field(s: &str) -> String {
     if s.contains([',', '"', '\n', '\r']) {
         format!("\"{}\"", s.replace('"', "\"\""))
     } else {

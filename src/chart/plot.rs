@@ -23,9 +23,9 @@ use crate::Method;
 
 /// DejaVu Sans, cut down to the characters a chart uses (`assets/README.md`).
 static FONT: &[u8] = include_bytes!("../../assets/DejaVuSans-subset.ttf");
-const FAMILY: &str = "sans-serif";
+pub(super) const FAMILY: &str = "sans-serif";
 
-fn register_font() {
+pub(super) fn register_font() {
     static REGISTER: Once = Once::new();
     REGISTER.call_once(|| {
         // The font is compiled in: a parse failure is a build defect, caught by the tests.
@@ -160,7 +160,7 @@ fn pareto_front(points: &[(f64, f64, Option<f32>)]) -> Vec<(f64, f64)> {
     sorted.into_iter().filter(|p| (p.1 < best).then(|| best = p.1).is_some()).collect()
 }
 
-fn method_colour(method: Method) -> RGBColor {
+pub(super) fn method_colour(method: Method) -> RGBColor {
     match method.name() {
         "splat" => RGBColor(214, 39, 40),
         "leakless-capped" => RGBColor(230, 130, 0),
@@ -171,7 +171,7 @@ fn method_colour(method: Method) -> RGBColor {
 }
 
 /// A log axis range around `values`, padded a little; a decade around a single value.
-fn log_range(values: impl Iterator<Item = f64>) -> std::ops::Range<f64> {
+pub(super) fn log_range(values: impl Iterator<Item = f64>) -> std::ops::Range<f64> {
     let (lo, hi) = values.fold((f64::INFINITY, 0.0f64), |(lo, hi), v| (lo.min(v), hi.max(v)));
     if !(lo.is_finite() && lo > 0.0) {
         return 0.1..10.0;
@@ -182,7 +182,7 @@ fn log_range(values: impl Iterator<Item = f64>) -> std::ops::Range<f64> {
 }
 
 /// A tick label: plain decimals from 0.001 to 99999, else `1e-5`.
-fn tick(v: f64) -> String {
+pub(super) fn tick(v: f64) -> String {
     let a = v.abs();
     if a == 0.0 {
         return "0".into();
@@ -209,7 +209,7 @@ fn tick(v: f64) -> String {
 /// Ticks of a log axis over `range`: labelled ticks at 1, 1–2–5, or 1–2–3–5 × 10^k (the
 /// densest that gives at most `max` labels; every decade or every other when even powers of
 /// ten are too many), grid lines at 1…9 × 10^k.
-fn log_ticks(range: &std::ops::Range<f64>, max: usize) -> (Vec<f64>, Vec<f64>) {
+pub(super) fn log_ticks(range: &std::ops::Range<f64>, max: usize) -> (Vec<f64>, Vec<f64>) {
     let (lo, hi) = (range.start, range.end);
     let within = |v: &f64| *v >= lo * (1.0 - 1e-9) && *v <= hi * (1.0 + 1e-9);
     let (k0, k1) = (lo.log10().floor() as i32, hi.log10().ceil() as i32);
@@ -229,7 +229,7 @@ fn log_ticks(range: &std::ops::Range<f64>, max: usize) -> (Vec<f64>, Vec<f64>) {
     (bold, light)
 }
 
-type DrawResult<DB> = std::result::Result<(), DrawingAreaErrorKind<<DB as DrawingBackend>::ErrorType>>;
+pub(super) type DrawResult<DB> = std::result::Result<(), DrawingAreaErrorKind<<DB as DrawingBackend>::ErrorType>>;
 
 fn draw<DB: DrawingBackend>(root: DrawingArea<DB, Shift>, chart: &SceneChart, metric: Metric) -> DrawResult<DB> {
     root.fill(&WHITE)?;

@@ -40,6 +40,24 @@ pub enum BenchCommand {
         #[arg(long, default_value_t = 3)]
         repeats: u32,
     },
+    /// Temporal stability, per scene: flicker of splat, leakless-capped and leakless (a still
+    /// view, fresh photons every frame, no accumulation), and how much each frame of a
+    /// leakless accumulation still changes the image.
+    Flicker {
+        /// The scenes (.gltf or .glb).
+        #[arg(required = true)]
+        scenes: Vec<PathBuf>,
+        #[arg(long, default_value = "160x120", value_parser = crate::parse_size)]
+        size: (u32, u32),
+        #[arg(long, default_value_t = 10_000)]
+        paths: u32,
+        /// Trace backend.
+        #[arg(long, default_value = "auto", value_parser = crate::parse_backend)]
+        backend: BackendChoice,
+        /// Frames of the accumulation whose changes are printed.
+        #[arg(long, default_value_t = 32)]
+        frames: u32,
+    },
     /// Photon splatting: per-pass times, hierarchy tests against brute force, growth with
     /// paths and resolution, and the branching factor B.
     Splat {
@@ -58,6 +76,9 @@ pub fn run(cmd: BenchCommand) -> anyhow::Result<()> {
     match cmd {
         BenchCommand::Rays { scene, size, repeats } => rays(scene, size, repeats),
         BenchCommand::Splat { scene, size, paths } => splat(scene, size, paths),
+        BenchCommand::Flicker { scenes, size, paths, backend, frames } => {
+            crate::bench_flicker::run(&scenes, size, paths, backend, frames)
+        }
         BenchCommand::Leak { scenes, size, paths, radius, backend, repeats } => {
             crate::bench_leak::run(&scenes, size, paths, radius, backend, repeats)
         }

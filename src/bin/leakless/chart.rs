@@ -10,20 +10,20 @@ use leakless::{Backend, Method, Scene};
 pub struct ChartArgs {
     /// The scenes (.gltf or .glb); one CSV and one set of charts per scene.
     #[arg(required = true)]
-    scenes: Vec<PathBuf>,
+    pub(crate) scenes: Vec<PathBuf>,
     /// Output prefix: writes PREFIX-<scene>.csv and PREFIX-<scene>-<metric>.svg/.png for the
     /// metrics relmse, relmse-dark, rmse and rmse-dark.
     #[arg(long)]
-    out: PathBuf,
+    pub(crate) out: PathBuf,
     /// Render size of the reference and of every method, WIDTHxHEIGHT.
     #[arg(long, default_value = "160x120", value_parser = crate::parse_size)]
-    size: (u32, u32),
+    pub(crate) size: (u32, u32),
     /// Samples per pixel of the reference path tracer.
     #[arg(long, default_value_t = 1024)]
-    ref_spp: u32,
+    pub(crate) ref_spp: u32,
     /// Indirect bounces, for the reference and the methods alike.
     #[arg(long, default_value_t = 8)]
-    max_bounces: u32,
+    pub(crate) max_bounces: u32,
     /// Methods to chart, comma-separated [default: splat, leakless-capped, leakless — those
     /// this build has].
     #[arg(long, value_delimiter = ',', value_parser = parse_method)]
@@ -51,10 +51,24 @@ pub struct ChartArgs {
     dark_fraction: f64,
     /// Seed of every random sequence.
     #[arg(long, default_value_t = 0)]
-    seed: u32,
+    pub(crate) seed: u32,
     /// Size of each chart, WIDTHxHEIGHT pixels (the SVG's too).
     #[arg(long, default_value = "800x600", value_parser = crate::parse_size)]
-    chart_size: (u32, u32),
+    pub(crate) chart_size: (u32, u32),
+    /// Convergence instead: error (relMSE, RMSE, HDR-FLIP) against wall time while leakless,
+    /// splat (photon frames) and the reference path tracer (samples) accumulate, against a
+    /// jittered ground truth; writes PREFIX-<scene>-series.csv and -series-{relmse,flip}.svg/.png.
+    #[arg(long)]
+    pub(crate) series: bool,
+    /// Series: wall time each method accumulates for, seconds.
+    #[arg(long, default_value_t = 10.0)]
+    pub(crate) budget: f64,
+    /// Series: light paths per photon frame.
+    #[arg(long, default_value_t = 10_000)]
+    pub(crate) frame_paths: u32,
+    /// Series: the ground truth's jittered frames, each of --ref-spp / this many samples.
+    #[arg(long, default_value_t = 64)]
+    pub(crate) truth_frames: u32,
 }
 
 fn parse_method(s: &str) -> Result<Method, String> {
@@ -85,6 +99,9 @@ fn parse_count(s: &str) -> Result<u32, String> {
 
 pub fn run(args: ChartArgs) -> anyhow::Result<()> {
     use std::io::IsTerminal;
+    if args.series {
+        return crate::chart_series::run(&args);
+    }
     let config = ChartConfig {
         width: args.size.0,
         height: args.size.1,

@@ -2,8 +2,10 @@
 //! Every subcommand drives the `leakless` library the same way the tests do.
 
 mod bench;
+mod bench_flicker;
 mod bench_leak;
 mod chart;
+mod chart_series;
 mod info;
 mod options;
 mod render;

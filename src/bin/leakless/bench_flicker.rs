@@ -1,0 +1,66 @@
+//! `leakless bench flicker`: temporal stability per scene and method — flicker of a still view
+//! with fresh photons every frame, and how each frame of an accumulation changes the image.
+
+use std::path::PathBuf;
+
+use anyhow::Context;
+use leakless::flicker::{accumulation_changes, flicker, FLICKER_FRAMES};
+use leakless::{BackendChoice, Method, RenderSettings, Renderer, Scene, SplatSettings};
+
+pub fn run(
+    scenes: &[PathBuf],
+    (w, h): (u32, u32),
+    paths: u32,
+    backend: BackendChoice,
+    frames: u32,
+) -> anyhow::Result<()> {
+    let open = || {
+        leakless::Gpu::new(&leakless::GpuOptions {
+            validation: None,
+            ray_tracing: backend.wants_ray_queries(),
+            window: None,
+        })
+    };
+    println!(
+        "bench flicker ({w}x{h}, {paths} paths): per pixel, temporal std / mean of luminance over {FLICKER_FRAMES} frames with fresh photons, averaged over lit pixels"
+    );
+    println!(
+        "{:<14} {:>9} {:>16} {:>9} {:>17}   accumulation: change made by frame N (N = 2, 4, 8, 16, 32 ...)",
+        "scene", "splat", "leakless-capped", "leakless", "leakless / splat"
+    );
+    for path in scenes {
+        let scene = Scene::load(path).with_context(|| format!("loading {}", path.display()))?;
+        let settings = |method| RenderSettings {
+            width: w,
+            height: h,
+            backend,
+            method,
+            splat: SplatSettings { paths, ..Default::default() },
+            ..Default::default()
+        };
+        let mut renderer = Renderer::new(open()?, &scene, settings(Method::Splat))?;
+        let mut values = Vec::new();
+        for method in [Method::Splat, Method::LeakLessCapped, Method::LeakLess] {
+            renderer.set_settings(settings(method))?;
+            values.push(flicker(&mut renderer, FLICKER_FRAMES)?);
+        }
+        renderer.set_settings(settings(Method::LeakLess))?;
+        let changes = accumulation_changes(&mut renderer, frames)?;
+        renderer.gpu().check_validation()?;
+        let at_powers: Vec<String> = (1..)
+            .map(|k| 1usize << k)
+            .take_while(|&n| n <= changes.len() + 1)
+            .map(|n| format!("{:.4}", changes[n - 2]))
+            .collect();
+        println!(
+            "{:<14} {:>9.4} {:>16.4} {:>9.4} {:>16.2}x   {}",
+            scene.name,
+            values[0],
+            values[1],
+            values[2],
+            values[2] / values[0].max(1e-12),
+            at_powers.join(" ")
+        );
+    }
+    Ok(())
+}

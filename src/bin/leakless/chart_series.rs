@@ -1,0 +1,93 @@
+//! `leakless chart --series`: convergence — error against wall time while each method
+//! accumulates, and the equal-time comparison at 1 s and at the budget.
+
+use std::time::Duration;
+
+use anyhow::Context;
+use leakless::chart::series::{measure_series, write_series_csv, SceneSeries, SeriesConfig};
+use leakless::chart::series_plot::{plot_series, SeriesMetric};
+use leakless::chart::{file_stem, plot};
+use leakless::{BackendChoice, Method, Scene};
+
+use crate::chart::ChartArgs;
+
+pub fn run(args: &ChartArgs) -> anyhow::Result<()> {
+    plot::check_size(args.chart_size)?;
+    if !(args.budget.is_finite() && args.budget > 0.0 && args.budget <= 3600.0) {
+        anyhow::bail!("--budget {} must be within (0, 3600] seconds", args.budget);
+    }
+    if args.truth_frames == 0 || args.ref_spp < args.truth_frames {
+        anyhow::bail!("--truth-frames {} must be within 1..=--ref-spp ({})", args.truth_frames, args.ref_spp);
+    }
+    if let Some(dir) = args.out.parent().filter(|d| !d.as_os_str().is_empty()) {
+        std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
+    }
+    let config = SeriesConfig {
+        width: args.size.0,
+        height: args.size.1,
+        backend: BackendChoice::Auto,
+        paths: args.frame_paths,
+        radius: None,
+        max_bounces: args.max_bounces,
+        seed: args.seed,
+        budget: Duration::from_secs_f64(args.budget),
+        truth_frames: args.truth_frames,
+        truth_spp: args.ref_spp / args.truth_frames,
+    };
+    let open = || Ok(leakless::Gpu::new(&leakless::GpuOptions { validation: None, ray_tracing: true, window: None })?);
+    for path in &args.scenes {
+        let scene = Scene::load(path).with_context(|| format!("loading {}", path.display()))?;
+        let series = measure_series(&open, &scene, &config, &mut |what| eprintln!("{}: {what}", scene.name))
+            .with_context(|| format!("charting {}", path.display()))?;
+        print_table(&series, args.budget * 1e3);
+        let base = format!("{}-{}-series", args.out.display(), file_stem(&series.scene));
+        let csv = std::path::PathBuf::from(format!("{base}.csv"));
+        write_series_csv(&series, &csv)?;
+        println!("wrote {}", csv.display());
+        for metric in SeriesMetric::ALL {
+            let (svg, png) =
+                (format!("{base}-{}.svg", metric.file_suffix()), format!("{base}-{}.png", metric.file_suffix()));
+            plot_series(&series, metric, svg.as_ref(), png.as_ref(), args.chart_size)?;
+            println!("wrote {svg}, {png}");
+        }
+    }
+    Ok(())
+}
+
+fn print_table(s: &SceneSeries, budget_ms: f64) {
+    println!(
+        "{} ({}x{}, ground truth {} frames x {} spp in {:.1} s):",
+        s.scene,
+        s.width,
+        s.height,
+        s.truth_frames,
+        s.truth_spp,
+        s.truth_ms / 1e3
+    );
+    println!("{:>8} {:<10} {:>8} {:>10} {:>9} {:>8}", "time", "method", "frames", "relMSE", "HDR-FLIP", "flicker");
+    for t in [1000.0, budget_ms] {
+        for m in [Method::Splat, Method::LeakLess, Method::Reference] {
+            let Some(p) = s.at(m, t) else {
+                println!("{:>7.0}s {:<10} (no image within the time)", t / 1e3, m.name());
+                continue;
+            };
+            println!(
+                "{:>7.0}s {:<10} {:>8} {:>10.5} {:>9.4} {:>8}",
+                t / 1e3,
+                m.name(),
+                p.frames,
+                p.relmse.unwrap_or(f64::NAN),
+                p.flip,
+                p.flicker.map_or("-".into(), |f| format!("{f:.4}"))
+            );
+        }
+        if let (Some(ours), Some(reference)) = (s.at(Method::LeakLess, t), s.at(Method::Reference, t)) {
+            println!(
+                "{:>8} leakless / reference: relMSE {:.2}x, HDR-FLIP {:.2}x",
+                "",
+                ours.relmse.unwrap_or(f64::NAN) / reference.relmse.unwrap_or(f64::NAN),
+                ours.flip / reference.flip
+            );
+        }
+    }
+}

@@ -1,0 +1,217 @@
+//! `leakless chart --series`: error against wall time while an image accumulates — photon
+//! frames for `leakless` and `splat` (1, 2, 4, … frames), samples for the built-in reference
+//! path tracer (1, 2, 4, … spp, one jittered sample per frame) — on the same axes, against a
+//! ground truth that integrates the same pixel footprint (a jittered reference of many
+//! frames). Errors: relMSE, RMSE and HDR-FLIP.
+
+use std::io::Write;
+use std::path::Path;
+use std::time::{Duration, Instant};
+
+use leakless_device::Gpu;
+use leakless_scene::Scene;
+
+use super::{csv_field, flip, metrics};
+use crate::error::{RenderError, Result};
+use crate::flicker::{flicker, FLICKER_FRAMES};
+use crate::settings::MAX_FRAMES;
+use crate::trace::BackendChoice;
+use crate::{Method, RenderSettings, RenderedFrame, Renderer, SplatSettings};
+
+/// What the series are measured with.
+#[derive(Clone, Debug)]
+pub struct SeriesConfig {
+    pub width: u32,
+    pub height: u32,
+    pub backend: BackendChoice,
+    /// Light paths per photon frame.
+    pub paths: u32,
+    /// First frame's gather radius (`None`: 5% of the scene's bounding radius).
+    pub radius: Option<f32>,
+    pub max_bounces: u32,
+    pub seed: u32,
+    /// Each series stops at the first checkpoint past this much wall time.
+    pub budget: Duration,
+    /// Ground truth: a reference of `truth_frames` jittered frames of `truth_spp` samples.
+    pub truth_frames: u32,
+    pub truth_spp: u32,
+}
+
+impl Default for SeriesConfig {
+    fn default() -> Self {
+        SeriesConfig {
+            width: 160,
+            height: 120,
+            backend: BackendChoice::Auto,
+            paths: 10_000,
+            radius: None,
+            max_bounces: 8,
+            seed: 0,
+            budget: Duration::from_secs(10),
+            truth_frames: 256,
+            truth_spp: 64,
+        }
+    }
+}
+
+/// One checkpoint of one series.
+#[derive(Clone, Debug)]
+pub struct SeriesPoint {
+    pub method: Method,
+    /// Frames (photon methods) or samples per pixel (reference) in the image.
+    pub frames: u32,
+    /// Host wall time from the start of the accumulation to this image, not counting the
+    /// error metrics computed at earlier checkpoints.
+    pub wall_ms: f64,
+    pub relmse: Option<f64>,
+    pub rmse: Option<f64>,
+    pub flip: f64,
+    /// Flicker of the method's single frames ([`crate::flicker`]), the same on every row of a
+    /// method; `None` for the reference.
+    pub flicker: Option<f64>,
+}
+
+/// Every series of one scene.
+#[derive(Clone, Debug)]
+pub struct SceneSeries {
+    pub scene: String,
+    pub device: String,
+    pub width: u32,
+    pub height: u32,
+    pub truth_frames: u32,
+    pub truth_spp: u32,
+    pub truth_ms: f64,
+    pub points: Vec<SeriesPoint>,
+}
+
+impl SceneSeries {
+    /// `method`'s last checkpoint within `ms` of wall time.
+    pub fn at(&self, method: Method, ms: f64) -> Option<&SeriesPoint> {
+        self.points.iter().filter(|p| p.method == method && p.wall_ms <= ms).last()
+    }
+}
+
+/// The methods of the series, in plotting order.
+pub const SERIES_METHODS: [Method; 3] = [Method::Splat, Method::LeakLess, Method::Reference];
+
+/// Renders the ground truth, then each method's accumulation on a fresh device from `open`,
+/// with images read back at 1, 2, 4, … frames until the budget is spent.
+pub fn measure_series(
+    open: &dyn Fn() -> Result<Gpu>,
+    scene: &Scene,
+    config: &SeriesConfig,
+    progress: &mut dyn FnMut(&str),
+) -> Result<SceneSeries> {
+    let base = RenderSettings {
+        width: config.width,
+        height: config.height,
+        backend: config.backend,
+        max_bounces: config.max_bounces,
+        seed: config.seed,
+        splat: SplatSettings { paths: config.paths, radius: config.radius, ..Default::default() },
+        ..Default::default()
+    };
+    progress(&format!("ground truth: {} frames × {} spp", config.truth_frames, config.truth_spp));
+    let start = Instant::now();
+    let truth_settings = RenderSettings {
+        method: Method::Reference,
+        spp: config.truth_spp,
+        frames: config.truth_frames,
+        ..base.clone()
+    };
+    let mut renderer = Renderer::new(open()?, scene, truth_settings)?;
+    let truth = renderer.render()?;
+    let device = renderer.gpu().report().name.clone();
+    renderer.gpu().check_validation()?;
+    drop(renderer);
+    let truth_ms = start.elapsed().as_secs_f64() * 1e3;
+    let eps = metrics::epsilon(&truth.radiance);
+
+    let mut points = Vec::new();
+    for method in SERIES_METHODS {
+        progress(method.name());
+        // Warm-up: pipelines compiled, node lists sized, before the clock starts.
+        let mut settings = RenderSettings { method, spp: 1, ..base.clone() };
+        let mut renderer = Renderer::new(open()?, scene, settings.clone())?;
+        renderer.render()?;
+        let flicker = if method.splats() { Some(flicker(&mut renderer, FLICKER_FRAMES)?) } else { None };
+        // Frames without end: each photon frame further along the sequence with a smaller
+        // radius; each reference frame one more jittered sample.
+        settings.frames = MAX_FRAMES;
+        renderer.set_settings(settings)?;
+        renderer.set_advance_seed(false);
+        let start = Instant::now();
+        let mut excluded = Duration::ZERO;
+        let mut checkpoint = 1u32;
+        for n in 1..=MAX_FRAMES {
+            if n < checkpoint {
+                renderer.render_frame(None)?;
+                continue;
+            }
+            let frame = renderer.capture_frame()?;
+            let wall_ms = (start.elapsed() - excluded).as_secs_f64() * 1e3;
+            let measuring = Instant::now();
+            points.push(point(method, n, wall_ms, &frame, &truth, eps, flicker));
+            excluded += measuring.elapsed();
+            if wall_ms >= config.budget.as_secs_f64() * 1e3 {
+                break;
+            }
+            checkpoint *= 2;
+        }
+        renderer.gpu().check_validation()?;
+    }
+    Ok(SceneSeries {
+        scene: scene.name.clone(),
+        device,
+        width: config.width,
+        height: config.height,
+        truth_frames: config.truth_frames,
+        truth_spp: config.truth_spp,
+        truth_ms,
+        points,
+    })
+}
+
+fn point(
+    method: Method,
+    frames: u32,
+    wall_ms: f64,
+    frame: &RenderedFrame,
+    truth: &RenderedFrame,
+    eps: f64,
+    flicker: Option<f64>,
+) -> SeriesPoint {
+    SeriesPoint {
+        method,
+        frames,
+        wall_ms,
+        relmse: metrics::rel_mse(&frame.radiance, &truth.radiance, None, eps),
+        rmse: metrics::rmse(&frame.radiance, &truth.radiance, None),
+        flip: flip::hdr_flip(&frame.radiance, &truth.radiance, frame.width, frame.height),
+        flicker,
+    }
+}
+
+/// The columns of [`write_series_csv`].
+pub const SERIES_COLUMNS: [&str; 8] =
+    ["scene", "method", "frames_or_spp", "wall_ms", "relmse", "rmse", "hdr_flip", "flicker"];
+
+pub fn write_series_csv(series: &SceneSeries, path: &Path) -> Result<()> {
+    let mut out = SERIES_COLUMNS.join(",") + "\n";
+    let float = |v: Option<f64>| v.filter(|v| v.is_finite()).map(|v| format!("{v:.6e}")).unwrap_or_default();
+    for p in &series.points {
+        let fields = [
+            csv_field(&series.scene),
+            p.method.name().to_string(),
+            p.frames.to_string(),
+            format!("{:.3}", p.wall_ms),
+            float(p.relmse),
+            float(p.rmse),
+            float(Some(p.flip)),
+            float(p.flicker),
+        ];
+        out += &(fields.join(",") + "\n");
+    }
+    let fail = |e: std::io::Error| RenderError::Output { path: path.display().to_string(), message: e.to_string() };
+    std::fs::File::create(path).and_then(|mut f| f.write_all(out.as_bytes())).map_err(fail)
+}

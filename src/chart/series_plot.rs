@@ -1,0 +1,144 @@
+//! The convergence charts of `chart --series`: one error against wall time, log–log, one line
+//! per method through its checkpoints (1, 2, 4, … frames or spp), as SVG and PNG.
+
+use std::path::Path;
+
+use plotters::coord::Shift;
+use plotters::prelude::*;
+use plotters::style::text_anchor::{HPos, Pos, VPos};
+
+use super::plot::{check_size, log_range, log_ticks, method_colour, register_font, tick, DrawResult, FAMILY};
+use super::series::{SceneSeries, SeriesPoint, SERIES_METHODS};
+use crate::error::{RenderError, Result};
+
+/// An error of a checkpoint.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SeriesMetric {
+    RelMse,
+    Flip,
+}
+
+impl SeriesMetric {
+    pub const ALL: [SeriesMetric; 2] = [SeriesMetric::RelMse, SeriesMetric::Flip];
+
+    pub fn value(self, p: &SeriesPoint) -> Option<f64> {
+        match self {
+            SeriesMetric::RelMse => p.relmse,
+            SeriesMetric::Flip => Some(p.flip),
+        }
+        .filter(|v| v.is_finite() && *v > 0.0)
+    }
+
+    pub fn file_suffix(self) -> &'static str {
+        match self {
+            SeriesMetric::RelMse => "relmse",
+            SeriesMetric::Flip => "flip",
+        }
+    }
+
+    fn name(self) -> &'static str {
+        match self {
+            SeriesMetric::RelMse => "relMSE",
+            SeriesMetric::Flip => "HDR-FLIP",
+        }
+    }
+}
+
+/// Writes `series`' `metric` against wall time as an SVG and a PNG, both `size` pixels.
+pub fn plot_series(series: &SceneSeries, metric: SeriesMetric, svg: &Path, png: &Path, size: (u32, u32)) -> Result<()> {
+    check_size(size)?;
+    register_font();
+    let fail = |path: &Path, e: &dyn std::fmt::Display| RenderError::Output {
+        path: path.display().to_string(),
+        message: e.to_string(),
+    };
+    let mut text = String::new();
+    {
+        let root = SVGBackend::with_string(&mut text, size).into_drawing_area();
+        draw(root, series, metric).map_err(|e| fail(svg, &e))?;
+    }
+    std::fs::write(svg, text).map_err(|e| fail(svg, &e))?;
+    let mut rgb = vec![0u8; size.0 as usize * size.1 as usize * 3];
+    {
+        let root = BitMapBackend::with_buffer(&mut rgb, size).into_drawing_area();
+        draw(root, series, metric).map_err(|e| fail(png, &e))?;
+    }
+    image::save_buffer(png, &rgb, size.0, size.1, image::ExtendedColorType::Rgb8).map_err(|e| fail(png, &e))
+}
+
+fn draw<DB: DrawingBackend>(
+    root: DrawingArea<DB, Shift>,
+    series: &SceneSeries,
+    metric: SeriesMetric,
+) -> DrawResult<DB> {
+    root.fill(&WHITE)?;
+    let (w, h) = root.dim_in_pixel();
+    let k = (w as f64 / 800.0).min(h as f64 / 600.0).max(0.4);
+    let px = |v: f64| ((v * k).round() as i32).max(1);
+    let font = |v: f64| (FAMILY, (v * k).max(7.0));
+    let grey = RGBColor(90, 90, 90);
+    let foot_h = (1.6 * font(12.0).1) as u32;
+    let (main, foot) = root.split_vertically(h.saturating_sub(foot_h));
+    let main = main.titled(&format!("{}: {} against wall time", series.scene, metric.name()), font(21.0))?;
+
+    let points = |m| {
+        series
+            .points
+            .iter()
+            .filter(move |p| p.method == m)
+            .filter_map(|p| metric.value(p).map(|v| (p.wall_ms / 1e3, v, p.frames)))
+    };
+    let x_range = log_range(series.points.iter().map(|p| p.wall_ms / 1e3).filter(|t| *t > 0.0));
+    let y_range = log_range(SERIES_METHODS.iter().flat_map(|&m| points(m).map(|p| p.1)));
+    let (x_bold, x_light) = log_ticks(&x_range, 7);
+    let (y_bold, y_light) = log_ticks(&y_range, 9);
+    let mut cc = ChartBuilder::on(&main)
+        .margin(px(12.0))
+        .x_label_area_size(px(46.0))
+        .y_label_area_size(px(64.0))
+        .build_cartesian_2d(
+            x_range.log_scale().with_key_points(x_bold).with_light_points(x_light),
+            y_range.log_scale().with_key_points(y_bold).with_light_points(y_light),
+        )?;
+    cc.configure_mesh()
+        .x_desc("wall time, s (accumulating while the view is still)")
+        .y_desc(metric.name())
+        .x_label_formatter(&|v| tick(*v))
+        .y_label_formatter(&|v| tick(*v))
+        .label_style(font(13.0))
+        .axis_desc_style(font(14.0))
+        .light_line_style(RGBColor(238, 238, 238))
+        .bold_line_style(RGBColor(200, 200, 200))
+        .draw()?;
+    for method in SERIES_METHODS {
+        let colour = method_colour(method);
+        let line: Vec<(f64, f64)> = points(method).map(|p| (p.0, p.1)).collect();
+        if line.is_empty() {
+            continue;
+        }
+        let unit = if method.splats() { "frames" } else { "spp" };
+        cc.draw_series(LineSeries::new(line.clone(), colour.stroke_width(px(2.0) as u32)))?
+            .label(format!("{} (1, 2, 4 … {unit})", method.name()))
+            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], colour.stroke_width(2)));
+        cc.draw_series(line.iter().map(|&p| Circle::new(p, px(3.5), colour.filled())))?;
+        // Label the first and last checkpoints with their frame or sample counts.
+        let all: Vec<_> = points(method).collect();
+        for p in [all.first(), all.last()].into_iter().flatten() {
+            let style = TextStyle::from(font(11.0)).color(&colour).pos(Pos::new(HPos::Left, VPos::Bottom));
+            cc.draw_series(std::iter::once(Text::new(format!("{}", p.2), (p.0, p.1), style)))?;
+        }
+    }
+    cc.configure_series_labels()
+        .position(SeriesLabelPosition::UpperRight)
+        .label_font(font(13.0))
+        .background_style(WHITE.mix(0.85))
+        .border_style(RGBColor(200, 200, 200))
+        .draw()?;
+    let line = format!(
+        "{}×{}; ground truth: reference, {} jittered frames × {} spp; {}",
+        series.width, series.height, series.truth_frames, series.truth_spp, series.device
+    );
+    foot.draw(&Text::new(line, (px(10.0), px(4.0)), TextStyle::from(font(11.5)).color(&grey)))?;
+    root.present()?;
+    Ok(())
+}

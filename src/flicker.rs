@@ -1,0 +1,85 @@
+//! Temporal stability of a still view (docs/architecture.md §5): how much it flickers when
+//! every frame traces fresh photons, and how quickly an accumulation settles.
+
+use crate::error::Result;
+use crate::Renderer;
+
+/// Frames the flicker metric looks at.
+pub const FLICKER_FRAMES: u32 = 16;
+
+fn luminance(p: &[f32; 3]) -> f64 {
+    0.2126 * p[0] as f64 + 0.7152 * p[1] as f64 + 0.0722 * p[2] as f64
+}
+
+/// Flicker: `frames` frames of the renderer's current view and settings, each with fresh
+/// photons (the next seed) and no accumulation; each pixel's temporal standard deviation of
+/// luminance over its temporal mean, averaged over the pixels whose mean is above zero (a pixel
+/// that is black in every frame does not flicker). Leaves the renderer without accumulation.
+pub fn flicker(renderer: &mut Renderer, frames: u32) -> Result<f64> {
+    renderer.set_progressive(false);
+    renderer.update(|s| s.frames = 1)?;
+    renderer.set_advance_seed(true);
+    let mut series = Vec::with_capacity(frames as usize);
+    for _ in 0..frames {
+        let frame = renderer.capture_frame()?;
+        series.push(frame.radiance.iter().map(luminance).collect::<Vec<f64>>());
+    }
+    Ok(flicker_of(&series))
+}
+
+/// [`flicker`] of per-frame luminance images (each the same length).
+pub fn flicker_of(series: &[Vec<f64>]) -> f64 {
+    let Some(first) = series.first() else { return 0.0 };
+    let n = series.len() as f64;
+    let (mut sum, mut count) = (0.0, 0usize);
+    for i in 0..first.len() {
+        let mean = series.iter().map(|f| f[i]).sum::<f64>() / n;
+        if mean <= 0.0 {
+            continue;
+        }
+        let var = series.iter().map(|f| (f[i] - mean).powi(2)).sum::<f64>() / n;
+        sum += var.sqrt() / mean;
+        count += 1;
+    }
+    if count == 0 {
+        0.0
+    } else {
+        sum / count as f64
+    }
+}
+
+/// How much each frame of an accumulation changes the image: for N = 2..=`frames`, the RMS
+/// of (image after N frames − image after N − 1) over the RMS of the image after N, in
+/// luminance. Starts a new accumulation (progressive, from the renderer's seed).
+pub fn accumulation_changes(renderer: &mut Renderer, frames: u32) -> Result<Vec<f64>> {
+    renderer.set_advance_seed(false);
+    renderer.set_progressive(false);
+    renderer.set_progressive(true); // a change of mode restarts the accumulation
+    let mut last: Option<Vec<f64>> = None;
+    let mut changes = Vec::new();
+    for _ in 0..frames {
+        let image: Vec<f64> = renderer.capture_frame()?.radiance.iter().map(luminance).collect();
+        if let Some(prev) = &last {
+            let diff = image.iter().zip(prev).map(|(a, b)| (a - b).powi(2)).sum::<f64>();
+            let norm = image.iter().map(|a| a * a).sum::<f64>();
+            changes.push((diff / norm.max(1e-300)).sqrt());
+        }
+        last = Some(image);
+    }
+    renderer.set_progressive(false);
+    Ok(changes)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn flicker_is_the_mean_relative_deviation_of_lit_pixels() {
+        // Pixel 0: constant (0); pixel 1: 1, 3 (mean 2, deviation 1: 0.5); pixel 2: black.
+        let series = vec![vec![5.0, 1.0, 0.0], vec![5.0, 3.0, 0.0]];
+        assert_eq!(flicker_of(&series), 0.25);
+        assert_eq!(flicker_of(&[vec![0.0; 4], vec![0.0; 4]]), 0.0);
+        assert_eq!(flicker_of(&[]), 0.0);
+    }
+}
