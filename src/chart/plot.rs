@@ -102,28 +102,44 @@ pub fn check_size(size: (u32, u32)) -> Result<()> {
     Ok(())
 }
 
-/// Writes `chart`'s `metric` against frame time as an SVG and a PNG, both `size` pixels.
-pub fn plot(chart: &SceneChart, metric: Metric, svg: &Path, png: &Path, size: (u32, u32)) -> Result<()> {
+/// A chart that can be drawn on any plotters backend (SVG and bitmap alike).
+pub(super) trait Drawing {
+    fn draw<DB: DrawingBackend>(&self, root: DrawingArea<DB, Shift>) -> DrawResult<DB>;
+}
+
+/// Draws `drawing` into an SVG and a PNG, both `size` pixels.
+pub(super) fn write_svg_png(drawing: &impl Drawing, svg: &Path, png: &Path, size: (u32, u32)) -> Result<()> {
     check_size(size)?;
     register_font();
     let fail = |path: &Path, e: &dyn std::fmt::Display| RenderError::Output {
         path: path.display().to_string(),
         message: e.to_string(),
     };
-
     let mut text = String::new();
     {
         let root = SVGBackend::with_string(&mut text, size).into_drawing_area();
-        draw(root, chart, metric).map_err(|e| fail(svg, &e))?;
+        drawing.draw(root).map_err(|e| fail(svg, &e))?;
     }
     std::fs::write(svg, text).map_err(|e| fail(svg, &e))?;
-
     let mut rgb = vec![0u8; size.0 as usize * size.1 as usize * 3];
     {
         let root = BitMapBackend::with_buffer(&mut rgb, size).into_drawing_area();
-        draw(root, chart, metric).map_err(|e| fail(png, &e))?;
+        drawing.draw(root).map_err(|e| fail(png, &e))?;
     }
     image::save_buffer(png, &rgb, size.0, size.1, image::ExtendedColorType::Rgb8).map_err(|e| fail(png, &e))
+}
+
+struct MetricChart<'a>(&'a SceneChart, Metric);
+
+impl Drawing for MetricChart<'_> {
+    fn draw<DB: DrawingBackend>(&self, root: DrawingArea<DB, Shift>) -> DrawResult<DB> {
+        draw(root, self.0, self.1)
+    }
+}
+
+/// Writes `chart`'s `metric` against frame time as an SVG and a PNG, both `size` pixels.
+pub fn plot(chart: &SceneChart, metric: Metric, svg: &Path, png: &Path, size: (u32, u32)) -> Result<()> {
+    write_svg_png(&MetricChart(chart, metric), svg, png, size)
 }
 
 /// One method × backend: its points (x = frame ms, y = error, radius).

@@ -113,10 +113,12 @@ pub fn measure_series(
     };
     progress(&format!("ground truth: {} frames × {} spp", config.truth_frames, config.truth_spp));
     let start = Instant::now();
+    // Its own seed: sharing the series' samples would flatter the reference series.
     let truth_settings = RenderSettings {
         method: Method::Reference,
         spp: config.truth_spp,
         frames: config.truth_frames,
+        seed: config.seed ^ 0x9e37_79b9,
         ..base.clone()
     };
     let mut renderer = Renderer::new(open()?, scene, truth_settings)?;

@@ -7,9 +7,9 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 
-use super::plot::{check_size, log_range, log_ticks, method_colour, register_font, tick, DrawResult, FAMILY};
+use super::plot::{log_range, log_ticks, method_colour, tick, write_svg_png, DrawResult, Drawing, FAMILY};
 use super::series::{SceneSeries, SeriesPoint, SERIES_METHODS};
-use crate::error::{RenderError, Result};
+use crate::error::Result;
 
 /// An error of a checkpoint.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -44,26 +44,17 @@ impl SeriesMetric {
     }
 }
 
+struct SeriesChart<'a>(&'a SceneSeries, SeriesMetric);
+
+impl Drawing for SeriesChart<'_> {
+    fn draw<DB: DrawingBackend>(&self, root: DrawingArea<DB, Shift>) -> DrawResult<DB> {
+        draw(root, self.0, self.1)
+    }
+}
+
 /// Writes `series`' `metric` against wall time as an SVG and a PNG, both `size` pixels.
 pub fn plot_series(series: &SceneSeries, metric: SeriesMetric, svg: &Path, png: &Path, size: (u32, u32)) -> Result<()> {
-    check_size(size)?;
-    register_font();
-    let fail = |path: &Path, e: &dyn std::fmt::Display| RenderError::Output {
-        path: path.display().to_string(),
-        message: e.to_string(),
-    };
-    let mut text = String::new();
-    {
-        let root = SVGBackend::with_string(&mut text, size).into_drawing_area();
-        draw(root, series, metric).map_err(|e| fail(svg, &e))?;
-    }
-    std::fs::write(svg, text).map_err(|e| fail(svg, &e))?;
-    let mut rgb = vec![0u8; size.0 as usize * size.1 as usize * 3];
-    {
-        let root = BitMapBackend::with_buffer(&mut rgb, size).into_drawing_area();
-        draw(root, series, metric).map_err(|e| fail(png, &e))?;
-    }
-    image::save_buffer(png, &rgb, size.0, size.1, image::ExtendedColorType::Rgb8).map_err(|e| fail(png, &e))
+    write_svg_png(&SeriesChart(series, metric), svg, png, size)
 }
 
 fn draw<DB: DrawingBackend>(
