@@ -12,6 +12,9 @@ pub enum RenderError {
     Accel(#[from] leakless_accel::AccelError),
     #[error("invalid setting: {0}")]
     Settings(String),
+    /// A device limit the render would exceed, found before anything was allocated.
+    #[error("{0}")]
+    Limit(String),
     #[error("writing {path}: {message}")]
     Output { path: String, message: String },
 }

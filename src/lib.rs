@@ -9,6 +9,7 @@ pub mod error;
 pub mod flicker;
 pub mod gpu_scene;
 pub mod gpu_types;
+pub mod limits;
 pub mod output;
 pub mod passes;
 pub mod photon_lights;

@@ -49,6 +49,33 @@ fn bad_size_is_rejected() {
     assert!(!out.status.success());
 }
 
+/// Device limits are checked before anything is allocated, and named with their values: 10⁸
+/// paths need a 51 GB photon buffer, beyond any device's maxStorageBufferRange (at most 4 GiB).
+#[test]
+fn a_device_limit_is_one_line_naming_it() {
+    if common_device_missing() {
+        return;
+    }
+    let out = leakless(&["render", "scenes/cornell-box.gltf", "--paths", "100000000", "--out", "/dev/null"], &[]);
+    assert_one_line_error(&out, "maxStorageBufferRange (");
+    let out =
+        leakless(&["render", "scenes/cornell-box.gltf", "--list-capacity", "2000000000", "--out", "/dev/null"], &[]);
+    assert_one_line_error(&out, "--list-capacity 2000000000");
+}
+
+/// Whether this machine has no Vulkan device (the test is then skipped, loudly, as elsewhere).
+fn common_device_missing() -> bool {
+    let out = leakless(&["info"], &[]);
+    let missing = !out.status.success();
+    if missing && std::env::var("LEAKLESS_REQUIRE_DEVICE").as_deref() == Ok("1") {
+        panic!("LEAKLESS_REQUIRE_DEVICE=1 but `leakless info` failed");
+    }
+    if missing {
+        eprintln!("\n*** SKIPPED: no Vulkan device ***\n");
+    }
+    missing
+}
+
 #[test]
 fn no_vulkan_device_is_one_line() {
     // Point the loader at a driver manifest that does not exist: no device at all.

@@ -315,6 +315,7 @@ impl Renderer {
         if let Some(frame) = &pending.splat {
             if self.settings.splat.list_capacity.is_none() {
                 if let Some(grown) = grown_list_capacity(frame.list_capacity, &counters.lists) {
+                    let grown = grown.min(crate::limits::max_list_entries(&self.gpu.report().limits));
                     if grown > self.list_capacity {
                         // The frame lost photons: an accumulation restarts without it.
                         self.list_capacity = grown;

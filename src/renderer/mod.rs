@@ -143,6 +143,7 @@ impl Renderer {
     pub fn new(gpu: Gpu, scene: &Scene, settings: RenderSettings) -> Result<Renderer> {
         settings.validate()?;
         let resolved = resolve(&gpu, settings.backend)?;
+        crate::limits::check(&settings, scene, resolved.backend, &gpu.report().limits)?;
         let gpu_scene = GpuScene::upload(&gpu, scene)?;
         let passes = Passes {
             gbuffer: GBufferPass::new(&gpu)?,
@@ -204,7 +205,10 @@ impl Renderer {
     fn default_list_capacity(&self) -> u32 {
         let s = &self.settings;
         let photons = s.splat.paths.saturating_mul(s.max_bounces.max(1));
-        s.splat.list_capacity.unwrap_or_else(|| default_list_capacity(photons, s.width * s.height))
+        s.splat.list_capacity.unwrap_or_else(|| {
+            default_list_capacity(photons, s.width * s.height)
+                .min(crate::limits::max_list_entries(&self.gpu.report().limits))
+        })
     }
 
     pub fn gpu(&self) -> &Gpu {
@@ -296,6 +300,7 @@ impl Renderer {
     pub fn set_settings(&mut self, settings: RenderSettings) -> Result<()> {
         settings.validate()?;
         let backend = resolve(&self.gpu, settings.backend)?;
+        crate::limits::check(&settings, &self.scene, backend.backend, &self.gpu.report().limits)?;
         self.backend_state(backend.backend)?;
         let capacity_inputs =
             |s: &RenderSettings| (s.splat.paths, s.max_bounces, s.width, s.height, s.splat.list_capacity);

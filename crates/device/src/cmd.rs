@@ -140,6 +140,13 @@ impl<'a> Cmd<'a> {
         if groups.contains(&0) {
             return Ok(());
         }
+        let max = self.gpu.report().limits.max_compute_work_group_count;
+        if let Some(axis) = (0..3).find(|&i| groups[i] > max[i]) {
+            return Err(DeviceError::Limit(format!(
+                "{}: {} workgroups along axis {axis} exceed the device's maxComputeWorkGroupCount ({})",
+                pipeline.name, groups[axis], max[axis]
+            )));
+        }
         // SAFETY: recording state; pipeline from this device.
         unsafe { self.device().cmd_bind_pipeline(self.raw, vk::PipelineBindPoint::COMPUTE, pipeline.raw()) };
         self.push_bindings(vk::PipelineBindPoint::COMPUTE, &pipeline.layout, bound)?;

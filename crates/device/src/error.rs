@@ -21,6 +21,9 @@ pub enum DeviceError {
     Validation { count: usize, first: String },
     #[error("{0}")]
     Unsupported(String),
+    /// A device limit a request would exceed (the message names the limit and the value).
+    #[error("{0}")]
+    Limit(String),
     #[error("buffer {name} holds {capacity} bytes, {requested} requested")]
     Capacity { name: String, capacity: u64, requested: u64 },
 }

@@ -37,5 +37,5 @@ pub use layout::{GpuStruct, RustLayout};
 pub use memory::{Buffer, BufferDesc, Image, ImageDesc, MemoryLocation};
 pub use pipeline::{ColorTarget, ComputePipeline, GraphicsDesc, GraphicsPipeline, VertexLayout};
 pub use query::TimestampPool;
-pub use select::{DeviceReport, DeviceType};
+pub use select::{DeviceLimits, DeviceReport, DeviceType};
 pub use swapchain::{Acquired, PresentMode, PresentOutcome, Swapchain};

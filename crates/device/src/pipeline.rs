@@ -92,6 +92,8 @@ pub struct ComputePipeline {
     raw: vk::Pipeline,
     pub(crate) layout: Layout,
     pub(crate) workgroup_size: [u32; 3],
+    /// The pass it was built for, for messages.
+    pub(crate) name: String,
 }
 
 impl ComputePipeline {
@@ -120,7 +122,7 @@ impl ComputePipeline {
         unsafe { gpu.device().destroy_shader_module(module, None) };
         let raw = result.map_err(|(_, e)| e).vk("vkCreateComputePipelines")?[0];
         gpu.set_name(raw, pass);
-        Ok(ComputePipeline { raw, layout, workgroup_size: shader.workgroup_size })
+        Ok(ComputePipeline { raw, layout, workgroup_size: shader.workgroup_size, name: pass.to_string() })
     }
 
     pub(crate) fn raw(&self) -> vk::Pipeline {

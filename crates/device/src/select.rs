@@ -45,10 +45,29 @@ pub struct DeviceReport {
     pub subgroup_size: u32,
     /// `minAccelerationStructureScratchOffsetAlignment` (1 without acceleration structures).
     pub scratch_alignment: u64,
+    /// The limits a render is checked against before it allocates anything.
+    pub limits: DeviceLimits,
     /// Why the device cannot be used, if it cannot.
     pub rejected: Option<String>,
     pub(crate) physical: vk::PhysicalDevice,
     pub(crate) queue_family: u32,
+}
+
+/// What a device can hold and dispatch at most (the Vulkan limits a render can reach).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct DeviceLimits {
+    /// `maxImageDimension2D`: the widest and tallest image.
+    pub max_image_dimension_2d: u32,
+    /// `maxStorageBufferRange`: the largest storage buffer a shader can address.
+    pub max_storage_buffer_range: u32,
+    /// `maxBufferSize` (Vulkan 1.3): the largest buffer.
+    pub max_buffer_size: u64,
+    /// `maxComputeWorkGroupCount`.
+    pub max_compute_work_group_count: [u32; 3],
+    /// `maxPrimitiveCount` of one BLAS geometry (0 without acceleration structures).
+    pub max_primitive_count: u64,
+    /// The largest device-local memory heap, in bytes.
+    pub device_local_heap: u64,
 }
 
 pub(crate) const RAY_EXTENSIONS: [&CStr; 3] =
@@ -81,7 +100,9 @@ fn describe(
     let mut driver = vk::PhysicalDeviceDriverProperties::default();
     let mut subgroup = vk::PhysicalDeviceSubgroupProperties::default();
     let mut accel_props = vk::PhysicalDeviceAccelerationStructurePropertiesKHR::default();
-    let mut props2 = vk::PhysicalDeviceProperties2::default().push_next(&mut driver).push_next(&mut subgroup);
+    let mut p13 = vk::PhysicalDeviceVulkan13Properties::default();
+    let mut props2 =
+        vk::PhysicalDeviceProperties2::default().push_next(&mut driver).push_next(&mut subgroup).push_next(&mut p13);
     if ray_exts {
         props2 = props2.push_next(&mut accel_props);
     }
@@ -174,10 +195,25 @@ fn describe(
         timestamp_period_ns: props.limits.timestamp_period,
         subgroup_size: subgroup.subgroup_size,
         scratch_alignment: (accel_props.min_acceleration_structure_scratch_offset_alignment as u64).max(1),
+        limits: DeviceLimits {
+            max_image_dimension_2d: props.limits.max_image_dimension2_d,
+            max_storage_buffer_range: props.limits.max_storage_buffer_range,
+            max_buffer_size: p13.max_buffer_size,
+            max_compute_work_group_count: props.limits.max_compute_work_group_count,
+            max_primitive_count: if ray_exts { accel_props.max_primitive_count } else { 0 },
+            device_local_heap: device_local_heap(instance, pd),
+        },
         rejected,
         physical: pd,
         queue_family: queue_family.unwrap_or(0) as u32,
     })
+}
+
+fn device_local_heap(instance: &ash::Instance, pd: vk::PhysicalDevice) -> u64 {
+    // SAFETY: valid physical device.
+    let memory = unsafe { instance.get_physical_device_memory_properties(pd) };
+    let heaps = &memory.memory_heaps[..memory.memory_heap_count as usize];
+    heaps.iter().filter(|h| h.flags.contains(vk::MemoryHeapFlags::DEVICE_LOCAL)).map(|h| h.size).max().unwrap_or(0)
 }
 
 /// Picks the device to use: `LEAKLESS_DEVICE` (an index, or a case-insensitive part of the

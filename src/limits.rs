@@ -1,0 +1,196 @@
+//! What a render asks of the device, checked against the device's limits before anything is
+//! allocated: each failure is one line naming the limit, its value and what exceeded it.
+//! (Anything a pass dispatches is checked once more by the device layer at record time.)
+
+use leakless_device::DeviceLimits;
+use leakless_scene::Scene;
+
+use crate::error::{RenderError, Result};
+use crate::passes::photons::Photon;
+use crate::passes::splat::ListEntry;
+use crate::settings::RenderSettings;
+use crate::splatting::default_list_capacity;
+use crate::trace::Backend;
+
+/// Bytes per pixel of the images a frame keeps (G-buffer, layers, sums, counts: about two
+/// dozen RGBA32F images) and of the readback (four layers and the display image).
+const IMAGE_BYTES_PER_PIXEL: u64 = 24 * 16;
+const READBACK_BYTES_PER_PIXEL: u64 = 4 * 16 + 4;
+/// Bytes per triangle of the scene's buffers and trace structures (vertices, BVH, BLAS).
+const SCENE_BYTES_PER_TRIANGLE: u64 = 512;
+
+fn limit(message: String) -> RenderError {
+    RenderError::Limit(message)
+}
+
+fn gib(bytes: u64) -> String {
+    format!("{:.2} GiB", bytes as f64 / (1u64 << 30) as f64)
+}
+
+/// The most node-list entries one buffer of the device can hold (and the splat address).
+pub fn max_list_entries(limits: &DeviceLimits) -> u32 {
+    let per_entry = std::mem::size_of::<ListEntry>() as u64;
+    (limits.max_storage_buffer_range as u64 / per_entry).min(crate::splatting::MAX_LIST_CAPACITY as u64) as u32
+}
+
+/// Checks `settings` on `scene` with the trace `backend` against `limits`.
+pub fn check(settings: &RenderSettings, scene: &Scene, backend: Backend, limits: &DeviceLimits) -> Result<()> {
+    let (w, h) = (settings.width, settings.height);
+    let side = w.max(h);
+    if side > limits.max_image_dimension_2d {
+        return Err(limit(format!(
+            "--size {w}x{h}: {side} pixels exceed the device's maxImageDimension2D ({})",
+            limits.max_image_dimension_2d
+        )));
+    }
+    let pixels = w as u64 * h as u64;
+    let groups = |threads: u64, per_group: u64| threads.div_ceil(per_group);
+    let max_groups = limits.max_compute_work_group_count[0] as u64;
+    // The hierarchy, sort and gather run one thread per view sample along one axis.
+    if settings.method.splats() && groups(pixels, 64) > max_groups {
+        return Err(limit(format!(
+            "--size {w}x{h}: {pixels} view samples need {} workgroups, above the device's maxComputeWorkGroupCount ({max_groups})",
+            groups(pixels, 64)
+        )));
+    }
+    let readback = pixels * READBACK_BYTES_PER_PIXEL;
+    if readback > limits.max_buffer_size {
+        return Err(limit(format!(
+            "--size {w}x{h}: the layers read back need {} bytes, above the device's maxBufferSize ({})",
+            readback, limits.max_buffer_size
+        )));
+    }
+
+    let triangles = scene.triangle_count() as u64;
+    if backend == Backend::RayQuery && triangles > limits.max_primitive_count {
+        return Err(limit(format!(
+            "the scene's {triangles} triangles exceed the device's maxPrimitiveCount ({}) for one BLAS; --backend compute has no such limit",
+            limits.max_primitive_count
+        )));
+    }
+
+    let mut photon_bytes = 0;
+    let mut list_bytes = 0;
+    if settings.method.splats() {
+        let s = &settings.splat;
+        let photons = s.paths as u64 * settings.max_bounces.max(1) as u64;
+        photon_bytes = photons * std::mem::size_of::<Photon>() as u64;
+        let range = limits.max_storage_buffer_range as u64;
+        if photon_bytes > range {
+            return Err(limit(format!(
+                "--paths {} × --max-bounces {}: the photon buffer needs {photon_bytes} bytes, above the device's maxStorageBufferRange ({range})",
+                s.paths, settings.max_bounces
+            )));
+        }
+        for (what, threads) in [("--paths", s.paths as u64), ("photons stored", photons)] {
+            if groups(threads, 64) > max_groups {
+                return Err(limit(format!(
+                    "{what} {threads}: {} workgroups, above the device's maxComputeWorkGroupCount ({max_groups})",
+                    groups(threads, 64)
+                )));
+            }
+        }
+        // The renderer keeps its own list capacity within the range (max_list_entries); a
+        // capacity asked for must fit.
+        let entries = match s.list_capacity {
+            Some(n) => n,
+            None => default_list_capacity(photons.min(u32::MAX as u64) as u32, pixels.min(u32::MAX as u64) as u32)
+                .min(max_list_entries(limits)),
+        };
+        list_bytes = entries as u64 * std::mem::size_of::<ListEntry>() as u64;
+        if list_bytes > range {
+            return Err(limit(format!(
+                "--list-capacity {entries}: {list_bytes} bytes, above the device's maxStorageBufferRange ({range})"
+            )));
+        }
+    }
+
+    // Everything large at once, with two frames in flight for the per-frame buffers.
+    let total = pixels * IMAGE_BYTES_PER_PIXEL
+        + 2 * readback
+        + photon_bytes * 2
+        + list_bytes
+        + triangles * SCENE_BYTES_PER_TRIANGLE;
+    if limits.device_local_heap > 0 && total > limits.device_local_heap {
+        return Err(limit(format!(
+            "this render needs about {} of device memory (size {w}x{h}, {} photons' buffers, {} of lists), more than the device's largest heap ({})",
+            gib(total),
+            gib(photon_bytes * 2),
+            gib(list_bytes),
+            gib(limits.device_local_heap)
+        )));
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::Method;
+
+    fn limits() -> DeviceLimits {
+        DeviceLimits {
+            max_image_dimension_2d: 4096,
+            max_storage_buffer_range: 1 << 27,
+            max_buffer_size: 1 << 30,
+            max_compute_work_group_count: [65535; 3],
+            max_primitive_count: 1,
+            device_local_heap: 1 << 32,
+        }
+    }
+
+    fn scene() -> Scene {
+        let v = |p: [f32; 3]| leakless_scene::Vertex { position: p, normal: [0.0, 0.0, 1.0], uv: [0.0; 2] };
+        let vertices = vec![
+            v([0.0; 3]),
+            v([1.0, 0.0, 0.0]),
+            v([0.0, 1.0, 0.0]),
+            v([1.0, 1.0, 0.0]),
+            v([1.0, 0.0, 0.0]),
+            v([0.0, 1.0, 0.0]),
+        ];
+        Scene::from_triangles(
+            "two",
+            vertices,
+            vec![0, 0],
+            vec![leakless_scene::Material::default_white()],
+            vec![],
+            None,
+        )
+    }
+
+    fn error(settings: &RenderSettings, backend: Backend) -> String {
+        check(settings, &scene(), backend, &limits()).unwrap_err().to_string()
+    }
+
+    #[test]
+    fn each_limit_is_named_with_its_value() {
+        let ok = RenderSettings { width: 64, height: 48, ..Default::default() };
+        assert!(check(&ok, &scene(), Backend::Compute, &limits()).is_ok());
+        let big = RenderSettings { width: 5000, ..ok.clone() };
+        assert!(error(&big, Backend::Compute).contains("maxImageDimension2D (4096)"));
+        // Two triangles, one allowed per BLAS: ray queries refuse, the compute BVH does not.
+        assert!(error(&ok, Backend::RayQuery).contains("2 triangles exceed the device's maxPrimitiveCount (1)"));
+        let mut many = ok.clone();
+        many.splat.paths = 1_000_000; // 8M photons × 48 B > 2^27
+        assert!(
+            error(&many, Backend::Compute).contains("maxStorageBufferRange (134217728)"),
+            "{}",
+            error(&many, Backend::Compute)
+        );
+        many.method = Method::Reference; // no photons: nothing to hold
+        assert!(check(&many, &scene(), Backend::Compute, &limits()).is_ok());
+        let wide = RenderSettings { width: 2000, height: 2000, ..ok.clone() };
+        let mut small_heap = limits();
+        small_heap.device_local_heap = 1 << 30;
+        let e = check(&wide, &scene(), Backend::Compute, &small_heap).unwrap_err().to_string();
+        assert!(e.contains("more than the device's largest heap (1.00 GiB)"), "{e}");
+        // One workgroup per 64 view samples: 4096² needs 262,144 along one axis.
+        let e = error(&RenderSettings { width: 4096, height: 4096, ..ok.clone() }, Backend::Compute);
+        assert!(e.contains("maxComputeWorkGroupCount (65535)"), "{e}");
+        let mut lists = ok.clone();
+        lists.splat.list_capacity = Some(1 << 25); // 256 MiB of entries
+        assert!(error(&lists, Backend::Compute).contains("--list-capacity 33554432"));
+        assert_eq!(max_list_entries(&limits()), 1 << 24);
+    }
+}
