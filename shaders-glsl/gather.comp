@@ -63,6 +63,8 @@ layout(push_constant) uniform GatherParams {
     uint visibility;    // 1: trace a visibility segment to every photon
     uint cap;           // 0: no cap; else gather at most this many photons per sample
     uint prove_clear;   // 1: skip the rays photon_clearance.comp proves clear
+    vec3 eye;           // the camera's position (segments leave from toward_eye)
+    float pad0;
 } params;
 // Per photon (photon_clearance.comp): its lifted position and its clearance radius.
 layout(set = 0, binding = 14, std430) readonly buffer Clearances { Clearance items[]; } clearance;
@@ -119,7 +121,7 @@ void main() {
     vec3 from = x;
     if (params.visibility != 0u) {
         vec3 ng = triangle_geometric_normal(uint(position.w) - 1u);
-        from = offset_ray(x, dot(ng, n) < 0.0 ? -ng : ng);
+        from = offset_ray(toward_eye(x, params.eye), dot(ng, n) < 0.0 ? -ng : ng);
     }
     float r = params.radius;
     i64vec3 kept = i64vec3(0);

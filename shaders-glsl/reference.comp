@@ -89,9 +89,10 @@ void main() {
         vec3 n = imageLoad(gbuffer_normal, pixel).xyz;
         vec3 ng = oriented_geometric_normal(triangle, n);
         vec3 albedo = imageLoad(gbuffer_albedo, pixel).rgb;
+        vec3 origin = toward_eye(position.xyz, frame.camera_position.xyz);
         for (uint s = 0u; s < params.sample_count; ++s) {
             Rng rng = rng_seed(uvec2(pixel), params.first_sample + s, params.seed);
-            sum += indirect_sample(position.xyz, n, ng, albedo, rng);
+            sum += indirect_sample(origin, n, ng, albedo, rng);
         }
     }
     imageStore(accumulated, pixel, vec4(sum, float(params.first_sample + params.sample_count)));

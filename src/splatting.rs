@@ -115,6 +115,8 @@ pub struct SplatFrame {
     pub seed: u32,
     /// Index of this frame's first path in the sequence (frames that accumulate continue it).
     pub path_offset: u32,
+    /// The camera's position (visibility segments leave from samples moved toward it).
+    pub eye: [f32; 3],
     /// Node-list entries this frame may use.
     pub list_capacity: u32,
 }
@@ -233,6 +235,7 @@ pub fn add<'r>(
         cap: frame.settings.cap,
         clearance: &clearance,
         prove_clear: frame.settings.prove_clear,
+        eye: frame.eye,
     };
     passes.gather.add(graph, &shape, gather_input, input.gbuffer, input.scene, input.trace, &h, &lists, out);
     Ok(SplatCounterHandles { photons: photon_counters, lists: lists.counters })

@@ -33,6 +33,9 @@ gpu_struct! {
         pub cap: u32,
         /// 1: skip the rays the photons' clearance proves clear.
         pub prove_clear: u32,
+        /// The camera's position: segments leave from the sample moved toward it.
+        pub eye: [f32; 3],
+        pub pad0: f32,
     }
 }
 
@@ -122,6 +125,8 @@ pub struct GatherInputs<'a> {
     /// when `prove_clear`.
     pub clearance: &'a BufferHandle,
     pub prove_clear: bool,
+    /// The camera's position this frame.
+    pub eye: [f32; 3],
 }
 
 /// What the gather writes.
@@ -190,6 +195,8 @@ impl GatherPass {
             visibility: input.visibility as u32,
             cap: input.cap.unwrap_or(0),
             prove_clear: input.prove_clear as u32,
+            eye: input.eye,
+            pad0: 0.0,
         };
         let mut pass = graph.pass("gather");
         let own = GatherBindings {

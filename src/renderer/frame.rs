@@ -90,6 +90,7 @@ impl Renderer {
             splat = Some(SplatFrame {
                 radius: splatting::progressive_radius(radius, index),
                 path_offset: index.wrapping_mul(settings.paths),
+                eye: self.camera.position().to_array(),
                 settings,
                 max_bounces: self.settings.max_bounces,
                 seed,
