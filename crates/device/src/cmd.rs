@@ -188,7 +188,8 @@ impl<'a> Cmd<'a> {
                 .image_layout(vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL)
                 .load_op(vk::AttachmentLoadOp::CLEAR)
                 .store_op(vk::AttachmentStoreOp::STORE)
-                .clear_value(vk::ClearValue { depth_stencil: vk::ClearDepthStencilValue { depth: 1.0, stencil: 0 } })
+                // Reversed depth: 0 is the far plane (see the depth test in pipeline.rs).
+                .clear_value(vk::ClearValue { depth_stencil: vk::ClearDepthStencilValue { depth: 0.0, stencil: 0 } })
         });
         let area = vk::Rect2D { offset: vk::Offset2D::default(), extent };
         let mut info =

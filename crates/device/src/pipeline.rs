@@ -230,7 +230,8 @@ impl GraphicsPipeline {
         let depth = vk::PipelineDepthStencilStateCreateInfo::default()
             .depth_test_enable(desc.depth.is_some())
             .depth_write_enable(desc.depth.is_some())
-            .depth_compare_op(vk::CompareOp::LESS);
+            // Reversed depth (1 near, 0 far; the renderer's projection): nearer is greater.
+            .depth_compare_op(vk::CompareOp::GREATER);
         let blend_attachments: Vec<_> = desc
             .colors
             .iter()
