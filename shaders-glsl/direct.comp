@@ -29,7 +29,7 @@ void main() {
             ng = -ng;
         }
         vec3 albedo = imageLoad(gbuffer_albedo, pixel).rgb;
-        vec3 origin = toward_eye(position.xyz, frame.camera_position.xyz);
+        vec3 origin = nudge_toward(position.xyz, frame.camera_position.xyz);
         vec3 e = vec3(0.0);
         for (uint i = 0u; i < frame.light_count; ++i) {
             e += visible_irradiance(lights.lights[i], origin, n, ng);

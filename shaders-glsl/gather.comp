@@ -63,7 +63,7 @@ layout(push_constant) uniform GatherParams {
     uint visibility;    // 1: trace a visibility segment to every photon
     uint cap;           // 0: no cap; else gather at most this many photons per sample
     uint prove_clear;   // 1: skip the rays photon_clearance.comp proves clear
-    vec3 eye;           // the camera's position (segments leave from toward_eye)
+    vec3 eye;           // the camera's position (segments leave from a point nudged toward it)
     float pad0;
 } params;
 // Per photon (photon_clearance.comp): its lifted position and its clearance radius.
@@ -80,26 +80,31 @@ layout(set = 0, binding = 14, std430) readonly buffer Clearances { Clearance ite
 
 // Whether the segment from the lifted sample `from` to the photon is free of geometry;
 // `proven` when that needed no ray.
+//
+// The segment ends straight above the photon, at half its lift: on the photon's side of its
+// own surface (a segment arriving from behind a zero-thickness wall still crosses it), and
+// on the photon's side of everything else too. Ending it short of the photon along the
+// segment instead would carry the end across a wall standing within that distance of the
+// photon (a photon at the foot of a sealed partition, seen from the other room).
 bool photon_visible(vec3 from, Photon ph, Clearance photon_clearance, inout uint occluder, out bool proven) {
-    vec3 to = photon_clearance.lifted;  // offset_ray(ph.position, ph.normal)
-    float lift = dot(to - ph.position, ph.normal);
+    vec3 lifted = photon_clearance.lifted;  // offset_ray(ph.position, ph.normal)
+    float lift = dot(lifted - ph.position, ph.normal);
+    vec3 to = mix(ph.position, lifted, 0.5);
     vec3 d = to - from;
     float dist2 = dot(d, d);
-    proven = params.prove_clear != 0u && dist2 < photon_clearance.radius * photon_clearance.radius
-        && dot(from - ph.position, ph.normal) > 0.5 * lift;
+    // Both ends in the clear ball (around `lifted`, which `to` is half a lift from) and at
+    // least 2τ above the photon's surface: the segment meets nothing (see the top).
+    vec3 from_lifted = lifted - from;
+    proven = params.prove_clear != 0u && dot(from_lifted, from_lifted) < photon_clearance.radius * photon_clearance.radius
+        && 0.5 * lift < photon_clearance.radius && dot(from - ph.position, ph.normal) > 0.5 * lift;
     if (proven) {
         return true;
     }
     float dist = sqrt(dist2);
-    // Stop half the photon's lift short of it, whatever the segment's length: the end stays
-    // above the photon's own surface (never counted), and a segment arriving from behind that
-    // surface (a zero-thickness wall) still crosses it. A relative gap would miss the wall
-    // when the sample is far.
-    float tmax = dist - 0.5 * lift;
-    if (tmax <= 0.0) {
+    if (!(dist > 0.0)) {
         return true;
     }
-    return !traceOccludedCached(from, d / dist, 0.0, tmax, occluder);
+    return !traceOccludedCached(from, d / dist, 0.0, dist, occluder);
 }
 
 void main() {
@@ -121,7 +126,7 @@ void main() {
     vec3 from = x;
     if (params.visibility != 0u) {
         vec3 ng = triangle_geometric_normal(uint(position.w) - 1u);
-        from = offset_ray(toward_eye(x, params.eye), dot(ng, n) < 0.0 ? -ng : ng);
+        from = offset_ray(nudge_toward(x, params.eye), dot(ng, n) < 0.0 ? -ng : ng);
     }
     float r = params.radius;
     i64vec3 kept = i64vec3(0);

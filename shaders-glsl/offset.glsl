@@ -35,21 +35,32 @@ vec3 offset_ray(vec3 p, vec3 n) {
                 abs(p.z) < origin ? p.z + float_scale * n.z : p_i.z);
 }
 
-// A view sample's position moved toward the eye by the size of offset_ray's lift, before its
-// rays leave. The raster (or any primary hit) can land a rounding error inside a solid where
-// two surfaces meet in a shared plane (a wall box standing on a side wall: its face and the
-// side wall meet along the wall's plane), and lifting that point along its own normal keeps
-// it inside, so every ray from it is blocked: a lone black pixel. The segment from the eye to
-// the sample is free by construction, so a point on it a little toward the eye is outside.
-vec3 toward_eye(vec3 p, vec3 eye) {
-    vec3 d = eye - p;
+// How far `nudge_toward` moves a point: the size of offset_ray's lift at `p` (256 float ULPs
+// of its largest coordinate, and near the origin a fixed fraction of the scene's size).
+float lift_size(vec3 p) {
+    float magnitude = max(max(abs(p.x), abs(p.y)), abs(p.z));
+    return max(magnitude * (256.0 / 8388608.0), trace_scale.scene_scale / 65536.0);
+}
+
+// `p` moved toward `target` by lift_size(p), at most half-way. Two uses:
+// * toward the eye, for a view sample before its rays leave. The raster (or any primary hit)
+//   can land a rounding error inside a solid where two surfaces meet in a shared plane (a wall
+//   box standing on a side wall: its face and the side wall meet along the wall's plane), and
+//   lifting that point along its own normal keeps it inside, so every ray from it is blocked:
+//   a lone black pixel. The segment from the eye to the sample is free by construction, so a
+//   point on it a little toward the eye is outside.
+// * toward its triangle's centroid, for a photon's hit point. A point on an edge that another
+//   surface shares (a zero-thickness wall standing on a floor, sealed along that edge), or a
+//   rounding error past it, is then strictly on its own side of that surface, by far more than
+//   the rounding of a segment's crossing: a visibility segment to it from beyond the wall
+//   crosses the wall, and the next bounce cannot start beyond it.
+vec3 nudge_toward(vec3 p, vec3 target) {
+    vec3 d = target - p;
     float len = length(d);
     if (!(len > 0.0)) {
         return p;
     }
-    float magnitude = max(max(abs(p.x), abs(p.y)), abs(p.z));
-    float lift = max(magnitude * (256.0 / 8388608.0), trace_scale.scene_scale / 65536.0);
-    return p + d * (min(lift, 0.5 * len) / len);
+    return p + d * (min(lift_size(p), 0.5 * len) / len);
 }
 
 #endif

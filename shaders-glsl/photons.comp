@@ -165,7 +165,10 @@ void main() {
         if (hit.triangle == NO_HIT) {
             break;
         }
-        vec3 y = triangle_position(hit.triangle, hit.barycentrics);
+        // Inside its triangle by a lift, not on an edge it shares with another surface (see
+        // nudge_toward): stored there, and the next bounce leaves from there.
+        vec3 y = nudge_toward(triangle_position(hit.triangle, hit.barycentrics),
+                              triangle_position(hit.triangle, vec2(1.0 / 3.0)));
         vec3 ns = triangle_shading_normal(hit.triangle, hit.barycentrics);
         if (dot(ns, dir) > 0.0) {
             ns = -ns;  // two-sided: face the incoming photon

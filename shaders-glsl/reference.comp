@@ -54,7 +54,10 @@ vec3 indirect_sample(vec3 p, vec3 n, vec3 ng, vec3 albedo, inout Rng rng) {
         if (hit.triangle == NO_HIT) {
             break;
         }
-        vec3 y = triangle_position(hit.triangle, hit.barycentrics);
+        // Inside its triangle by a lift, as photons are (nudge_toward): a hit on an edge that a
+        // sealed wall shares must not send the path on from beyond the wall.
+        vec3 y = nudge_toward(triangle_position(hit.triangle, hit.barycentrics),
+                              triangle_position(hit.triangle, vec2(1.0 / 3.0)));
         vec3 ny = triangle_shading_normal(hit.triangle, hit.barycentrics);
         if (dot(ny, dir) > 0.0) {
             ny = -ny;  // two-sided: face the incoming ray
@@ -89,7 +92,7 @@ void main() {
         vec3 n = imageLoad(gbuffer_normal, pixel).xyz;
         vec3 ng = oriented_geometric_normal(triangle, n);
         vec3 albedo = imageLoad(gbuffer_albedo, pixel).rgb;
-        vec3 origin = toward_eye(position.xyz, frame.camera_position.xyz);
+        vec3 origin = nudge_toward(position.xyz, frame.camera_position.xyz);
         for (uint s = 0u; s < params.sample_count; ++s) {
             Rng rng = rng_seed(uvec2(pixel), params.first_sample + s, params.seed);
             sum += indirect_sample(origin, n, ng, albedo, rng);
