@@ -19,6 +19,7 @@ pub mod renderer;
 pub mod settings;
 pub mod shaders;
 pub mod splatting;
+pub mod stability;
 pub mod trace;
 
 pub use error::{RenderError, Result};

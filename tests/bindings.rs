@@ -4,7 +4,7 @@
 
 use leakless::passes::hierarchy::{build, morton, sample_bounds};
 use leakless::passes::{
-    accumulate, compose, direct, gather, gbuffer, luminance, photon_clearance, photons, raycast, reference, sort,
+    accumulate, compose, direct, gather, gbuffer, hang, luminance, photon_clearance, photons, raycast, reference, sort,
     splat, tonemap, view_bindings,
 };
 use leakless::shaders;
@@ -99,6 +99,7 @@ fn compute_passes(backend: Backend) -> Vec<(&'static str, &'static ShaderInfo, V
             luminance::TotalBindings::DECLS.to_vec(),
             Some(luminance::TotalParams::LAYOUT),
         ),
+        ("hang", &shaders::HANG_COMP, hang::HangBindings::DECLS.to_vec(), None),
     ]
 }
 

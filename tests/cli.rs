@@ -63,6 +63,48 @@ fn a_device_limit_is_one_line_naming_it() {
     assert_one_line_error(&out, "--list-capacity 2000000000");
 }
 
+/// A pass that never completes (debug builds' fault injection, `LEAKLESS_FAULT_HANG`) ends as
+/// a lost device named after the pass, once `LEAKLESS_GPU_TIMEOUT` expires: one line, status
+/// 1, and the process ends (the stall is released before the device is torn down). Both
+/// backends, and a pass early in the frame and one late.
+#[test]
+fn a_stalled_pass_is_a_lost_device_naming_it() {
+    if common_device_missing() {
+        return;
+    }
+    if !cfg!(debug_assertions) {
+        eprintln!("\n*** SKIPPED: fault injection exists in debug builds only ***\n");
+        return;
+    }
+    let ray_query = String::from_utf8_lossy(&leakless(&["info"], &[]).stdout).contains("ray queries: yes");
+    for (pass, backend) in [("photons", "compute"), ("gather", "rayquery"), ("tonemap", "compute")] {
+        if backend == "rayquery" && !ray_query {
+            continue;
+        }
+        let started = std::time::Instant::now();
+        let out = leakless(
+            &[
+                "render",
+                "scenes/cornell-box.gltf",
+                "--size",
+                "32x24",
+                "--paths",
+                "2000",
+                "--backend",
+                backend,
+                "--out",
+                "/dev/null",
+            ],
+            &[("LEAKLESS_FAULT_HANG", pass), ("LEAKLESS_GPU_TIMEOUT", "1"), ("LEAKLESS_VALIDATION", "1")],
+        );
+        assert_one_line_error(&out, &format!("device lost during pass {pass} ("));
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(stderr.lines().any(|l| l.starts_with(&format!("error: device lost during pass {pass}"))), "{stderr}");
+        assert!(!stderr.contains("validation error"), "{stderr}");
+        assert!(started.elapsed().as_secs() < 60, "the process ended once the timeout expired");
+    }
+}
+
 /// Whether this machine has no Vulkan device (the test is then skipped, loudly, as elsewhere).
 fn common_device_missing() -> bool {
     let out = leakless(&["info"], &[]);

@@ -99,6 +99,38 @@ fn assert_same_exr(a: &Path, b: &Path) {
     }
 }
 
+/// The app ends a lost device as the CLI does: one line naming the pass, status 1, the
+/// window closed (debug builds' fault injection stalls the gather pass of the first frame).
+#[test]
+fn a_lost_device_ends_the_app_with_one_line() {
+    let Some(x) = xvfb() else { return };
+    if !cfg!(debug_assertions) {
+        eprintln!("\n*** SKIPPED: fault injection exists in debug builds only ***\n");
+        return;
+    }
+    let dir = common::tmp_path("view-lost");
+    std::fs::create_dir_all(&dir).unwrap();
+    // Should the stall not happen, the script ends the app instead of the test hanging.
+    let script = dir.join("quit.txt");
+    std::fs::write(&script, "200 quit\n").unwrap();
+    let out = Command::new(env!("CARGO_BIN_EXE_leakless"))
+        .args(["view", "scenes/cornell-box.gltf", "--size", "64x48", "--paths", "2000", "--script"])
+        .arg(&script)
+        .current_dir(common::root())
+        .env("DISPLAY", &x.display)
+        .env_remove("WAYLAND_DISPLAY")
+        .env("LEAKLESS_FAULT_HANG", "gather")
+        .env("LEAKLESS_GPU_TIMEOUT", "1")
+        .output()
+        .expect("run leakless view");
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{stderr}");
+    let errors: Vec<&str> = stderr.lines().filter(|l| l.starts_with("error:")).collect();
+    assert_eq!(errors.len(), 1, "{stderr}");
+    assert!(errors[0].starts_with("error: device lost during pass gather ("), "{stderr}");
+    assert!(!stderr.contains("panicked"), "{stderr}");
+}
+
 #[test]
 fn scripted_session_is_clean_and_captures_what_render_renders() {
     let Some(x) = xvfb() else { return };

@@ -10,6 +10,7 @@ pub mod metrics;
 pub mod plot;
 pub mod series;
 pub mod series_plot;
+pub mod thickness;
 
 use std::io::Write;
 use std::path::{Path, PathBuf};

@@ -87,7 +87,7 @@ pub struct SceneSeries {
 impl SceneSeries {
     /// `method`'s last checkpoint within `ms` of wall time.
     pub fn at(&self, method: Method, ms: f64) -> Option<&SeriesPoint> {
-        self.points.iter().filter(|p| p.method == method && p.wall_ms <= ms).last()
+        self.points.iter().rfind(|p| p.method == method && p.wall_ms <= ms)
     }
 }
 

@@ -7,6 +7,7 @@ pub mod compose;
 pub mod direct;
 pub mod gather;
 pub mod gbuffer;
+pub mod hang;
 pub mod hierarchy;
 pub mod luminance;
 pub mod photon_clearance;

@@ -281,6 +281,9 @@ impl Renderer {
         }
         readback::add_buffers(&mut g, COUNTERS_BUFFER, &counters)?;
 
+        if let Some(hang) = &passes.hang {
+            hang.add(&mut g);
+        }
         let _in_flight = g.submit(&sync)?;
         let index = self.runner.next_frame() - 1;
         self.pending.push_back(Pending { index, shown_only: !render, seed, splat, accumulated, method, started });

@@ -34,6 +34,7 @@ use crate::passes::compose::ComposePass;
 use crate::passes::direct::DirectPass;
 use crate::passes::gather::GatherPass;
 use crate::passes::gbuffer::GBufferPass;
+use crate::passes::hang::HangPass;
 use crate::passes::hierarchy::HierarchyPasses;
 use crate::passes::luminance::{LuminancePass, LuminanceStats};
 use crate::passes::photon_clearance::ClearancePass;
@@ -59,6 +60,8 @@ struct Passes {
     luminance: LuminancePass,
     /// One per target format (the PNG's, the window's).
     tonemaps: Vec<TonemapPass>,
+    /// Debug builds: the stall `LEAKLESS_FAULT_HANG` arms (see passes/hang.rs).
+    hang: Option<HangPass>,
 }
 
 /// The passes that trace rays, compiled for one backend.
@@ -154,8 +157,12 @@ impl Renderer {
             accumulate: AccumulatePass::new(&gpu)?,
             luminance: LuminancePass::new(&gpu)?,
             tonemaps: vec![TonemapPass::new(&gpu, readback::DISPLAY_FORMAT)?],
+            hang: HangPass::from_env(&gpu)?,
         };
-        let runner = GraphRunner::new(&gpu, FRAMES_IN_FLIGHT)?;
+        let mut runner = GraphRunner::new(&gpu, FRAMES_IN_FLIGHT)?;
+        if let Some(hang) = &passes.hang {
+            hang.release_on_device_lost(&mut runner);
+        }
         let mut renderer = Renderer {
             list_capacity: 0,
             camera: scene.camera_or_framing(),
@@ -456,6 +463,10 @@ fn resolve(gpu: &Gpu, choice: BackendChoice) -> Result<ResolvedBackend> {
 
 impl Drop for Renderer {
     fn drop(&mut self) {
+        // A stalled pass (fault injection) must end before the device can be waited on.
+        if let Some(hang) = &self.passes.hang {
+            hang.release();
+        }
         // Frames may be in flight: their resources must outlive them.
         let _ = self.runner.wait_idle(&self.gpu);
     }

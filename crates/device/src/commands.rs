@@ -100,7 +100,8 @@ impl CommandSlot {
             Ok(()) => {}
             Err(vk::Result::TIMEOUT) => {
                 return Err(DeviceError::DeviceLost {
-                    where_: format!("(no completion within {} s, LEAKLESS_GPU_TIMEOUT)", self.timeout.as_secs()),
+                    at: String::new(),
+                    cause: format!("no completion within {} s, LEAKLESS_GPU_TIMEOUT", self.timeout.as_secs()),
                 })
             }
             Err(e) => return Err(e).vk("vkWaitForFences"),

@@ -13,8 +13,9 @@ pub enum DeviceError {
     Vk { call: &'static str, result: vk::Result },
     #[error("GPU memory allocation for {what} failed: {message}")]
     Alloc { what: String, message: String },
-    #[error("the GPU device was lost {where_}; the frame was abandoned")]
-    DeviceLost { where_: String },
+    /// `at` says where in the frame (" during pass gather"), or is empty when unknown.
+    #[error("device lost{at} ({cause})")]
+    DeviceLost { at: String, cause: String },
     #[error("shader {shader}, binding {binding:?}, pass {pass}: {problem}")]
     Binding { shader: &'static str, binding: String, pass: String, problem: String },
     #[error("{count} Vulkan validation error(s); first: {first}")]
@@ -38,7 +39,9 @@ pub(crate) trait VkContext<T> {
 impl<T> VkContext<T> for std::result::Result<T, vk::Result> {
     fn vk(self, call: &'static str) -> Result<T> {
         self.map_err(|result| match result {
-            vk::Result::ERROR_DEVICE_LOST => DeviceError::DeviceLost { where_: format!("in {call}") },
+            vk::Result::ERROR_DEVICE_LOST => {
+                DeviceError::DeviceLost { at: String::new(), cause: format!("{call} returned VK_ERROR_DEVICE_LOST") }
+            }
             result => DeviceError::Vk { call, result },
         })
     }

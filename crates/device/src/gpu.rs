@@ -273,10 +273,8 @@ impl Gpu {
                     match unsafe { device.wait_for_fences(&[fence], true, self.timeout.as_nanos() as u64) } {
                         Ok(()) => Ok(()),
                         Err(vk::Result::TIMEOUT) => Err(DeviceError::DeviceLost {
-                            where_: format!(
-                                "(no completion within {} s, LEAKLESS_GPU_TIMEOUT)",
-                                self.timeout.as_secs()
-                            ),
+                            at: String::new(),
+                            cause: format!("no completion within {} s, LEAKLESS_GPU_TIMEOUT", self.timeout.as_secs()),
                         }),
                         Err(e) => Err(e).vk("vkWaitForFences"),
                     }

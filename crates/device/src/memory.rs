@@ -177,6 +177,23 @@ impl Buffer {
         Ok(())
     }
 
+    /// Stores one word into a mapped buffer while GPU work may be reading it (with atomic
+    /// loads): a host-to-device signal, such as the release of a fault-injection stall.
+    /// Host-visible memory on the devices we run on is coherent (gpu-allocator's CpuToGpu);
+    /// a device whose isn't would see the word at the next flush.
+    pub fn store_word(&self, offset: u64, value: u32) -> Result<()> {
+        self.check_range(offset, 4)?;
+        if offset % 4 != 0 {
+            return Err(DeviceError::Unsupported(format!("store_word at unaligned offset {offset}")));
+        }
+        let ptr = self.mapped_ptr()?;
+        // SAFETY: in range and 4-byte aligned (the mapping is at least 4-aligned); an atomic
+        // store, so a concurrent device read sees the old or the new word, never a torn one.
+        let word = unsafe { &*(ptr.add(offset as usize) as *const std::sync::atomic::AtomicU32) };
+        word.store(value, std::sync::atomic::Ordering::Release);
+        Ok(())
+    }
+
     /// Reads a mapped buffer's bytes (after the GPU work writing them has completed).
     pub fn read(&self, offset: u64, out: &mut [u8]) -> Result<()> {
         self.check_range(offset, out.len())?;

@@ -149,7 +149,17 @@ impl<'r> Graph<'r> {
 
     /// Starts a pass; `name` is its debug label, timing key and crash marker.
     pub fn pass<'g>(&'g mut self, name: &str) -> PassBuilder<'g, 'r> {
-        PassBuilder { graph: self, name: name.to_string(), uses: Vec::new() }
+        PassBuilder { graph: self, name: name.to_string(), uses: Vec::new(), extends: None }
+    }
+
+    /// Continues the last pass named `name`: what the builder declares joins its uses, and what
+    /// it records runs after the pass's own commands, inside its label, timestamps and crash
+    /// markers. `None` when the graph has no such pass. Fault injection uses it to stall a
+    /// named pass.
+    pub fn extend_pass<'g>(&'g mut self, name: &str) -> Option<PassBuilder<'g, 'r>> {
+        let index = self.passes.iter().rposition(|p| p.name == name)?;
+        let uses = self.passes[index].uses.clone();
+        Some(PassBuilder { graph: self, name: name.to_string(), uses, extends: Some(index) })
     }
 
     pub fn pass_names(&self) -> impl Iterator<Item = &str> {
@@ -163,6 +173,8 @@ pub struct PassBuilder<'g, 'r> {
     graph: &'g mut Graph<'r>,
     name: String,
     uses: Vec<(usize, Access)>,
+    /// The pass this builder continues ([`Graph::extend_pass`]).
+    extends: Option<usize>,
 }
 
 /// Handles the graph can declare uses of.
@@ -229,6 +241,17 @@ impl<'r> PassBuilder<'_, 'r> {
 
     /// Ends the declaration with the commands the pass records when the frame executes.
     pub fn record(self, record: impl FnOnce(&mut PassContext<'_, '_, '_>) -> Result<()> + 'r) {
-        self.graph.passes.push(Pass { name: self.name, uses: self.uses, record: Box::new(record) });
+        match self.extends {
+            None => self.graph.passes.push(Pass { name: self.name, uses: self.uses, record: Box::new(record) }),
+            Some(index) => {
+                let pass = &mut self.graph.passes[index];
+                let first = std::mem::replace(&mut pass.record, Box::new(|_| Ok(())));
+                pass.uses = self.uses;
+                pass.record = Box::new(move |ctx: &mut PassContext<'_, '_, '_>| {
+                    first(ctx)?;
+                    record(ctx)
+                });
+            }
+        }
     }
 }

@@ -84,6 +84,8 @@ pub struct GraphRunner {
     acquired: bool,
     pub(crate) pool: ResourcePool,
     timing: Timing,
+    /// Called when a wait finds the device lost, before the error returns.
+    on_lost: Option<Box<dyn Fn()>>,
 }
 
 impl GraphRunner {
@@ -115,7 +117,15 @@ impl GraphRunner {
             acquired: false,
             pool: ResourcePool::default(),
             timing: Timing::default(),
+            on_lost: None,
         })
+    }
+
+    /// Runs `f` whenever a wait finds the device lost (a submission outlived
+    /// `LEAKLESS_GPU_TIMEOUT`), before the error is returned: what must happen before anything
+    /// waits for the device again (releasing a fault-injection stall).
+    pub fn on_device_lost(&mut self, f: impl Fn() + 'static) {
+        self.on_lost = Some(Box::new(f));
     }
 
     pub fn frames_in_flight(&self) -> usize {
@@ -211,9 +221,12 @@ impl GraphRunner {
     fn complete(&mut self, gpu: &Gpu, slot: usize) -> Result<Option<CompletedFrame>> {
         let s = &mut self.slots[slot];
         if let Err(e) = s.commands.wait() {
+            if let (DeviceError::DeviceLost { .. }, Some(f)) = (&e, &self.on_lost) {
+                f();
+            }
             return Err(match (e, &s.running) {
-                (DeviceError::DeviceLost { where_ }, Some(r)) => {
-                    DeviceError::DeviceLost { where_: format!("{where_} {}", last_pass(&s.markers, &r.passes)) }
+                (DeviceError::DeviceLost { cause, .. }, Some(r)) => {
+                    DeviceError::DeviceLost { at: format!(" {}", last_pass(&s.markers, &r.passes)), cause }
                 }
                 (e, _) => e,
             });
@@ -239,6 +252,7 @@ impl Graph<'_> {
     /// it, waiting for `sync`'s semaphores and signalling its own; does not wait for the GPU.
     pub fn submit(self, sync: &SubmitSync<'_>) -> Result<Submitted> {
         let Graph { gpu, runner, sources, passes } = self;
+        let on_lost = runner.on_lost.as_deref();
         if passes.len() as u32 > MAX_PASSES {
             return Err(DeviceError::Capacity {
                 name: "pass graph".into(),
@@ -301,8 +315,11 @@ impl Graph<'_> {
                     let waited = slot.commands.wait();
                     wall_ms[index] = Some(start.elapsed().as_secs_f64() * 1e3);
                     waited.map_err(|e| match e {
-                        DeviceError::DeviceLost { where_ } => {
-                            DeviceError::DeviceLost { where_: format!("{where_} during pass {:?}", names[index]) }
+                        DeviceError::DeviceLost { cause, .. } => {
+                            if let Some(f) = on_lost {
+                                f();
+                            }
+                            DeviceError::DeviceLost { at: format!(" during pass {}", names[index]), cause }
                         }
                         e => e,
                     })
@@ -373,8 +390,8 @@ fn last_pass(markers: &Buffer, names: &[String]) -> String {
     let started = (0..names.len()).rev().find(|&i| words[2 * i] == 1);
     match started {
         None => "before the first pass started".into(),
-        Some(i) if words[2 * i + 1] == 0 => format!("during pass {:?}", names[i]),
-        Some(i) => format!("after pass {:?}", names[i]),
+        Some(i) if words[2 * i + 1] == 0 => format!("during pass {}", names[i]),
+        Some(i) => format!("after pass {}", names[i]),
     }
 }
 

@@ -9,6 +9,7 @@ mod chart_series;
 mod info;
 mod options;
 mod render;
+mod stability;
 mod view;
 
 use std::process::ExitCode;
@@ -34,6 +35,10 @@ enum Command {
     /// Chart speed against accuracy: each method at several (paths, radius) settings on each
     /// backend, error against the path-traced reference over frame time (CSV, SVG, PNG).
     Chart(chart::ChartArgs),
+    /// Where methods fail: each scene × method × backend against the reference (dark-room
+    /// light, relMSE, RMSE, HDR-FLIP, NaN/Inf, flicker, frame time) as a Markdown report, a
+    /// CSV and a chart of leaks against wall thickness.
+    Stability(stability::StabilityArgs),
     /// Print the Vulkan devices, which one is used, what it can do, and the trace backend.
     Info(info::InfoArgs),
 }
@@ -44,16 +49,31 @@ fn main() -> ExitCode {
         Command::View(args) => view::run(args),
         Command::Bench(cmd) => bench::run(cmd),
         Command::Chart(args) => chart::run(args),
+        Command::Stability(args) => stability::run(args),
         Command::Info(args) => info::run(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
-            // One line: the context chain joined, the way a user reads it.
-            eprintln!("error: {}", format!("{e:#}").replace('\n', " "));
+            // One line: the context chain joined, the way a user reads it. A lost device is
+            // the whole story (where it was lost), whatever the command was doing.
+            let line = match e.chain().find(|c| device_lost(*c)) {
+                Some(lost) => lost.to_string(),
+                None => format!("{e:#}"),
+            };
+            eprintln!("error: {}", line.replace('\n', " "));
             ExitCode::FAILURE
         }
     }
+}
+
+fn device_lost(e: &(dyn std::error::Error + 'static)) -> bool {
+    use leakless_device::DeviceError;
+    matches!(e.downcast_ref::<DeviceError>(), Some(DeviceError::DeviceLost { .. }))
+        || matches!(
+            e.downcast_ref::<leakless::RenderError>(),
+            Some(leakless::RenderError::Device(DeviceError::DeviceLost { .. }))
+        )
 }
 
 /// `WIDTHxHEIGHT`.
