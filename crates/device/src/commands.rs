@@ -92,19 +92,35 @@ impl CommandSlot {
     /// Waits for the slot's last submission. A submission that does not complete within
     /// `LEAKLESS_GPU_TIMEOUT` counts as a lost device.
     pub fn wait(&mut self) -> Result<()> {
+        self.wait_progressing(|| 0)
+    }
+
+    /// Waits for the slot's last submission for as long as it makes progress: `progress` reads
+    /// how far the submission got (the pass graph counts its crash markers), and a submission
+    /// whose progress stays the same for `LEAKLESS_GPU_TIMEOUT` counts as a lost device. A long
+    /// frame of many passes on a slow or busy device is not lost; a pass that never ends is.
+    pub fn wait_progressing(&mut self, mut progress: impl FnMut() -> u64) -> Result<()> {
         if !self.in_flight {
             return Ok(());
         }
-        // SAFETY: the fence belongs to this device and was submitted.
-        match unsafe { self.shared.device.wait_for_fences(&[self.fence], true, self.timeout.as_nanos() as u64) } {
-            Ok(()) => {}
-            Err(vk::Result::TIMEOUT) => {
-                return Err(DeviceError::DeviceLost {
-                    at: String::new(),
-                    cause: format!("no completion within {} s, LEAKLESS_GPU_TIMEOUT", self.timeout.as_secs()),
-                })
+        let mut reached = progress();
+        loop {
+            // SAFETY: the fence belongs to this device and was submitted.
+            match unsafe { self.shared.device.wait_for_fences(&[self.fence], true, self.timeout.as_nanos() as u64) } {
+                Ok(()) => break,
+                Err(vk::Result::TIMEOUT) => {
+                    let now = progress();
+                    if now != reached {
+                        reached = now;
+                        continue;
+                    }
+                    return Err(DeviceError::DeviceLost {
+                        at: String::new(),
+                        cause: format!("no progress within {} s, LEAKLESS_GPU_TIMEOUT", self.timeout.as_secs()),
+                    });
+                }
+                Err(e) => return Err(e).vk("vkWaitForFences"),
             }
-            Err(e) => return Err(e).vk("vkWaitForFences"),
         }
         // SAFETY: the fence is signalled and no longer in use.
         unsafe { self.shared.device.reset_fences(&[self.fence]) }.vk("vkResetFences")?;

@@ -274,7 +274,7 @@ impl Gpu {
                         Ok(()) => Ok(()),
                         Err(vk::Result::TIMEOUT) => Err(DeviceError::DeviceLost {
                             at: String::new(),
-                            cause: format!("no completion within {} s, LEAKLESS_GPU_TIMEOUT", self.timeout.as_secs()),
+                            cause: format!("no progress within {} s, LEAKLESS_GPU_TIMEOUT", self.timeout.as_secs()),
                         }),
                         Err(e) => Err(e).vk("vkWaitForFences"),
                     }

@@ -220,7 +220,9 @@ impl GraphRunner {
     /// Waits for `slot`'s frame, if one is running, and collects it.
     fn complete(&mut self, gpu: &Gpu, slot: usize) -> Result<Option<CompletedFrame>> {
         let s = &mut self.slots[slot];
-        if let Err(e) = s.commands.wait() {
+        let passes = s.running.as_ref().map_or(0, |r| r.passes.len());
+        let markers = &s.markers;
+        if let Err(e) = s.commands.wait_progressing(|| passes_reached(markers, passes)) {
             if let (DeviceError::DeviceLost { .. }, Some(f)) = (&e, &self.on_lost) {
                 f();
             }
@@ -312,7 +314,8 @@ impl Graph<'_> {
                         signal: if index + 1 == count { sync.signal.clone() } else { vec![] },
                     };
                     slot.commands.submit(gpu, &part)?;
-                    let waited = slot.commands.wait();
+                    let markers = &slot.markers;
+                    let waited = slot.commands.wait_progressing(|| passes_reached(markers, count));
                     wall_ms[index] = Some(start.elapsed().as_secs_f64() * 1e3);
                     waited.map_err(|e| match e {
                         DeviceError::DeviceLost { cause, .. } => {
@@ -382,6 +385,11 @@ impl RecordContext<'_> {
 }
 
 /// Names the pass the GPU was in (or last finished) according to the markers.
+/// How far a running frame got: the pass markers set so far (what a wait counts as progress).
+fn passes_reached(markers: &Buffer, passes: usize) -> u64 {
+    markers.read_vec::<u32>(2 * passes).map_or(0, |w| w.iter().filter(|&&m| m == 1).count() as u64)
+}
+
 fn last_pass(markers: &Buffer, names: &[String]) -> String {
     let words: Vec<u32> = match markers.read_vec(2 * names.len()) {
         Ok(w) => w,
