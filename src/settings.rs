@@ -125,6 +125,7 @@ impl RenderSettings {
             Method::Splat => {
                 s.visibility = false;
                 s.cap = None;
+                s.visible_disk = false;
             }
             Method::LeakLess => {
                 s.visibility = true;
@@ -134,6 +135,7 @@ impl RenderSettings {
                 s.visibility = true;
                 s.trivial_accept = false;
                 s.cap = Some(self.splat.cap.unwrap_or(DEFAULT_CAP));
+                s.visible_disk = false; // the thesis' estimator
             }
             Method::Direct | Method::Reference => return None,
         }

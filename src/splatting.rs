@@ -41,6 +41,10 @@ pub struct SplatSettings {
     /// Skip the visibility rays the photons' clearance proves clear (same image; off with
     /// `--trace-every-pair`, to measure what the proofs save and check they change nothing).
     pub prove_clear: bool,
+    /// Divide each sample's sum by the kernel's mass over the part of its disk that can be
+    /// seen, counting only photons on its own surface (`leakless`; off with `--whole-disk`,
+    /// the estimator before the corner fix). Needs `visibility`.
+    pub visible_disk: bool,
 }
 
 impl Default for SplatSettings {
@@ -54,6 +58,7 @@ impl Default for SplatSettings {
             visibility: false,
             cap: None,
             prove_clear: true,
+            visible_disk: true,
         }
     }
 }
@@ -236,6 +241,8 @@ pub fn add<'r>(
         clearance: &clearance,
         prove_clear: frame.settings.prove_clear,
         eye: frame.eye,
+        visible_disk: frame.settings.visibility && frame.settings.visible_disk,
+        seed: frame.seed ^ frame.path_offset.wrapping_mul(0x9e37_79b9),
     };
     passes.gather.add(graph, &shape, gather_input, input.gbuffer, input.scene, input.trace, &h, &lists, out);
     Ok(SplatCounterHandles { photons: photon_counters, lists: lists.counters })

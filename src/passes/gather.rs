@@ -35,7 +35,13 @@ gpu_struct! {
         pub prove_clear: u32,
         /// The camera's position: segments leave from the sample moved toward it.
         pub eye: [f32; 3],
-        pub pad0: f32,
+        /// 1: divide by the kernel's mass over the visible part of the disk (gather.comp).
+        pub visible_disk: u32,
+        /// This frame's seed (the rotation of the disk probes).
+        pub seed: u32,
+        pub pad0: u32,
+        pub pad1: u32,
+        pub pad2: u32,
     }
 }
 
@@ -127,6 +133,10 @@ pub struct GatherInputs<'a> {
     pub prove_clear: bool,
     /// The camera's position this frame.
     pub eye: [f32; 3],
+    /// Normalise by the kernel's visible part of the disk (with `visibility` only).
+    pub visible_disk: bool,
+    /// This frame's seed.
+    pub seed: u32,
 }
 
 /// What the gather writes.
@@ -196,7 +206,9 @@ impl GatherPass {
             cap: input.cap.unwrap_or(0),
             prove_clear: input.prove_clear as u32,
             eye: input.eye,
-            pad0: 0.0,
+            visible_disk: input.visible_disk as u32,
+            seed: input.seed,
+            ..Default::default()
         };
         let mut pass = graph.pass("gather");
         let own = GatherBindings {

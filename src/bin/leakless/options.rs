@@ -38,6 +38,11 @@ pub struct RenderOptions {
     /// clearance proves clear (same image, slower: for measuring what the proofs save).
     #[arg(long)]
     pub trace_every_pair: bool,
+    /// `leakless`: divide by the kernel's whole disk, not its visible part, and count photons
+    /// on every surface within the radius (the estimator before the corner fix, which darkens
+    /// near occluders and in corners).
+    #[arg(long)]
+    pub whole_disk: bool,
     /// Node-list entries per frame (default: 16 per photon, grown as frames need);
     /// more are dropped and reported.
     #[arg(long)]
@@ -155,6 +160,7 @@ impl RenderOptions {
                 visibility: false,
                 cap: self.cap,
                 prove_clear: !self.trace_every_pair,
+                visible_disk: !self.whole_disk,
             },
         }
     }
