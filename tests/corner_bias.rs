@@ -26,7 +26,15 @@ fn photons(visible_disk: bool, radius: Option<f32>, paths: u32, frames: u32) -> 
 fn reference(path: &str, spp: u32) -> Option<RenderedFrame> {
     common::render_with(
         path,
-        RenderSettings { width: WIDTH, height: HEIGHT, method: Method::Reference, spp, max_bounces: 8, seed: 7, ..Default::default() },
+        RenderSettings {
+            width: WIDTH,
+            height: HEIGHT,
+            method: Method::Reference,
+            spp,
+            max_bounces: 8,
+            seed: 7,
+            ..Default::default()
+        },
     )
 }
 
@@ -115,9 +123,14 @@ fn the_visible_disk_costs_no_accuracy_elsewhere() {
             assert!(frames.iter().all(|f| f.indirect.iter().all(|p| *p == [0.0; 3])), "{path}: the dark room is lit");
             continue;
         }
-        let errors: Vec<f64> =
-            frames.iter().map(|f| metrics::rel_mse(&f.indirect, &reference.indirect, None, eps).expect("pixels")).collect();
-        eprintln!("{path}: relMSE over 16 frames {:.5} with the whole disk, {:.5} with the visible disk", errors[0], errors[1]);
+        let errors: Vec<f64> = frames
+            .iter()
+            .map(|f| metrics::rel_mse(&f.indirect, &reference.indirect, None, eps).expect("pixels"))
+            .collect();
+        eprintln!(
+            "{path}: relMSE over 16 frames {:.5} with the whole disk, {:.5} with the visible disk",
+            errors[0], errors[1]
+        );
         assert!(errors[1] <= 1.10 * errors[0], "{path}: {errors:?}");
     }
 }
