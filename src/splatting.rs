@@ -17,6 +17,7 @@ use crate::passes::photons::{
     photon_buffer_size, PhotonCounters, PhotonParams, PhotonPass, COUNTER_BUFFER_USAGE, PHOTON_BUFFER_USAGE,
 };
 use crate::passes::splat::{NodeListHandles, SplatCounters, SplatInputs, SplatPass};
+use crate::passes::visible_disk::{self, VisibleDiskParams, VisibleDiskPass};
 use crate::photon_lights::LightHandles;
 use crate::trace::TraceHandles;
 
@@ -106,6 +107,7 @@ pub struct SplattingPasses<'a> {
     pub clearance: &'a ClearancePass,
     pub hierarchy: &'a HierarchyPasses,
     pub splat: &'a SplatPass,
+    pub visible_disk: &'a VisibleDiskPass,
     pub gather: &'a GatherPass,
 }
 
@@ -230,6 +232,16 @@ pub fn add<'r>(
         let max_radius = 1.01 * frame.radius;
         passes.clearance.add(graph, input.trace, &photons, &photon_counters, capacity, max_radius, &mut clearance);
     }
+    // Each sample's visible share of the kernel's disk (leakless), or 1.
+    let visible_disk = frame.settings.visibility && frame.settings.visible_disk;
+    let mut disk_mass = visible_disk::image(graph, extent)?;
+    let disk = VisibleDiskParams {
+        radius: frame.radius,
+        seed: frame.seed ^ frame.path_offset.wrapping_mul(0x9e37_79b9),
+        enabled: visible_disk as u32,
+        pad0: 0,
+    };
+    passes.visible_disk.add(graph, disk, input.frame, input.gbuffer, input.scene, input.trace, &mut disk_mass);
     let table = &input.lights.table;
     let max_flux = table.entries.iter().flat_map(|e| e.flux).fold(0.0f32, f32::max) / frame.settings.paths as f32;
     let gather_input = GatherInputs {
@@ -241,8 +253,8 @@ pub fn add<'r>(
         clearance: &clearance,
         prove_clear: frame.settings.prove_clear,
         eye: frame.eye,
-        visible_disk: frame.settings.visibility && frame.settings.visible_disk,
-        seed: frame.seed ^ frame.path_offset.wrapping_mul(0x9e37_79b9),
+        visible_disk,
+        disk_mass: &disk_mass,
     };
     passes.gather.add(graph, &shape, gather_input, input.gbuffer, input.scene, input.trace, &h, &lists, out);
     Ok(SplatCounterHandles { photons: photon_counters, lists: lists.counters })

@@ -5,7 +5,7 @@
 use leakless::passes::hierarchy::{build, morton, sample_bounds};
 use leakless::passes::{
     accumulate, compose, direct, gather, gbuffer, hang, luminance, photon_clearance, photons, raycast, reference, sort,
-    splat, tonemap, view_bindings,
+    splat, tonemap, view_bindings, visible_disk,
 };
 use leakless::shaders;
 use leakless::Backend;
@@ -45,6 +45,12 @@ fn compute_passes(backend: Backend) -> Vec<(&'static str, &'static ShaderInfo, V
             pick(&shaders::GATHER_COMP_RAYQUERY, &shaders::GATHER_COMP_COMPUTE),
             gather::bindings(backend),
             Some(gather::GatherParams::LAYOUT),
+        ),
+        (
+            "visible disk",
+            pick(&shaders::VISIBLE_DISK_COMP_RAYQUERY, &shaders::VISIBLE_DISK_COMP_COMPUTE),
+            visible_disk::bindings(backend),
+            Some(visible_disk::VisibleDiskParams::LAYOUT),
         ),
         (
             "photon clearance",

@@ -90,8 +90,8 @@ fn atrium_single_frames_are_unbiased_at_the_default_radius_and_twice_it() {
 
 /// Where the fix has less to fix, it must cost little accuracy: 16 accumulated frames of the
 /// Cornell box and the doorway, relMSE of the indirect layer against the reference with the
-/// same 16 pixel jitters. The issue asks for no worse; we measure the Cornell box 6% worse
-/// (0.0291 against 0.0276 here: the wall photons it no longer counts in corners were averaging
+/// same 16 pixel jitters. The issue asks for no worse; we measure the Cornell box 7% worse
+/// (0.0294 against 0.0276 here: the wall photons it no longer counts in corners were averaging
 /// noise away) and the doorway better, so this bounds the loss at 10% until that is won back.
 /// The two rooms' dark room stays exactly black.
 #[test]

@@ -35,13 +35,8 @@ gpu_struct! {
         pub prove_clear: u32,
         /// The camera's position: segments leave from the sample moved toward it.
         pub eye: [f32; 3],
-        /// 1: divide by the kernel's mass over the visible part of the disk (gather.comp).
+        /// 1: count photons on the sample's own surface, divided by its `disk_mass`.
         pub visible_disk: u32,
-        /// This frame's seed (the rotation of the disk probes).
-        pub seed: u32,
-        pub pad0: u32,
-        pub pad1: u32,
-        pub pad2: u32,
     }
 }
 
@@ -105,6 +100,7 @@ shader_bindings! {
         leaked: image,
         gather_counts: image,
         clearance: array(Clearance::LAYOUT),
+        disk_mass: image,
     }
 }
 
@@ -133,10 +129,11 @@ pub struct GatherInputs<'a> {
     pub prove_clear: bool,
     /// The camera's position this frame.
     pub eye: [f32; 3],
-    /// Normalise by the kernel's visible part of the disk (with `visibility` only).
+    /// Count only photons on each sample's own surface and divide by its `disk_mass`
+    /// (`leakless`); off: the whole disk, every facing photon.
     pub visible_disk: bool,
-    /// This frame's seed.
-    pub seed: u32,
+    /// Each sample's visible-disk mass (visible_disk.rs; 1 everywhere when that is off).
+    pub disk_mass: &'a ImageHandle,
 }
 
 /// What the gather writes.
@@ -207,8 +204,6 @@ impl GatherPass {
             prove_clear: input.prove_clear as u32,
             eye: input.eye,
             visible_disk: input.visible_disk as u32,
-            seed: input.seed,
-            ..Default::default()
         };
         let mut pass = graph.pass("gather");
         let own = GatherBindings {
@@ -226,6 +221,7 @@ impl GatherPass {
             leaked: pass.write(out.leaked, Access::ComputeWrite),
             gather_counts: pass.write(out.counts, Access::ComputeWrite),
             clearance: pass.read(input.clearance, Access::ComputeRead),
+            disk_mass: pass.read(input.disk_mass, Access::ComputeRead),
         };
         let surfaces = scene.declare(&mut pass, Access::ComputeRead);
         let trace = trace.declare(&mut pass);

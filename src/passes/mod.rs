@@ -18,6 +18,7 @@ pub mod reference;
 pub mod sort;
 pub mod splat;
 pub mod tonemap;
+pub mod visible_disk;
 
 use leakless_device::{BindingDecl, GpuStruct};
 use leakless_graph::{shader_bindings, Access, BufferHandle, PassBuilder};

@@ -157,6 +157,7 @@ impl Renderer {
                 clearance: &passes.clearance,
                 hierarchy: &passes.hierarchy,
                 splat: &passes.splat,
+                visible_disk: &tracing.visible_disk,
                 gather: &tracing.gather,
             };
             let input =

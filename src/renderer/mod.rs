@@ -42,6 +42,7 @@ use crate::passes::photons::PhotonPass;
 use crate::passes::reference::ReferencePass;
 use crate::passes::splat::SplatPass;
 use crate::passes::tonemap::{TonemapPass, ViewLayer};
+use crate::passes::visible_disk::VisibleDiskPass;
 use crate::settings::{Method, RenderSettings};
 use crate::splatting::{default_list_capacity, SplatFrame, SplatStats};
 use crate::trace::{Backend, BackendChoice, ResolvedBackend, TraceScene, TraceStats};
@@ -69,6 +70,7 @@ struct TracingPasses {
     direct: DirectPass,
     reference: ReferencePass,
     photons: PhotonPass,
+    visible_disk: VisibleDiskPass,
     gather: GatherPass,
 }
 
@@ -202,6 +204,7 @@ impl Renderer {
                 direct: DirectPass::new(gpu, backend)?,
                 reference: ReferencePass::new(gpu, backend)?,
                 photons: PhotonPass::new(gpu, backend)?,
+                visible_disk: VisibleDiskPass::new(gpu, backend)?,
                 gather: GatherPass::new(gpu, backend)?,
             };
             *slot = Some(BackendState { trace, passes });

@@ -116,12 +116,13 @@ fn one_scene(
         .collect::<leakless::Result<Vec<_>>>()?;
     println!("\n{}:", scene.name);
     println!(
-        "{:<28} {:>8} {:>8} {:>8} {:>9} {:>8} {:>10} {:>7} {:>10} {:>9} {:>7}",
+        "{:<28} {:>8} {:>8} {:>8} {:>9} {:>8} {:>8} {:>10} {:>7} {:>10} {:>9} {:>7}",
         "method",
         "frame ms",
         "photons",
         "splat",
         "clearance",
+        "disk",
         "gather",
         "vis. tests",
         "proven",
@@ -132,12 +133,13 @@ fn one_scene(
     for r in &rows {
         let s = r.stats();
         println!(
-            "{:<28} {:>8.1} {:>8.1} {:>8.1} {:>9.1} {:>8.1} {:>10} {:>6.1}% {:>10} {:>9} {:>6.2}%",
+            "{:<28} {:>8.1} {:>8.1} {:>8.1} {:>9.1} {:>8.1} {:>8.1} {:>10} {:>6.1}% {:>10} {:>9} {:>6.2}%",
             r.label,
             r.frame_ms(),
             r.photons_ms(),
             r.splat_ms(),
             r.pass_ms("photon clearance"),
+            r.pass_ms("visible disk"),
             r.gather_ms(),
             s.visibility_tests,
             100.0 * s.proven_clear as f64 / s.visibility_tests.max(1) as f64,
@@ -181,6 +183,11 @@ fn one_scene(
         "visibility: {} rays in {vis_ms:.1} ms of gather beyond splat's = {vis_rate:.2} Mrays/s{}",
         ours.stats().visibility_rays,
         pct(vis_rate, occluded)
+    );
+    let disk_ms = ours.pass_ms("visible disk");
+    println!(
+        "visible disk (the kernel's mass where the surface is, seen): {disk_ms:.1} ms = {:.0}% of the leakless frame",
+        100.0 * disk_ms / ours.frame_ms()
     );
     Ok(Row {
         scene: scene.name.clone(),

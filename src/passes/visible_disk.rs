@@ -1,0 +1,95 @@
+//! Visible disk (`visible_disk.comp`): per view sample, the share of the gather kernel's mass
+//! over the part of its disk where the sample's own surface exists and can be seen from it.
+//! `leakless` divides the flux of the photons on that surface by it instead of by the whole
+//! disk, which darkened it wherever the disk runs off a face or behind an occluder.
+
+use ash::vk;
+use bytemuck::{Pod, Zeroable};
+use leakless_device::{gpu_struct, ComputePipeline, Gpu, GpuStruct, ImageDesc};
+use leakless_graph::{shader_bindings, Access, BufferHandle, Graph, ImageHandle};
+
+use crate::error::Result;
+use crate::gpu_scene::{SceneBindings, SceneHandles};
+use crate::gpu_types::Frame;
+use crate::passes::gbuffer::{self, GBufferHandles};
+use crate::shaders;
+use crate::trace::{Backend, TraceHandles};
+
+gpu_struct! {
+    /// The `VisibleDiskParams` push constants of visible_disk.comp.
+    #[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
+    pub struct VisibleDiskParams {
+        /// This frame's gather radius.
+        pub radius: f32,
+        /// This frame's seed (the rotation of the rays).
+        pub seed: u32,
+        /// 0: every sample's mass is 1 (the whole disk).
+        pub enabled: u32,
+        pub pad0: u32,
+    }
+}
+
+shader_bindings! {
+    /// What visible_disk.comp binds besides the scene and the trace structures.
+    pub struct VisibleDiskBindings {
+        frame: uniform(Frame::LAYOUT),
+        gbuffer_position: image,
+        gbuffer_normal: image,
+        disk_mass: image,
+    }
+}
+
+/// The per-pixel mass image of an `extent` frame (of the graph's pool; the mass is in `.r`).
+pub fn image(graph: &mut Graph<'_>, extent: vk::Extent2D) -> Result<ImageHandle> {
+    Ok(graph.image(&ImageDesc {
+        name: "disk mass",
+        extent,
+        format: gbuffer::FORMAT,
+        usage: vk::ImageUsageFlags::STORAGE,
+    })?)
+}
+
+/// Every binding of the pass on `backend`.
+pub fn bindings(backend: Backend) -> Vec<leakless_device::BindingDecl> {
+    [VisibleDiskBindings::DECLS, SceneBindings::DECLS, backend.bindings()].concat()
+}
+
+pub struct VisibleDiskPass {
+    pipeline: ComputePipeline,
+}
+
+impl VisibleDiskPass {
+    pub fn new(gpu: &Gpu, backend: Backend) -> Result<Self> {
+        let shader = backend.pick(&shaders::VISIBLE_DISK_COMP_RAYQUERY, &shaders::VISIBLE_DISK_COMP_COMPUTE);
+        let pipeline =
+            ComputePipeline::new(gpu, "visible disk", shader, &bindings(backend), Some(&VisibleDiskParams::LAYOUT))?;
+        Ok(VisibleDiskPass { pipeline })
+    }
+
+    /// Writes each sample's mass into `disk_mass` (1 everywhere when `params.enabled` is 0).
+    #[allow(clippy::too_many_arguments)]
+    pub fn add<'r>(
+        &'r self,
+        graph: &mut Graph<'r>,
+        params: VisibleDiskParams,
+        frame: &BufferHandle,
+        gbuffer: &GBufferHandles,
+        scene: &SceneHandles,
+        trace: &TraceHandles,
+        disk_mass: &mut ImageHandle,
+    ) {
+        let extent = disk_mass.extent();
+        let mut pass = graph.pass("visible disk");
+        let own = VisibleDiskBindings {
+            frame: pass.read(frame, Access::ComputeRead),
+            gbuffer_position: pass.read(&gbuffer.position, Access::ComputeRead),
+            gbuffer_normal: pass.read(&gbuffer.normal, Access::ComputeRead),
+            disk_mass: pass.write(disk_mass, Access::ComputeWrite),
+        };
+        let surfaces = scene.declare(&mut pass, Access::ComputeRead);
+        let trace = trace.declare(&mut pass);
+        pass.record(move |ctx| {
+            ctx.dispatch(&self.pipeline, &[&own, &surfaces, &trace], &params, [extent.width, extent.height, 1])
+        });
+    }
+}
