@@ -1,6 +1,12 @@
-// The BVH crates/accel builds on the CPU, as the compute trace backend reads it
+// The two-level BVH crates/accel builds on the CPU, as the compute trace backend reads it
 // (trace_compute.glsl) and as the photon clearance pass searches it (photon_clearance.comp).
-// Rust twins: BvhNode and BvhTriangle in crates/accel/src/bvh.rs (checked by reflection).
+// Rust twins: BvhNode and BvhTriangle in crates/accel/src/bvh.rs, BvhInstance in
+// crates/accel/src/instanced.rs (checked by reflection).
+//
+// Bottom level (built once): every part's BVH in bvh_nodes / bvh_triangles, the static part in
+// world space, each animated instance in its mesh space. Top level (uploaded every frame):
+// bvh_top over the parts' world boxes, one part per leaf (left_or_first = part index), and
+// bvh_instances, per part, the map from world into its space and its bottom-level root.
 #ifndef LEAKLESS_BVH_GLSL
 #define LEAKLESS_BVH_GLSL
 
@@ -15,13 +21,14 @@ struct BvhNode {
     uint count;
 };
 
-// Raw vertices, since the watertight test needs them, and the original scene triangle index,
-// which is what a Hit reports (triangles are stored in BVH order).
+// Raw vertices (in the part's space), since the watertight test needs them, the original scene
+// triangle index, which is what a Hit reports (triangles are stored in BVH order), and the part
+// the triangle belongs to.
 struct BvhTriangle {
     vec3 v0;
     uint triangle;
     vec3 v1;
-    uint pad0;
+    uint pad0;  // the part
     vec3 v2;
     uint pad1;
 };
@@ -33,5 +40,29 @@ layout(set = 0, binding = TRACE_BINDING, std430) readonly buffer BvhNodes {
 layout(set = 0, binding = TRACE_BINDING + 1, std430) readonly buffer BvhTriangles {
     BvhTriangle triangles[];
 } bvh_triangles;
+
+// identity != 0: the static part, traced in world space as is.
+struct BvhInstance {
+    vec4 local_from_world0;
+    vec4 local_from_world1;
+    vec4 local_from_world2;
+    uint root;
+    uint identity;
+    uint pad0;
+    uint pad1;
+};
+
+// Binding TRACE_BINDING + 2 was free; the scene's bindings (scene.glsl) follow at 20-23.
+layout(set = 0, binding = TRACE_BINDING + 2, std430) readonly buffer BvhTop {
+    BvhNode nodes[];
+} bvh_top;
+
+layout(set = 0, binding = TRACE_BINDING + 8, std430) readonly buffer BvhInstances {
+    BvhInstance items[];
+} bvh_instances;
+
+// The top level's traversal stack: median splits keep it ⌈log2 parts⌉ deep, at most
+// BVH_TOP_MAX_DEPTH (crates/accel/src/instanced.rs).
+#define BVH_TOP_STACK_SIZE 32
 
 #endif

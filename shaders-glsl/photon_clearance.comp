@@ -83,19 +83,12 @@ bool box_below(BvhNode node, vec3 p, vec3 n, float tau) {
     return dot(center - p, n) + dot(half_extent, abs(n)) <= 0.5 * tau;
 }
 
-void main() {
-    uint i = gl_GlobalInvocationID.x;
-    if (i >= min(photon_counters.stored, params.capacity)) {
-        return;
-    }
-    Photon ph = photons.photons[i];
-    vec3 q = offset_ray(ph.position, ph.normal);
-    float tau = 0.25 * dot(q - ph.position, ph.normal);
-    // Boxes are compared with a little slack, so that rounding never culls a closer triangle.
-    float best2 = params.max_radius * params.max_radius;
+// The nearest triangle of the static part (bottom level from `root`, world space) not wholly
+// under the plane, within sqrt(best2).
+float static_distance2(vec3 q, Photon ph, float tau, uint root, float best2) {
     uint stack[STACK_SIZE];
     uint sp = 0u;
-    uint node = 0u;
+    uint node = root;
     while (true) {
         BvhNode n = bvh_nodes.nodes[node];
         if (box_distance2(q, n) * 0.999 < best2 && !box_below(n, ph.position, ph.normal, tau)) {
@@ -117,6 +110,51 @@ void main() {
                     continue;
                 }
                 best2 = min(best2, triangle_distance2(q, tri.v0, tri.v1, tri.v2));
+            }
+        }
+        if (sp == 0u) {
+            break;
+        }
+        sp--;
+        node = stack[sp];
+    }
+    return best2;
+}
+
+void main() {
+    uint i = gl_GlobalInvocationID.x;
+    if (i >= min(photon_counters.stored, params.capacity)) {
+        return;
+    }
+    Photon ph = photons.photons[i];
+    vec3 q = offset_ray(ph.position, ph.normal);
+    float tau = 0.25 * dot(q - ph.position, ph.normal);
+    // Boxes are compared with a little slack, so that rounding never culls a closer triangle.
+    float best2 = params.max_radius * params.max_radius;
+    // The top level: the static part is searched triangle by triangle; an animated instance
+    // (a door leaf) counts as its whole world box, which is conservative (the ball only
+    // shrinks) and keeps mesh-space distances, which a scaled instance would distort, out of it.
+    uint stack[BVH_TOP_STACK_SIZE];
+    uint sp = 0u;
+    uint node = 0u;
+    while (true) {
+        BvhNode n = bvh_top.nodes[node];
+        if (box_distance2(q, n) * 0.999 < best2 && !box_below(n, ph.position, ph.normal, tau)) {
+            if (n.count == 0u) {
+                uint left = n.left_or_first;
+                bool left_near = box_distance2(q, bvh_top.nodes[left]) <= box_distance2(q, bvh_top.nodes[left + 1u]);
+                if (sp < uint(BVH_TOP_STACK_SIZE)) {  // the top level is at most BVH_TOP_MAX_DEPTH deep
+                    stack[sp] = left_near ? left + 1u : left;
+                    sp++;
+                }
+                node = left_near ? left : left + 1u;
+                continue;
+            }
+            BvhInstance inst = bvh_instances.items[n.left_or_first];
+            if (inst.identity != 0u) {
+                best2 = static_distance2(q, ph, tau, inst.root, best2);
+            } else {
+                best2 = min(best2, box_distance2(q, n));
             }
         }
         if (sp == 0u) {

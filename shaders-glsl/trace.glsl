@@ -32,6 +32,9 @@ bool trace_alpha_pass(uint triangle, vec2 barycentrics) {
 
 #if defined(TRACE_RAYQUERY)
 
+// One instance per part of the scene (the static triangles; each animated instance), its custom
+// index the part's first scene triangle: custom index + primitive index names the triangle in
+// the scene's list, as the compute backend's hits do.
 layout(set = 0, binding = TRACE_BINDING) uniform accelerationStructureEXT tlas;
 
 Hit trace_backend(vec3 origin, vec3 dir, float tmin, float tmax, bool any_hit) {
@@ -41,7 +44,8 @@ Hit trace_backend(vec3 origin, vec3 dir, float tmin, float tmax, bool any_hit) {
     while (rayQueryProceedEXT(q)) {
         // Only non-opaque (alpha-masked) geometry reaches here.
         if (rayQueryGetIntersectionTypeEXT(q, false) == gl_RayQueryCandidateIntersectionTriangleEXT) {
-            uint triangle = uint(rayQueryGetIntersectionPrimitiveIndexEXT(q, false));
+            uint triangle = uint(rayQueryGetIntersectionInstanceCustomIndexEXT(q, false))
+                + uint(rayQueryGetIntersectionPrimitiveIndexEXT(q, false));
             if (trace_alpha_pass(triangle, rayQueryGetIntersectionBarycentricsEXT(q, false))) {
                 rayQueryConfirmIntersectionEXT(q);
             }
@@ -50,7 +54,8 @@ Hit trace_backend(vec3 origin, vec3 dir, float tmin, float tmax, bool any_hit) {
     Hit hit;
     if (rayQueryGetIntersectionTypeEXT(q, true) == gl_RayQueryCommittedIntersectionTriangleEXT) {
         hit.t = rayQueryGetIntersectionTEXT(q, true);
-        hit.triangle = uint(rayQueryGetIntersectionPrimitiveIndexEXT(q, true));
+        hit.triangle = uint(rayQueryGetIntersectionInstanceCustomIndexEXT(q, true))
+            + uint(rayQueryGetIntersectionPrimitiveIndexEXT(q, true));
         hit.barycentrics = rayQueryGetIntersectionBarycentricsEXT(q, true);
     } else {
         hit.t = tmax;

@@ -106,25 +106,31 @@ bool bvh_triangle(BvhRay ray, BvhTriangle tri, float tmin, float tmax, out float
     return t > tmin && t < tmax;
 }
 
-// The closest hit with t in (tmin, tmax), or with any_hit the first accepted one (occlusion).
-// Every candidate goes through trace_alpha_pass before it counts. On a miss, triangle is
-// NO_HIT and t is tmax. `slot` is the hit's index in bvh_triangles (for trace_bvh_occluded_cached).
-Hit trace_bvh_slot(vec3 origin, vec3 dir, float tmin, float tmax, bool any_hit, out uint slot) {
-    slot = NO_HIT;
-    Hit hit;
-    hit.t = tmax;
-    hit.triangle = NO_HIT;
-    hit.barycentrics = vec2(0.0);
-    BvhRay ray = bvh_ray(origin, dir);
+// A world ray in part `inst`'s space: the static part's is the world ray itself; an
+// instance's origin and direction go through the inverse of its transform, which keeps the ray
+// parameter t, so hits in different parts compare.
+BvhRay bvh_part_ray(BvhInstance inst, BvhRay world, vec3 origin, vec3 dir) {
+    if (inst.identity != 0u) {
+        return world;
+    }
+    vec4 o = vec4(origin, 1.0);
+    vec3 local_origin = vec3(dot(inst.local_from_world0, o), dot(inst.local_from_world1, o), dot(inst.local_from_world2, o));
+    vec3 local_dir = vec3(dot(inst.local_from_world0.xyz, dir), dot(inst.local_from_world1.xyz, dir), dot(inst.local_from_world2.xyz, dir));
+    return bvh_ray(local_origin, local_dir);
+}
+
+// The bottom level of one part (root node `root`), `ray` in its space: the closest hit with t in
+// (tmin, hit.t) replaces `hit`, and `slot` becomes its index in bvh_triangles. With any_hit,
+// returns true at the first accepted hit.
+bool trace_bvh_part(BvhRay ray, uint root, float tmin, bool any_hit, inout Hit hit, inout uint slot) {
     float entry;
-    // Children are box-tested by their parent; the root by itself, so a ray that misses the
-    // scene costs one box test.
-    if (!bvh_box(ray, bvh_nodes.nodes[0], tmin, hit.t, entry)) {
-        return hit;
+    // Children are box-tested by their parent; the root by itself.
+    if (!bvh_box(ray, bvh_nodes.nodes[root], tmin, hit.t, entry)) {
+        return false;
     }
     uint stack[BVH_STACK_SIZE];
     uint sp = 0u;
-    uint node = 0u;
+    uint node = root;
     while (true) {
         BvhNode n = bvh_nodes.nodes[node];
         if (n.count == 0u) {
@@ -158,9 +164,62 @@ Hit trace_bvh_slot(vec3 origin, vec3 dir, float tmin, float tmax, bool any_hit, 
                     hit.barycentrics = barycentrics;
                     slot = i;
                     if (any_hit) {
-                        return hit;
+                        return true;
                     }
                 }
+            }
+        }
+        if (sp == 0u) {
+            break;
+        }
+        sp--;
+        node = stack[sp];
+    }
+    return false;
+}
+
+// The closest hit with t in (tmin, tmax), or with any_hit the first accepted one (occlusion).
+// Every candidate goes through trace_alpha_pass before it counts. On a miss, triangle is
+// NO_HIT and t is tmax. `slot` is the hit's index in bvh_triangles (for trace_bvh_occluded_cached).
+// The top level is walked like a bottom level, near child first; its leaves are parts.
+Hit trace_bvh_slot(vec3 origin, vec3 dir, float tmin, float tmax, bool any_hit, out uint slot) {
+    slot = NO_HIT;
+    Hit hit;
+    hit.t = tmax;
+    hit.triangle = NO_HIT;
+    hit.barycentrics = vec2(0.0);
+    BvhRay ray = bvh_ray(origin, dir);
+    float entry;
+    if (!bvh_box(ray, bvh_top.nodes[0], tmin, hit.t, entry)) {
+        return hit;
+    }
+    uint stack[BVH_TOP_STACK_SIZE];
+    uint sp = 0u;
+    uint node = 0u;
+    while (true) {
+        BvhNode n = bvh_top.nodes[node];
+        if (n.count == 0u) {
+            uint left = n.left_or_first;
+            float d0, d1;
+            bool h0 = bvh_box(ray, bvh_top.nodes[left], tmin, hit.t, d0);
+            bool h1 = bvh_box(ray, bvh_top.nodes[left + 1u], tmin, hit.t, d1);
+            if (h0 && h1) {
+                bool left_near = d0 <= d1;
+                if (sp < uint(BVH_TOP_STACK_SIZE)) {  // always true (see BVH_TOP_STACK_SIZE)
+                    stack[sp] = left_near ? left + 1u : left;
+                    sp++;
+                }
+                node = left_near ? left : left + 1u;
+                continue;
+            }
+            if (h0 || h1) {
+                node = h0 ? left : left + 1u;
+                continue;
+            }
+        } else {
+            BvhInstance inst = bvh_instances.items[n.left_or_first];
+            if (trace_bvh_part(bvh_part_ray(inst, ray, origin, dir), inst.root, tmin, any_hit, hit, slot)) {
+                return hit;
             }
         }
         if (sp == 0u) {
@@ -181,13 +240,15 @@ Hit trace_bvh(vec3 origin, vec3 dir, float tmin, float tmax, bool any_hit) {
 // (`cached_slot`, NO_HIT for none). Rays from one view sample to the photons around it are
 // mostly blocked by the same wall, and one triangle test is far cheaper than a traversal.
 // Exact: a triangle the test reports is one the traversal would reach too (its boxes are
-// padded and tested robustly, above), so the answer is the traversal's.
+// padded and tested robustly, above; the ray is moved into the triangle's part as the
+// traversal moves it), so the answer is the traversal's.
 bool trace_bvh_occluded_cached(vec3 origin, vec3 dir, float tmin, float tmax, inout uint cached_slot) {
     if (cached_slot != NO_HIT) {
         BvhTriangle tri = bvh_triangles.triangles[cached_slot];
+        BvhRay ray = bvh_part_ray(bvh_instances.items[tri.pad0], bvh_ray(origin, dir), origin, dir);
         float t;
         vec2 barycentrics;
-        if (bvh_triangle(bvh_ray(origin, dir), tri, tmin, tmax, t, barycentrics)
+        if (bvh_triangle(ray, tri, tmin, tmax, t, barycentrics)
             && trace_alpha_pass(tri.triangle, barycentrics)) {
             return true;
         }

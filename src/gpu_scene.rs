@@ -1,4 +1,5 @@
-//! The scene as the GPU sees it: vertex, material and texel buffers, uploaded once. (Lights
+//! The scene as the GPU sees it: vertex, material and texel buffers, uploaded once (the animated
+//! instances' vertices are copied again whenever they move: `scene_pose.rs`). (Lights
 //! are uploaded with every frame, so they can move: `photon_lights.rs`.)
 
 use ash::vk;
@@ -36,6 +37,8 @@ pub struct GpuScene {
     /// The BVH over `vertices` (the compute backend traverses it; every backend's clearance
     /// pass searches it) and the scene's trace scale.
     pub bvh: SceneBvh,
+    /// The pose version whose instance vertices `vertices` holds (`ScenePose::version`).
+    pub placed_version: u64,
 }
 
 impl GpuScene {
@@ -54,6 +57,11 @@ impl GpuScene {
                 | vk::BufferUsageFlags::SHADER_DEVICE_ADDRESS;
         }
         let vertices = Buffer::with_data(gpu, "vertices", vertex_usage, bytemuck::cast_slice(&scene.vertices))?;
+        if !scene.instances.is_empty() {
+            // Frames copy moved instances into it while the frame before may still read it:
+            // treated as written on the device, its first copy waits for every earlier use.
+            vertices.set_device_written();
+        }
         let triangle_materials =
             Buffer::with_data(gpu, "triangle materials", storage, bytemuck::cast_slice(&scene.triangle_material))?;
 
@@ -80,7 +88,15 @@ impl GpuScene {
         let materials = Buffer::with_data(gpu, "materials", storage, bytemuck::cast_slice(&materials))?;
         let texels = Buffer::with_data(gpu, "texels", storage, bytemuck::cast_slice(&texels))?;
         let bvh = SceneBvh::build(gpu, scene)?;
-        Ok(GpuScene { vertices, vertex_count: scene.vertices.len() as u32, triangle_materials, materials, texels, bvh })
+        Ok(GpuScene {
+            vertices,
+            vertex_count: scene.vertices.len() as u32,
+            triangle_materials,
+            materials,
+            texels,
+            bvh,
+            placed_version: 0,
+        })
     }
 }
 

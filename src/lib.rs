@@ -16,6 +16,7 @@ pub mod photon_lights;
 pub mod raycast;
 pub mod raygen;
 pub mod renderer;
+pub mod scene_pose;
 pub mod settings;
 pub mod shaders;
 pub mod splatting;

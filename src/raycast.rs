@@ -17,6 +17,8 @@ pub struct RayCaster<'g> {
     gpu: &'g Gpu,
     scene: GpuScene,
     trace: TraceScene,
+    /// The scene at t = 0 (these tools do not play animations).
+    pose: crate::scene_pose::ScenePose,
     pass: RaycastPass,
     runner: GraphRunner,
 }
@@ -31,10 +33,11 @@ pub struct Cast {
 impl<'g> RayCaster<'g> {
     pub fn new(gpu: &'g Gpu, scene: &Scene, backend: Backend) -> Result<Self> {
         let gpu_scene = GpuScene::upload(gpu, scene)?;
-        let trace = TraceScene::build(gpu, scene, &gpu_scene, backend)?;
+        let pose = crate::scene_pose::ScenePose::new(scene, &gpu_scene.bvh.bvh);
+        let trace = TraceScene::build(gpu, scene, &gpu_scene, &pose, backend)?;
         let mut runner = GraphRunner::new(gpu, 1)?;
         runner.set_timing(Timing::PerPassSubmit);
-        Ok(RayCaster { gpu, scene: gpu_scene, trace, pass: RaycastPass::new(gpu, backend)?, runner })
+        Ok(RayCaster { gpu, scene: gpu_scene, trace, pose, pass: RaycastPass::new(gpu, backend)?, runner })
     }
 
     pub fn trace_scene(&self) -> &TraceScene {
@@ -55,7 +58,7 @@ impl<'g> RayCaster<'g> {
         let hit_buffer = Buffer::new(self.gpu, &desc)?;
         let mut graph = self.runner.graph(self.gpu)?;
         let scene = self.scene.import(&mut graph);
-        let trace = self.trace.import(&mut graph, &self.scene);
+        let trace = self.trace.import(&mut graph, &self.scene, &self.pose)?;
         let rays_h = graph.import_buffer(&ray_buffer);
         let mut hits_h = graph.import_buffer(&hit_buffer);
         self.pass.add(&mut graph, rays.len() as u32, occlusion, &scene, &trace, &rays_h, &mut hits_h);

@@ -2,7 +2,11 @@
 //! a tracing pass binds them. Shaders see one interface (`trace.glsl`); the Rust side sees
 //! [`TraceScene`], built once per scene, and [`TraceHandles`], imported once per frame.
 
-use leakless_accel::{Bvh, BvhStats, RayQueryAccel, RayQueryStats, BVH_NODE_LAYOUT, BVH_TRIANGLE_LAYOUT};
+use leakless_accel::rayquery::BlasInput;
+use leakless_accel::{
+    BvhStats, InstancedBvh, PartInput, RayQueryAccel, RayQueryStats, BVH_INSTANCE_LAYOUT, BVH_NODE_LAYOUT,
+    BVH_TRIANGLE_LAYOUT,
+};
 use leakless_device::shader::ShaderInfo;
 use leakless_device::{gpu_struct, vk, BindingDecl, Bound, Buffer, Capabilities, DeviceType, Gpu, GpuStruct};
 use leakless_graph::{shader_bindings, Access, Bindings, BufferHandle, Graph, PassBuilder, Resolved};
@@ -10,6 +14,7 @@ use leakless_scene::{Scene, Vertex};
 
 use crate::error::{RenderError, Result};
 use crate::gpu_scene::GpuScene;
+use crate::scene_pose::ScenePose;
 
 /// What the user asked for (`--backend`).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -135,6 +140,8 @@ shader_bindings! {
         bvh_nodes: array(BVH_NODE_LAYOUT),
         bvh_triangles: array(BVH_TRIANGLE_LAYOUT),
         trace_scale: uniform(TraceScale::LAYOUT),
+        bvh_top: array(BVH_NODE_LAYOUT),
+        bvh_instances: array(BVH_INSTANCE_LAYOUT),
     }
 }
 
@@ -168,51 +175,88 @@ pub struct TraceStats {
     pub detail: String,
 }
 
-/// The scene's trace structures for one backend: the ray-query backend's BLAS and TLAS; the
-/// compute backend needs nothing beyond the BVH every `GpuScene` has.
+/// The scene's trace structures for one backend: the ray-query backend's BLASes (the static
+/// part in the scene's vertex buffer, each instance's from its own buffer of mesh-space
+/// vertices) and TLAS; the compute backend needs nothing beyond the BVH every `GpuScene` has.
 pub struct TraceScene {
     backend: Backend,
     accel: Option<RayQueryAccel>,
+    /// Mesh-space vertices of each instance, the input of its BLAS.
+    _instance_vertices: Vec<Buffer>,
+    /// The pose version the TLAS was last built for (see `ScenePose::version`).
+    tlas_version: std::cell::Cell<u64>,
     stats: TraceStats,
 }
 
 impl TraceScene {
-    pub fn build(gpu: &Gpu, scene: &Scene, gpu_scene: &GpuScene, backend: Backend) -> Result<TraceScene> {
+    pub fn build(
+        gpu: &Gpu,
+        scene: &Scene,
+        gpu_scene: &GpuScene,
+        pose: &ScenePose,
+        backend: Backend,
+    ) -> Result<TraceScene> {
         let triangles = scene.triangle_count() as u32;
+        let mut instance_vertices = Vec::new();
         let (accel, stats) = match backend {
             Backend::RayQuery => {
                 let opaque = scene.materials.iter().all(|m| m.alpha_cutoff.is_none());
-                let accel = RayQueryAccel::build(
-                    gpu,
-                    &gpu_scene.vertices,
-                    std::mem::size_of::<Vertex>() as u64,
-                    triangles,
-                    opaque,
-                )?;
-                let RayQueryStats { build_ms, blas_bytes, blas_uncompacted_bytes, tlas_bytes, scratch_bytes } =
-                    accel.stats.clone();
+                let usage = vk::BufferUsageFlags::ACCELERATION_STRUCTURE_BUILD_INPUT_READ_ONLY_KHR
+                    | vk::BufferUsageFlags::SHADER_DEVICE_ADDRESS;
+                for i in &scene.instances {
+                    let bytes = bytemuck::cast_slice(&i.local_vertices);
+                    instance_vertices.push(Buffer::with_data(gpu, &format!("{} vertices", i.name), usage, bytes)?);
+                }
+                let stride = std::mem::size_of::<Vertex>() as u64;
+                let static_count = scene.static_triangle_count() as u32;
+                let static_part = (static_count > 0).then_some(BlasInput {
+                    vertices: &gpu_scene.vertices,
+                    stride,
+                    triangle_count: static_count,
+                    first_triangle: 0,
+                });
+                let parts: Vec<BlasInput> = static_part
+                    .into_iter()
+                    .chain(scene.instances.iter().zip(&instance_vertices).map(|(i, v)| BlasInput {
+                        vertices: v,
+                        stride,
+                        triangle_count: i.triangle_count,
+                        first_triangle: i.first_triangle,
+                    }))
+                    .collect();
+                let accel = RayQueryAccel::build(gpu, &parts, &pose.tlas_transforms(static_count > 0), opaque)?;
+                let RayQueryStats {
+                    build_ms,
+                    blas_bytes,
+                    blas_uncompacted_bytes,
+                    tlas_bytes,
+                    scratch_bytes,
+                    blas_count,
+                } = accel.stats.clone();
                 let stats = TraceStats {
                     backend,
                     build_ms,
                     bytes: blas_bytes + tlas_bytes,
                     detail: format!(
-                        "BLAS {blas_bytes} B (uncompacted {blas_uncompacted_bytes} B), TLAS {tlas_bytes} B, scratch {scratch_bytes} B"
+                        "{blas_count} BLAS {blas_bytes} B (uncompacted {blas_uncompacted_bytes} B), TLAS {tlas_bytes} B, scratch {scratch_bytes} B"
                     ),
                 };
                 (Some(accel), stats)
             }
             Backend::Compute => {
-                let BvhStats { build_ms, node_count, bytes, sah_cost, .. } = gpu_scene.bvh.stats.clone();
+                let BvhStats { build_ms, node_count, bytes, sah_cost, .. } = gpu_scene.bvh.bvh.stats.clone();
+                let parts = gpu_scene.bvh.bvh.parts.len();
                 let stats = TraceStats {
                     backend,
                     build_ms,
                     bytes: bytes as u64,
-                    detail: format!("{node_count} nodes, {triangles} triangles, SAH cost {sah_cost:.1}"),
+                    detail: format!("{node_count} nodes, {triangles} triangles, {parts} parts, SAH cost {sah_cost:.1}"),
                 };
                 (None, stats)
             }
         };
-        Ok(TraceScene { backend, accel, stats })
+        let tlas_version = std::cell::Cell::new(pose.version);
+        Ok(TraceScene { backend, accel, _instance_vertices: instance_vertices, tlas_version, stats })
     }
 
     pub fn backend(&self) -> Backend {
@@ -224,49 +268,81 @@ impl TraceScene {
     }
 
     /// The structures in one frame's graph, with the scene's BVH (`gpu_scene`) that the
-    /// compute backend traverses and every backend's clearance pass searches.
-    pub fn import<'r>(&'r self, graph: &mut Graph<'r>, gpu_scene: &'r GpuScene) -> TraceHandles {
-        let rayquery = self.accel.as_ref().map(|accel| RayQueryHandles {
-            tlas: accel.tlas.raw(),
-            tlas_buffer: graph.import_buffer(accel.tlas.buffer()),
-            blas_buffer: graph.import_buffer(accel.blas.buffer()),
-        });
+    /// compute backend traverses and every backend's clearance pass searches. The top level of
+    /// `pose` goes up with the frame; when the pose changed since the TLAS was built, the frame
+    /// rebuilds it first.
+    pub fn import<'r>(
+        &'r self,
+        graph: &mut Graph<'r>,
+        gpu_scene: &'r GpuScene,
+        pose: &ScenePose,
+    ) -> Result<TraceHandles> {
+        let rayquery = match &self.accel {
+            Some(accel) => {
+                let mut tlas_buffer = graph.import_buffer(accel.tlas.buffer());
+                let blas_buffers: Vec<BufferHandle> =
+                    accel.blases.iter().map(|b| graph.import_buffer(b.buffer())).collect();
+                if self.tlas_version.get() != pose.version {
+                    let has_static = gpu_scene.bvh.bvh.parts.first().is_some_and(|p| p.identity);
+                    accel.add_rebuild(graph, &pose.tlas_transforms(has_static), &mut tlas_buffer, &blas_buffers)?;
+                    self.tlas_version.set(pose.version);
+                }
+                Some(RayQueryHandles { tlas: accel.tlas.raw(), tlas_buffer, blas_buffers })
+            }
+            None => None,
+        };
         let bvh = &gpu_scene.bvh;
-        TraceHandles {
+        let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
+        Ok(TraceHandles {
             rayquery,
             nodes: graph.import_buffer(&bvh.nodes),
             triangles: graph.import_buffer(&bvh.triangles),
             scale: graph.import_buffer(&bvh.scale),
-        }
+            top: graph.upload("bvh top", storage, bytemuck::cast_slice(&pose.top.nodes))?,
+            instances: graph.upload("bvh instances", storage, bytemuck::cast_slice(&pose.top.instances))?,
+        })
     }
 }
 
-/// The scene's BVH on the GPU (what the compute backend traverses), and the `trace_scale`
-/// uniform every tracing pass binds.
+/// The scene's BVH on the GPU (what the compute backend traverses): the bottom level of every
+/// part, built once; and the `trace_scale` uniform every tracing pass binds.
 pub struct SceneBvh {
     pub nodes: Buffer,
     pub triangles: Buffer,
     pub scale: Buffer,
-    pub stats: BvhStats,
+    /// The host side: the parts, which every frame's top level is built over.
+    pub bvh: InstancedBvh,
 }
 
 impl SceneBvh {
     pub fn build(gpu: &Gpu, scene: &Scene) -> Result<SceneBvh> {
-        let bvh = Bvh::build(&scene.vertices)?;
+        let static_end = scene.static_triangle_count() * 3;
+        let static_part =
+            (static_end > 0).then(|| PartInput { vertices: &scene.vertices[..static_end], first_triangle: 0 });
+        let instances: Vec<PartInput> = scene
+            .instances
+            .iter()
+            .map(|i| PartInput { vertices: &i.local_vertices, first_triangle: i.first_triangle })
+            .collect();
+        let b = scene.animated_bounds();
+        let magnitude = b.min.abs().max(b.max.abs()).max_element();
+        let mut bvh = InstancedBvh::build(static_part, &instances, magnitude)?;
         let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
         let nodes = Buffer::with_data(gpu, "bvh nodes", storage, bytemuck::cast_slice(&bvh.nodes))?;
         let triangles = Buffer::with_data(gpu, "bvh triangles", storage, bytemuck::cast_slice(&bvh.triangles))?;
+        // Only the parts are needed from here on.
+        (bvh.nodes, bvh.triangles) = (Vec::new(), Vec::new());
         let scale = TraceScale { scene_scale: scene_scale(scene), ..Default::default() };
         let scale =
             Buffer::with_data(gpu, "trace scale", vk::BufferUsageFlags::UNIFORM_BUFFER, bytemuck::bytes_of(&scale))?;
-        Ok(SceneBvh { nodes, triangles, scale, stats: bvh.stats.clone() })
+        Ok(SceneBvh { nodes, triangles, scale, bvh })
     }
 }
 
 struct RayQueryHandles {
     tlas: vk::AccelerationStructureKHR,
     tlas_buffer: BufferHandle,
-    blas_buffer: BufferHandle,
+    blas_buffers: Vec<BufferHandle>,
 }
 
 /// The trace structures of one frame's graph.
@@ -275,6 +351,8 @@ pub struct TraceHandles {
     nodes: BufferHandle,
     triangles: BufferHandle,
     scale: BufferHandle,
+    top: BufferHandle,
+    instances: BufferHandle,
 }
 
 impl TraceHandles {
@@ -283,10 +361,12 @@ impl TraceHandles {
         match &self.rayquery {
             Some(rq) => {
                 let trace_scale = pass.read(&self.scale, Access::ComputeRead);
-                // Traversal reads the BLAS through the TLAS: both are declared, only the TLAS
+                // Traversal reads the BLASes through the TLAS: all are declared, only the TLAS
                 // is bound.
                 pass.read(&rq.tlas_buffer, Access::RayQueryRead);
-                pass.read(&rq.blas_buffer, Access::RayQueryRead);
+                for b in &rq.blas_buffers {
+                    pass.read(b, Access::RayQueryRead);
+                }
                 TraceBindings::RayQuery(RayQueryTrace { tlas: rq.tlas, trace_scale })
             }
             None => TraceBindings::Compute(self.declare_bvh(pass)),
@@ -299,6 +379,8 @@ impl TraceHandles {
             bvh_nodes: pass.read(&self.nodes, Access::ComputeRead),
             bvh_triangles: pass.read(&self.triangles, Access::ComputeRead),
             trace_scale: pass.read(&self.scale, Access::ComputeRead),
+            bvh_top: pass.read(&self.top, Access::ComputeRead),
+            bvh_instances: pass.read(&self.instances, Access::ComputeRead),
         }
     }
 }

@@ -52,6 +52,14 @@ pub struct Stats {
     pub accumulated: u32,
     /// The seed of the image's photons.
     pub seed: u32,
+    /// Seconds on the scene's animation clock.
+    pub time: f32,
+    /// Animated instances in the scene (each its own BLAS and top-level instance).
+    pub instances: usize,
+    /// Host milliseconds of the last instance update (transforms, world-space vertices, the
+    /// compute backend's top level); the GPU's part is in `passes` (`instance vertices`,
+    /// `tlas rebuild`) in the frame that follows a change.
+    pub instance_update_ms: f64,
     /// The `leakless render` command that renders this image again (captures).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub command: Option<String>,
@@ -85,6 +93,9 @@ impl Stats {
             frame_wall_ms: frame.wall_ms,
             accumulated: frame.accumulated,
             seed: frame.seed,
+            time: renderer.time(),
+            instances: scene.instances.len(),
+            instance_update_ms: renderer.pose_update_ms(),
             command,
             passes: frame
                 .timings

@@ -9,6 +9,7 @@ pub mod gather;
 pub mod gbuffer;
 pub mod hang;
 pub mod hierarchy;
+pub mod instance_vertices;
 pub mod luminance;
 pub mod photon_clearance;
 pub mod photons;

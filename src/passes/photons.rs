@@ -248,6 +248,8 @@ pub struct PhotonTracer<'g> {
     gpu: &'g Gpu,
     scene: GpuScene,
     trace: TraceScene,
+    /// The scene at t = 0 (these tools do not play animations).
+    pose: crate::scene_pose::ScenePose,
     lights: Vec<leakless_scene::Light>,
     bounds: leakless_scene::Aabb,
     pass: PhotonPass,
@@ -260,7 +262,8 @@ pub struct PhotonTracer<'g> {
 impl<'g> PhotonTracer<'g> {
     pub fn new(gpu: &'g Gpu, scene: &Scene, backend: Backend, capacity: u32) -> Result<Self> {
         let gpu_scene = GpuScene::upload(gpu, scene)?;
-        let trace = TraceScene::build(gpu, scene, &gpu_scene, backend)?;
+        let pose = crate::scene_pose::ScenePose::new(scene, &gpu_scene.bvh.bvh);
+        let trace = TraceScene::build(gpu, scene, &gpu_scene, &pose, backend)?;
         let photons = Buffer::new(
             gpu,
             &BufferDesc {
@@ -285,6 +288,7 @@ impl<'g> PhotonTracer<'g> {
             gpu,
             scene: gpu_scene,
             trace,
+            pose,
             lights: scene.lights.clone(),
             bounds: scene.bounds(),
             pass: PhotonPass::new(gpu, backend)?,
@@ -344,7 +348,7 @@ impl<'g> PhotonTracer<'g> {
         };
         let mut graph = self.runner.graph(self.gpu)?;
         let scene = self.scene.import(&mut graph);
-        let trace = self.trace.import(&mut graph, &self.scene);
+        let trace = self.trace.import(&mut graph, &self.scene, &self.pose)?;
         let lights = upload_lights(&mut graph, &self.lights, &self.bounds)?;
         let mut photons = graph.import_buffer(&self.photons);
         let mut counters = graph.import_buffer(&self.counters);

@@ -1,4 +1,4 @@
-//! One frame, top to bottom: the camera and lights of this frame, the G-buffer, direct light,
+//! One frame, top to bottom: the camera, lights and moved instances of this frame, the G-buffer, direct light,
 //! the indirect light of the method, compose, the luminance statistics, and (for a window or a
 //! readback) the tonemap; then the counters copied out for the stats. Declared anew every
 //! frame from the renderer's state; submitted without waiting.
@@ -22,7 +22,7 @@ use crate::passes::photons::PhotonCounters;
 use crate::passes::reference::ReferenceParams;
 use crate::passes::splat::SplatCounters;
 use crate::passes::tonemap::ViewLayer;
-use crate::passes::{readback, ViewInputs};
+use crate::passes::{instance_vertices, readback, ViewInputs};
 use crate::photon_lights::upload_lights;
 use crate::settings::Method;
 use crate::splatting::{self, grown_list_capacity, SplatFrame, SplatInputsOfFrame, SplatStats, SplattingPasses};
@@ -119,6 +119,11 @@ impl Renderer {
             pad0: 0,
         };
         let extent = self.extent();
+        // Instances moved since the vertex buffer was last written: this frame copies them.
+        let place_instances = render && self.gpu_scene.placed_version != self.pose.version;
+        if place_instances {
+            self.gpu_scene.placed_version = self.pose.version;
+        }
         let backend = self.backends[self.backend.backend as usize].as_ref().expect("current backend made");
         let (passes, tracing) = (&self.passes, &backend.passes);
         let mut g = self.runner.graph(&self.gpu)?;
@@ -127,8 +132,12 @@ impl Renderer {
         let frame =
             g.upload("frame", ash::vk::BufferUsageFlags::UNIFORM_BUFFER, bytemuck::bytes_of(&frame_constants))?;
         let lights = upload_lights(&mut g, &self.lights, &self.scene.bounds())?;
-        let scene = self.gpu_scene.import(&mut g);
-        let trace = backend.trace.import(&mut g, &self.gpu_scene);
+        let mut scene = self.gpu_scene.import(&mut g);
+        if place_instances {
+            let first_vertex = 3 * self.scene.static_triangle_count();
+            instance_vertices::add(&mut g, &self.pose.vertices, first_vertex, &mut scene.vertices)?;
+        }
+        let trace = backend.trace.import(&mut g, &self.gpu_scene, &self.pose)?;
 
         // View samples and their direct light.
         let mut gbuffer = GBufferHandles::new(&mut g, extent)?;

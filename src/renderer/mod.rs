@@ -43,6 +43,7 @@ use crate::passes::reference::ReferencePass;
 use crate::passes::splat::SplatPass;
 use crate::passes::tonemap::{TonemapPass, ViewLayer};
 use crate::passes::visible_disk::VisibleDiskPass;
+use crate::scene_pose::ScenePose;
 use crate::settings::{Method, RenderSettings};
 use crate::splatting::{default_list_capacity, SplatFrame, SplatStats};
 use crate::trace::{Backend, BackendChoice, ResolvedBackend, TraceScene, TraceStats};
@@ -118,6 +119,8 @@ pub struct Renderer {
     lights: Vec<Light>,
     scene: Scene,
     gpu_scene: GpuScene,
+    /// The animated instances at the renderer's time.
+    pose: ScenePose,
     backend: ResolvedBackend,
     backends: [Option<BackendState>; 2],
     passes: Passes,
@@ -150,6 +153,7 @@ impl Renderer {
         let resolved = resolve(&gpu, settings.backend)?;
         crate::limits::check(&settings, scene, resolved.backend, &gpu.report().limits)?;
         let gpu_scene = GpuScene::upload(&gpu, scene)?;
+        let pose = ScenePose::new(scene, &gpu_scene.bvh.bvh);
         let passes = Passes {
             gbuffer: GBufferPass::new(&gpu)?,
             clearance: ClearancePass::new(&gpu)?,
@@ -171,6 +175,7 @@ impl Renderer {
             lights: scene.lights.clone(),
             scene: scene.clone(),
             gpu_scene,
+            pose,
             backend: resolved,
             backends: [None, None],
             passes,
@@ -199,7 +204,7 @@ impl Renderer {
         let slot = &mut self.backends[backend as usize];
         if slot.is_none() {
             let gpu = &self.gpu;
-            let trace = TraceScene::build(gpu, &self.scene, &self.gpu_scene, backend)?;
+            let trace = TraceScene::build(gpu, &self.scene, &self.gpu_scene, &self.pose, backend)?;
             let passes = TracingPasses {
                 direct: DirectPass::new(gpu, backend)?,
                 reference: ReferencePass::new(gpu, backend)?,
@@ -303,6 +308,49 @@ impl Renderer {
         *slot = light;
         self.restart();
         Ok(())
+    }
+
+    /// Plays the scene's animation to `t` seconds: animated instances, and the lights and
+    /// camera on animated nodes, move there (a light or camera the user placed, and whose node
+    /// does not move between the old time and `t`, stays where it was put). Anything that moved
+    /// restarts accumulation.
+    pub fn set_time(&mut self, t: f32) -> Result<()> {
+        if !t.is_finite() {
+            return Err(RenderError::Settings(format!("time {t}: must be a finite number of seconds")));
+        }
+        let old = self.pose.time;
+        let mut moved = self.pose.set_time(&self.scene, &self.gpu_scene.bvh.bvh, t);
+        if self.scene.is_animated() {
+            let (before, after) = (self.scene.lights_at(old), self.scene.lights_at(t));
+            for (i, (b, a)) in before.iter().zip(after).enumerate() {
+                if *b != a {
+                    self.lights[i] = a;
+                    moved = true;
+                }
+            }
+            if let (Some(b), Some(a)) = (self.scene.camera_at(old), self.scene.camera_at(t)) {
+                if b != a {
+                    self.camera = a;
+                    moved = true;
+                }
+            }
+        }
+        if moved {
+            self.restart();
+        }
+        Ok(())
+    }
+
+    /// The scene's clock (seconds).
+    pub fn time(&self) -> f32 {
+        self.pose.time
+    }
+
+    /// Host milliseconds of the last pose change (instance transforms, world vertices, the
+    /// compute backend's top level); the GPU's part is the `instance vertices` and
+    /// `tlas rebuild` passes of the frame that follows.
+    pub fn pose_update_ms(&self) -> f64 {
+        self.pose.update_ms
     }
 
     /// Changes any settings at once; validated first, and a change that needs a new backend

@@ -352,7 +352,7 @@ impl Bvh {
 /// Relative box padding (of the scene's largest coordinate magnitude): 2^-19 ≈ 1.9e-6, above
 /// the ~4 ulps by which the sheared triangle test can misplace an edge for rays whose origin
 /// lies within a few scene magnitudes of the triangle.
-const BOX_PAD: f32 = 1.0 / 524_288.0;
+pub(crate) const BOX_PAD: f32 = 1.0 / 524_288.0;
 
 /// A scene triangle that made it into the BVH.
 pub(crate) struct SceneTriangle {

@@ -6,12 +6,14 @@
 //!   `shaders-glsl/trace_compute.glsl` traverses; [`Bvh::intersect`] is its exact CPU twin.
 
 pub mod bvh;
+pub mod instanced;
 pub mod rayquery;
 
 pub use bvh::{
     intersect_triangle, Bvh, BvhNode, BvhStats, BvhTriangle, Hit, Ray, BVH_MAX_DEPTH, BVH_NODE_LAYOUT,
     BVH_TRIANGLE_LAYOUT,
 };
+pub use instanced::{BvhInstance, InstancedBvh, PartInput, TopLevel, BVH_INSTANCE_LAYOUT, BVH_TOP_MAX_DEPTH};
 pub use rayquery::{RayQueryAccel, RayQueryStats};
 
 /// Why an acceleration structure could not be built; each variant prints as one line.
@@ -27,6 +29,8 @@ pub enum AccelError {
     NoFiniteTriangles(usize),
     #[error("the scene has {0} triangles; the compute BVH indexes at most {max}", max = bvh::MAX_TRIANGLES)]
     TooManyTriangles(usize),
+    #[error("the scene has {0} static and animated parts; the compute BVH's top level holds at most {max}", max = instanced::MAX_PARTS)]
+    TooManyParts(usize),
     #[error("the BVH is {depth} levels deep; the traversal stack holds {max} (BVH_STACK_SIZE in trace_compute.glsl)", max = BVH_MAX_DEPTH)]
     TooDeep { depth: u32 },
 }

@@ -72,6 +72,11 @@ pub struct RenderOptions {
     /// moved).
     #[arg(long, value_parser = parse_vec3)]
     pub light_position: Option<Vec3>,
+    /// Seconds on the scene's animation clock: animated objects, lights and the camera are
+    /// placed as they are at that time (every animation of the file plays at once; before the
+    /// first key and after the last, a channel holds its end value).
+    #[arg(long, default_value_t = 0.0, value_parser = parse_time)]
+    pub time: f32,
     /// PNG and window exposure multiplier (default: automatic).
     #[arg(long)]
     pub exposure: Option<f32>,
@@ -132,6 +137,15 @@ fn parse_camera(s: &str) -> Result<CameraSpec, String> {
     })
 }
 
+fn parse_time(s: &str) -> Result<f32, String> {
+    let t: f32 = s.trim().parse().map_err(|_| format!("'{s}' is not a number of seconds"))?;
+    if t.is_finite() {
+        Ok(t)
+    } else {
+        Err(format!("'{s}' is not a finite number of seconds"))
+    }
+}
+
 fn parse_vec3(s: &str) -> Result<Vec3, String> {
     let v = numbers(s, 3, "x,y,z")?;
     Ok(Vec3::new(v[0], v[1], v[2]))
@@ -174,13 +188,15 @@ impl RenderOptions {
         Ok(scene)
     }
 
-    /// Applies `--camera` and `--light-position` to a renderer.
+    /// Applies `--time`, then `--camera` and `--light-position` (which win over the
+    /// animation's) to a renderer.
     pub fn apply_view(&self, renderer: &mut leakless::Renderer, scene: &Scene) -> anyhow::Result<()> {
+        renderer.set_time(self.time)?;
         if let Some(spec) = &self.camera {
             renderer.set_camera(spec.camera(scene)?);
         }
         if let Some(p) = self.light_position {
-            let mut light = scene.lights[0].clone();
+            let mut light = renderer.lights()[0].clone();
             light.position = p;
             renderer.set_light(0, light)?;
         }

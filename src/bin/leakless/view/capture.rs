@@ -26,7 +26,8 @@ pub fn capture(r: &mut Running, scene: &Scene, exr: &Path) -> anyhow::Result<()>
     }
     let frame = r.renderer.capture_frame().context("capturing")?;
     let light = r.light_moved.then(|| r.renderer.lights()[0].position);
-    let command = command(r.renderer.settings(), r.renderer.backend(), scene, &frame, r.camera.spec(), light, exr);
+    let view = View { camera: r.camera.spec(), light, time: r.renderer.time() };
+    let command = command(r.renderer.settings(), r.renderer.backend(), scene, &frame, view, exr);
     let paths = OutputPaths {
         exr: exr.to_path_buf(),
         png: Some(exr.with_extension("png")),
@@ -48,17 +49,26 @@ fn scene_path(scene: &Scene) -> PathBuf {
         .unwrap_or_else(|| PathBuf::from(format!("{}.gltf", scene.name)))
 }
 
+/// Where the captured frame looks from, and when.
+struct View {
+    camera: CameraSpec,
+    /// The first light's position, when it was moved.
+    light: Option<glam::Vec3>,
+    /// The scene's clock.
+    time: f32,
+}
+
 /// The `leakless render` command that renders `frame` again: every setting explicit, the
-/// frame's own seed, the view and (if moved) the light.
+/// frame's own seed, the view, the animation time and (if moved) the light.
 fn command(
     s: &RenderSettings,
     backend: leakless::Backend,
     scene: &Scene,
     frame: &leakless::RenderedFrame,
-    camera: CameraSpec,
-    light: Option<glam::Vec3>,
+    view: View,
     exr: &Path,
 ) -> String {
+    let View { camera, light, time } = view;
     let mut c = vec![
         "leakless".to_string(),
         "render".into(),
@@ -90,6 +100,9 @@ fn command(
     }
     if s.method == Method::Reference {
         c.push(format!("--spp {}", frame.accumulated));
+    }
+    if time != 0.0 {
+        c.push(format!("--time {time}"));
     }
     c.push(format!("--camera {}", camera.flag()));
     if let Some(p) = light {

@@ -21,6 +21,8 @@ pub enum Action {
     /// Moves the first light along x, y, z by one step.
     MoveLight([i8; 3]),
     FreezeSeed,
+    /// Plays or stops the scene's animation.
+    PlayAnimation,
     Pause,
     Capture,
     ResetCamera,
@@ -61,6 +63,7 @@ pub const ACTIONS: &[(KeyCode, Action, &str, &str)] = &[
     (KeyCode::PageUp, Action::MoveLight([0, 1, 0]), "PgUp", "first light +y"),
     (KeyCode::PageDown, Action::MoveLight([0, -1, 0]), "PgDn", "first light −y"),
     (KeyCode::KeyP, Action::FreezeSeed, "P", "freeze / unfreeze the photon seed"),
+    (KeyCode::KeyM, Action::PlayAnimation, "M", "play / stop the scene's animation (time slider in the panel)"),
     (KeyCode::Space, Action::Pause, "Space", "pause (show the last image)"),
     (KeyCode::F12, Action::Capture, "F12", "capture to captures/<scene>-<n>.exr/.png/.json"),
     (KeyCode::KeyR, Action::ResetCamera, "R", "reset the camera"),

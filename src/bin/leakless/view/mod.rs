@@ -137,6 +137,9 @@ struct Running {
     show_help: bool,
     seed_frozen: bool,
     light_moved: bool,
+    /// The scene's animation plays (M), on a clock that loops with a second's hold at the end.
+    playing: bool,
+    animation_clock: f32,
     last_shown: Option<Instant>,
     frame_ms: f64,
     /// On CPU devices, per-pass times come from a frame every this many whose passes are each
@@ -225,6 +228,8 @@ impl App {
             show_help: false,
             seed_frozen: false,
             light_moved: false,
+            playing: self.scene.is_animated(),
+            animation_clock: options.time,
             last_shown: None,
             frame_ms: 0.0,
             profile_every: if device_type == DeviceType::Cpu { 30 } else { 0 },

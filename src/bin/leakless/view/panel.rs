@@ -27,6 +27,10 @@ pub struct PanelInfo<'a> {
     pub seed_frozen: bool,
     pub trivial_accept: bool,
     pub light_moved: bool,
+    /// The scene's animation plays.
+    pub playing: bool,
+    /// Host time of the last instance update (transforms, vertices, top level).
+    pub pose_update_ms: f64,
 }
 
 /// The sliders' values; the app applies what changed.
@@ -36,6 +40,9 @@ pub struct Sliders {
     pub radius_range: (f32, f32),
     pub paths: u32,
     pub cap: u32,
+    /// The scene's clock, and its animation's length (`None`: nothing moves).
+    pub time: f32,
+    pub duration: Option<f32>,
 }
 
 /// Short groups of passes, so the bars stay readable (the sort's 24 passes are one bar).
@@ -67,6 +74,9 @@ pub fn show(ctx: &egui::Context, info: &PanelInfo<'_>, sliders: &mut Sliders, he
         if info.light_moved {
             flags.push("light moved");
         }
+        if info.playing {
+            flags.push("playing");
+        }
         ui.label(format!("{:.1} ms/frame, {:.1} fps   {}", info.frame_ms, fps, flags.join(", ")));
         if let Some(report) = info.report {
             if report.method == Method::Reference {
@@ -97,6 +107,10 @@ pub fn show(ctx: &egui::Context, info: &PanelInfo<'_>, sliders: &mut Sliders, he
         ui.add(egui::Slider::new(&mut sliders.radius, lo..=hi).logarithmic(true).text("radius"));
         ui.add(egui::Slider::new(&mut sliders.paths, 1_000..=1_000_000).logarithmic(true).text("paths"));
         ui.add(egui::Slider::new(&mut sliders.cap, 1..=200).text("cap"));
+        if let Some(duration) = sliders.duration {
+            ui.add(egui::Slider::new(&mut sliders.time, 0.0..=duration).text("time (s)"));
+            ui.label(format!("M: play / stop   instance update {:.2} ms (host)", info.pose_update_ms));
+        }
         ui.label("H / F1: keys   Tab: hide");
     });
     if *help {

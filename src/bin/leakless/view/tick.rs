@@ -76,6 +76,7 @@ impl Running {
                 r.set_advance_seed(!self.seed_frozen);
                 r.set_progressive(!self.seed_frozen);
             }
+            Action::PlayAnimation => self.playing = !self.playing,
             Action::Pause => r.set_paused(!r.paused()),
             Action::Capture => {
                 let path = capture::next_path(&scene.name)?;
@@ -141,6 +142,14 @@ impl Running {
             }
         }
         self.tapped.clear();
+        if self.playing && scene.is_animated() && !self.renderer.paused() {
+            // The animation loops, holding its last pose for a second so that the image of
+            // the end (a closed door) can converge a little before it starts again.
+            let period = scene.duration() + 1.0;
+            let t = (self.animation_clock + dt) % period;
+            self.animation_clock = t;
+            self.set_time(scene, t.min(scene.duration()))?;
+        }
         self.camera.advance(motion, dt);
         let (dx, dy) = std::mem::take(&mut self.drag);
         self.camera.turn(dx, dy);
@@ -183,6 +192,16 @@ impl Running {
         Ok(())
     }
 
+    /// Moves the scene to time `t`; an animated camera takes the fly camera with it.
+    fn set_time(&mut self, scene: &Scene, t: f32) -> anyhow::Result<()> {
+        let before = self.renderer.camera().clone();
+        self.renderer.set_time(t)?;
+        if *self.renderer.camera() != before {
+            self.camera = super::camera::FlyCamera::new(scene, self.renderer.camera());
+        }
+        Ok(())
+    }
+
     fn recreate_swapchain(&mut self, args: &ViewArgs) -> anyhow::Result<()> {
         // The old swapchain's semaphores may still be waited on by a present, which no fence
         // tracks: only an idle device (queue included) frees them.
@@ -220,6 +239,8 @@ impl Running {
             radius_range: (auto_radius / 50.0, auto_radius * 50.0),
             paths: s.splat.paths,
             cap: s.splat.cap.unwrap_or(leakless::settings::DEFAULT_CAP),
+            time: r.time(),
+            duration: scene.is_animated().then(|| scene.duration()),
         };
         let before = sliders;
         if let Some(report) = r.last_report() {
@@ -254,11 +275,17 @@ impl Running {
             seed_frozen: self.seed_frozen,
             trivial_accept: s.splat.trivial_accept,
             light_moved: self.light_moved,
+            playing: self.playing && scene.is_animated(),
+            pose_update_ms: r.pose_update_ms(),
         };
         let mut help = self.show_help;
         self.overlay.run(&self.window, self.frame, |ctx| panel::show(ctx, &info, &mut sliders, &mut help))?;
         self.show_help = help;
-        if sliders != before {
+        if sliders.time != before.time {
+            self.animation_clock = sliders.time;
+            self.set_time(scene, sliders.time)?;
+        }
+        if (sliders.radius, sliders.paths, sliders.cap) != (before.radius, before.paths, before.cap) {
             self.renderer.update(|s| {
                 if sliders.radius != before.radius {
                     s.splat.radius = Some(sliders.radius);
