@@ -34,8 +34,9 @@ mod tests {
         assert_eq!(s.workgroup_size, [8, 8, 1]);
         assert_eq!(s.spirv[0], 0x0723_0203, "SPIR-V magic number");
         let b = s.reflection.expect("naga parses direct.comp:compute");
-        // Its own six, the trace backend's three (16, 17, 19) and the scene's four (20..=23).
-        assert_eq!(b.len(), 13);
+        // Its own six, the trace backend's five (16, 17, 18, 19, 24: bottom-level nodes and
+        // triangles, the top level, the scale, the instances) and the scene's four (20..=23).
+        assert_eq!(b.len(), 15);
 
         use BindingKind::*;
         assert_eq!(id(&b[0]), ("frame", 0, 0, UniformBuffer));
@@ -74,11 +75,13 @@ mod tests {
         let expected = [
             ("bvh_nodes", 16),
             ("bvh_triangles", 17),
+            ("bvh_top", 18),
             ("trace_scale", 19),
             ("scene_vertices", 20),
             ("triangle_materials", 21),
             ("materials", 22),
             ("texels", 23),
+            ("bvh_instances", 24),
         ];
         assert_eq!(names, expected);
     }
@@ -94,7 +97,7 @@ mod tests {
     }
 
     /// A ray-query variant, which naga cannot parse, is reflected by build.rs's SPIR-V scan:
-    /// it has `tlas` where its compute twin has the BVH buffers, and every binding the two
+    /// it has `tlas` where its compute twin has the BVH buffers (both levels), and every binding the two
     /// share (buffer layouts included, taken from the twin) is the twin's.
     #[test]
     fn rayquery_variants_are_reflected_like_their_compute_twins() {
@@ -108,7 +111,7 @@ mod tests {
             let cs = ALL.iter().find(|s| s.name == twin_name).expect("every ray-query variant has a compute twin");
             let (r, c) = (rq.reflection.expect(rq.name), cs.reflection.expect(cs.name));
             assert_eq!(only_in(r, c), ["tlas"], "{}", rq.name);
-            assert_eq!(only_in(c, r), ["bvh_nodes", "bvh_triangles"], "{}", cs.name);
+            assert_eq!(only_in(c, r), ["bvh_nodes", "bvh_triangles", "bvh_top", "bvh_instances"], "{}", cs.name);
             let tlas = r.iter().find(|b| b.name == "tlas").unwrap();
             assert_eq!((id(tlas), tlas.layout), (("tlas", 0, 16, AccelerationStructure), None), "{}", rq.name);
             for b in r.iter().filter(|b| b.name != "tlas") {

@@ -234,3 +234,39 @@ fn soak_keeps_memory_flat() {
     let (at_100, at_end) = (mib("RSS at frame 100"), mib("RSS at end"));
     assert!((at_end - at_100).abs() <= 4.0, "RSS grew from {at_100} MiB at frame 100 to {at_end} MiB: {line}");
 }
+
+/// The app plays the scene's animation (1/30 s per scripted frame): the door, open at first,
+/// has swung shut by frame 80 (t ≥ 2 s), leaving room B exactly black with leakless, and the
+/// capture's command carries the time. M stops the clock: without it, frame 130 would be
+/// 4.3 s into a 3 s loop, door half open, room B lit.
+#[test]
+fn the_app_plays_the_door_shut_and_m_stops_it() {
+    let Some(x) = xvfb() else { return };
+    let dir = common::tmp_path("view-door");
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let [open, closed, stopped] = ["open", "closed", "stopped"].map(|n| dir.join(format!("{n}.exr")));
+    let script = format!(
+        "3 capture {}\n80 capture {}\n85 key KeyM\n130 capture {}\n132 quit\n",
+        open.display(),
+        closed.display(),
+        stopped.display()
+    );
+    let script_path = dir.join("door.txt");
+    std::fs::write(&script_path, script).unwrap();
+    let args = ["scenes/door.gltf", "--size", "64x48", "--render-scale", "1", "--paths", "2000", "--script"];
+    let out = view(&x, &args.into_iter().chain([script_path.to_str().unwrap()]).collect::<Vec<_>>(), true);
+    assert_clean(&out);
+    let lit = |path: &Path| {
+        let image = exr::read(path).expect("read capture");
+        image.channel("G").expect("G").iter().filter(|&&v| v > 0.0).count()
+    };
+    assert!(lit(&open) > 100, "the open door lets light into room B");
+    assert_eq!(lit(&closed), 0, "room B behind the closed door");
+    assert_eq!(lit(&stopped), 0, "M stopped the animation with the door closed");
+    let stats: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(closed.with_extension("json")).unwrap()).unwrap();
+    let command = stats["command"].as_str().expect("the capture records its command");
+    assert!(command.contains(" --time 2 "), "{command}");
+    assert_eq!(stats["instances"], 3, "leaf, handle, bolt");
+}

@@ -58,6 +58,19 @@ pub enum BenchCommand {
         #[arg(long, default_value_t = 32)]
         frames: u32,
     },
+    /// Scenes that move: a leakless frame whose animation advances every frame against the
+    /// same frame of the scene frozen, per backend, with the instance update's own costs.
+    Animation {
+        /// An animated scene (.gltf or .glb), e.g. scenes/door.gltf.
+        scene: PathBuf,
+        #[arg(long, default_value = "320x240", value_parser = crate::parse_size)]
+        size: (u32, u32),
+        #[arg(long, default_value_t = 10_000)]
+        paths: u32,
+        /// Timed frames per configuration, at frames/3 times through the animation.
+        #[arg(long, default_value_t = 15)]
+        frames: u32,
+    },
     /// Photon splatting: per-pass times, hierarchy tests against brute force, growth with
     /// paths and resolution, and the branching factor B.
     Splat {
@@ -78,6 +91,9 @@ pub fn run(cmd: BenchCommand) -> anyhow::Result<()> {
         BenchCommand::Splat { scene, size, paths } => splat(scene, size, paths),
         BenchCommand::Flicker { scenes, size, paths, backend, frames } => {
             crate::bench_flicker::run(&scenes, size, paths, backend, frames)
+        }
+        BenchCommand::Animation { scene, size, paths, frames } => {
+            crate::bench_animation::run(&scene, size, paths, frames.max(1))
         }
         BenchCommand::Leak { scenes, size, paths, radius, backend, repeats } => {
             crate::bench_leak::run(&scenes, size, paths, radius, backend, repeats)

@@ -2,6 +2,7 @@
 //! Every subcommand drives the `leakless` library the same way the tests do.
 
 mod bench;
+mod bench_animation;
 mod bench_flicker;
 mod bench_leak;
 mod chart;
