@@ -1083,7 +1083,7 @@ fn mutate_json(doc: &mut Doc, corpus: &[Doc], rng: &mut Rng) -> Option<String> {
                     a.insert(at, x);
                     "duplicate an element of"
                 }
-                1 if a.len() > 0 && a.len() < 128 => {
+                1 if !a.is_empty() && a.len() < 128 => {
                     let copy = a.clone();
                     for _ in 0..1 + rng.below(3) {
                         a.extend(copy.iter().cloned());
@@ -1589,7 +1589,7 @@ fn mutate_text(text: &mut Vec<u8>, rng: &mut Rng) -> String {
         }
         3 => {
             let at = rng.below(text.len() + 1);
-            let with: &[u8] = *rng.pick(&[&b"\xFF"[..], b"\xEF\xBB\xBF", b"\0", b"\"", b"}", b"\\u0000"]);
+            let with: &[u8] = rng.pick::<&[u8]>(&[&b"\xFF"[..], b"\xEF\xBB\xBF", b"\0", b"\"", b"}", b"\\u0000"]);
             text.splice(at..at, with.iter().copied());
             format!("text insert {with:?} at {at}")
         }
@@ -2138,7 +2138,7 @@ fn load_seed(test: &str, mut doc: Doc, edit: impl FnOnce(&mut Value)) -> (Result
 }
 
 fn one_line_error(r: Result<Scene, SceneError>) -> String {
-    let e = r.err().expect("an error");
+    let e = r.expect_err("an error");
     let s = e.to_string();
     assert!(!s.is_empty() && !s.contains(['\n', '\r']), "{s:?}");
     s

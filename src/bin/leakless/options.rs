@@ -215,7 +215,7 @@ mod tests {
             eye: Vec3::new(0.1, -2.000_000_2, 1e-7),
             target: Vec3::new(std::f32::consts::PI, 0.3, -0.7),
             up: Vec3::Y,
-            yfov_degrees: 39.597752,
+            yfov_degrees: 39.597_75,
         };
         let back = parse_camera(&spec.flag()).unwrap();
         assert_eq!(back, spec);
