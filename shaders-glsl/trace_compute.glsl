@@ -106,6 +106,21 @@ bool bvh_triangle(BvhRay ray, BvhTriangle tri, float tmin, float tmax, out float
     return t > tmin && t < tmax;
 }
 
+// Which children of an interior node (children `left`, `left + 1`; h0/h1: their boxes are hit,
+// d0/d1: where the ray enters them) to visit: `next` now (NO_HIT: neither, pop the stack) and
+// `far` later (NO_HIT: none). Near child first: its hits shrink the ray and may cull the far one.
+void bvh_children(bool h0, bool h1, float d0, float d1, uint left, out uint next, out uint far) {
+    far = NO_HIT;
+    next = NO_HIT;
+    if (h0 && h1) {
+        bool left_near = d0 <= d1;
+        next = left_near ? left : left + 1u;
+        far = left_near ? left + 1u : left;
+    } else if (h0 || h1) {
+        next = h0 ? left : left + 1u;
+    }
+}
+
 // A world ray in part `inst`'s space: the static part's is the world ray itself; an
 // instance's origin and direction go through the inverse of its transform, which keeps the ray
 // parameter t, so hits in different parts compare.
@@ -139,18 +154,14 @@ bool trace_bvh_part(BvhRay ray, uint root, float tmin, bool any_hit, inout Hit h
             // hit.t shrinks as hits are found, culling everything behind the closest one.
             bool h0 = bvh_box(ray, bvh_nodes.nodes[left], tmin, hit.t, d0);
             bool h1 = bvh_box(ray, bvh_nodes.nodes[left + 1u], tmin, hit.t, d1);
-            if (h0 && h1) {
-                // Near child first: its hits shrink hit.t and may cull the far one.
-                bool left_near = d0 <= d1;
-                if (sp < uint(BVH_STACK_SIZE)) {  // always true (see BVH_STACK_SIZE)
-                    stack[sp] = left_near ? left + 1u : left;
-                    sp++;
-                }
-                node = left_near ? left : left + 1u;
-                continue;
+            uint next, far;
+            bvh_children(h0, h1, d0, d1, left, next, far);
+            if (far != NO_HIT && sp < uint(BVH_STACK_SIZE)) {  // always room (see BVH_STACK_SIZE)
+                stack[sp] = far;
+                sp++;
             }
-            if (h0 || h1) {
-                node = h0 ? left : left + 1u;
+            if (next != NO_HIT) {
+                node = next;
                 continue;
             }
         } else {
@@ -203,17 +214,14 @@ Hit trace_bvh_slot(vec3 origin, vec3 dir, float tmin, float tmax, bool any_hit, 
             float d0, d1;
             bool h0 = bvh_box(ray, bvh_top.nodes[left], tmin, hit.t, d0);
             bool h1 = bvh_box(ray, bvh_top.nodes[left + 1u], tmin, hit.t, d1);
-            if (h0 && h1) {
-                bool left_near = d0 <= d1;
-                if (sp < uint(BVH_TOP_STACK_SIZE)) {  // always true (see BVH_TOP_STACK_SIZE)
-                    stack[sp] = left_near ? left + 1u : left;
-                    sp++;
-                }
-                node = left_near ? left : left + 1u;
-                continue;
+            uint next, far;
+            bvh_children(h0, h1, d0, d1, left, next, far);
+            if (far != NO_HIT && sp < uint(BVH_TOP_STACK_SIZE)) {  // always room (BVH_TOP_STACK_SIZE)
+                stack[sp] = far;
+                sp++;
             }
-            if (h0 || h1) {
-                node = h0 ? left : left + 1u;
+            if (next != NO_HIT) {
+                node = next;
                 continue;
             }
         } else {

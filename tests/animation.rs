@@ -5,19 +5,10 @@
 mod common;
 
 use leakless::chart::metrics;
-use leakless::{BackendChoice, Method, RenderSettings, RenderedFrame, Renderer, Scene, SplatSettings};
+use leakless::{BackendChoice, Method, RenderSettings, RenderedFrame, Renderer, Scene};
 
 fn settings(method: Method, backend: BackendChoice) -> RenderSettings {
-    RenderSettings {
-        width: 64,
-        height: 48,
-        backend,
-        method,
-        max_bounces: 4,
-        seed: 1,
-        splat: SplatSettings { paths: 20_000, radius: Some(0.2), ..Default::default() },
-        ..Default::default()
-    }
+    common::photon_settings(method, backend, 20_000, 0.2)
 }
 
 fn renderer(scene: &Scene, settings: RenderSettings) -> Renderer {

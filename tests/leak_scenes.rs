@@ -4,7 +4,7 @@
 mod common;
 
 use leakless::chart::metrics;
-use leakless::{BackendChoice, Method, RenderSettings, RenderedFrame, Scene, SplatSettings};
+use leakless::{BackendChoice, Method, RenderSettings, RenderedFrame, Scene};
 use leakless_scene::LightKind;
 
 fn render(scene: &Scene, settings: RenderSettings) -> RenderedFrame {
@@ -12,16 +12,7 @@ fn render(scene: &Scene, settings: RenderSettings) -> RenderedFrame {
 }
 
 fn photons(method: Method, backend: BackendChoice, paths: u32, radius: f32) -> RenderSettings {
-    RenderSettings {
-        width: 64,
-        height: 48,
-        backend,
-        method,
-        max_bounces: 4,
-        seed: 1,
-        splat: SplatSettings { paths, radius: Some(radius), ..Default::default() },
-        ..Default::default()
-    }
+    common::photon_settings(method, backend, paths, radius)
 }
 
 /// The scene scaled by `s` about the origin, with point intensities scaled by s² so that

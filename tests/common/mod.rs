@@ -100,6 +100,25 @@ pub fn reference(path: &str, spp: u32, max_bounces: u32) -> Option<RenderedFrame
     render_with(path, settings)
 }
 
+/// A photon method at the leak scenes' test settings: 64×48, 4 bounces, seed 1.
+pub fn photon_settings(
+    method: leakless::Method,
+    backend: leakless::BackendChoice,
+    paths: u32,
+    radius: f32,
+) -> RenderSettings {
+    RenderSettings {
+        width: 64,
+        height: 48,
+        backend,
+        method,
+        max_bounces: 4,
+        seed: 1,
+        splat: leakless::SplatSettings { paths, radius: Some(radius), ..Default::default() },
+        ..Default::default()
+    }
+}
+
 /// Relative RMS difference of two layers: sqrt(Σ|a−b|²) / sqrt(Σ|b|²).
 pub fn relative_rms(a: &[[f32; 3]], b: &[[f32; 3]]) -> f64 {
     let (mut num, mut den) = (0.0f64, 0.0f64);
