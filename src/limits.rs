@@ -68,9 +68,15 @@ pub fn check(settings: &RenderSettings, scene: &Scene, backend: Backend, limits:
     // choosing the other backend. We fail rather than split the scene into several BLASes:
     // the per-triangle storage buffers below bind the whole scene at once and bound it far
     // earlier on most devices (lavapipe: 1.4 M triangles against 16.7 M primitives).
-    if backend == Backend::RayQuery && triangles > limits.max_primitive_count {
+    // The static triangles share one BLAS; each animated instance has its own.
+    let largest_blas = (scene.instances.iter().map(|i| i.triangle_count as u64))
+        .chain([scene.static_triangle_count() as u64])
+        .max()
+        .unwrap_or(0);
+    if backend == Backend::RayQuery && largest_blas > limits.max_primitive_count {
+        let what = if largest_blas == scene.static_triangle_count() as u64 { "static" } else { "animated" };
         return Err(limit(format!(
-            "the scene's {triangles} triangles exceed the device's maxPrimitiveCount ({}) for one BLAS; --backend compute has no such limit",
+            "the scene's {largest_blas} {what} triangles exceed the device's maxPrimitiveCount ({}) for one BLAS; --backend compute has no such limit",
             limits.max_primitive_count
         )));
     }
@@ -200,7 +206,7 @@ mod tests {
         let big = RenderSettings { width: 5000, ..ok.clone() };
         assert!(error(&big, Backend::Compute).contains("maxImageDimension2D (4096)"));
         // Two triangles, one allowed per BLAS: ray queries refuse, the compute BVH does not.
-        assert!(error(&ok, Backend::RayQuery).contains("2 triangles exceed the device's maxPrimitiveCount (1)"));
+        assert!(error(&ok, Backend::RayQuery).contains("2 static triangles exceed the device's maxPrimitiveCount (1)"));
         let mut many = ok.clone();
         many.splat.paths = 1_000_000; // 8M photons × 48 B > 2^27
         assert!(

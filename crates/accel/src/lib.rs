@@ -1,9 +1,13 @@
 //! Acceleration structures of leakless (docs/architecture.md §3 "Trace backends").
 //!
-//! * [`rayquery`]: the ray-query backend's BLAS and TLAS, built on the device.
-//! * [`bvh`]: the compute-shader backend. A binary BVH built on the CPU over the scene's flat
-//!   triangle list and flattened into two storage buffers ([`BvhNode`], [`BvhTriangle`]) that
+//! * [`rayquery`]: the ray-query backend's BLASes (one per part: the static triangles, each
+//!   animated instance) and TLAS, built on the device; the TLAS is rebuilt in the frame's graph
+//!   when parts move.
+//! * [`bvh`]: the compute-shader backend. A binary BVH built on the CPU over a flat triangle
+//!   list and flattened into two storage buffers ([`BvhNode`], [`BvhTriangle`]) that
 //!   `shaders-glsl/trace_compute.glsl` traverses; [`Bvh::intersect`] is its exact CPU twin.
+//! * [`instanced`]: the compute backend's two levels: one [`Bvh`] per part, concatenated, and
+//!   a top level over the parts' world boxes rebuilt on the host when they move.
 
 pub mod bvh;
 pub mod instanced;
