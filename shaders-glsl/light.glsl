@@ -42,7 +42,9 @@ vec3 visible_irradiance(Light light, vec3 p, vec3 n, vec3 ng) {
     vec3 l;
     float dist;
     light_direction(light, p, l, dist);
-    if (dot(n, l) <= 0.0 || dot(ng, l) <= 0.0) {
+    // At the light itself there is no direction (a point can land there: a path vertex moved
+    // back along its ray, positions a million metres out quantised to 1/16 m).
+    if (!(dist > 0.0) || dot(n, l) <= 0.0 || dot(ng, l) <= 0.0) {
         return vec3(0.0);
     }
     vec3 e = irradiance(light, p, n);

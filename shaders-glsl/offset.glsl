@@ -54,6 +54,8 @@ float lift_size(vec3 p) {
 //   rounding error past it, is then strictly on its own side of that surface, by far more than
 //   the rounding of a segment's crossing: a visibility segment to it from beyond the wall
 //   crosses the wall, and the next bounce cannot start beyond it.
+//   The reference path tracer does the same except within a lift of the triangle's boundary,
+//   where it moves the vertex back along the ray it arrived on (reference.comp says why).
 vec3 nudge_toward(vec3 p, vec3 target) {
     vec3 d = target - p;
     float len = length(d);

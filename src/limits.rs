@@ -74,9 +74,13 @@ pub fn check(settings: &RenderSettings, scene: &Scene, backend: Backend, limits:
         .max()
         .unwrap_or(0);
     if backend == Backend::RayQuery && largest_blas > limits.max_primitive_count {
-        let what = if largest_blas == scene.static_triangle_count() as u64 { "static" } else { "animated" };
+        let what = match (scene.instances.is_empty(), largest_blas == scene.static_triangle_count() as u64) {
+            (true, _) => format!("the scene's {largest_blas} triangles"),
+            (false, true) => format!("the scene's {largest_blas} static triangles"),
+            (false, false) => format!("one animated instance's {largest_blas} triangles"),
+        };
         return Err(limit(format!(
-            "the scene's {largest_blas} {what} triangles exceed the device's maxPrimitiveCount ({}) for one BLAS; --backend compute has no such limit",
+            "{what} exceed the device's maxPrimitiveCount ({}) for one BLAS; --backend compute has no such limit",
             limits.max_primitive_count
         )));
     }
@@ -206,7 +210,7 @@ mod tests {
         let big = RenderSettings { width: 5000, ..ok.clone() };
         assert!(error(&big, Backend::Compute).contains("maxImageDimension2D (4096)"));
         // Two triangles, one allowed per BLAS: ray queries refuse, the compute BVH does not.
-        assert!(error(&ok, Backend::RayQuery).contains("2 static triangles exceed the device's maxPrimitiveCount (1)"));
+        assert!(error(&ok, Backend::RayQuery).contains("2 triangles exceed the device's maxPrimitiveCount (1)"));
         let mut many = ok.clone();
         many.splat.paths = 1_000_000; // 8M photons × 48 B > 2^27
         assert!(
