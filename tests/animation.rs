@@ -197,7 +197,7 @@ fn camera_walk(path: &std::path::Path) -> String {
     for v in [0.0f32, 2.0, t0[0], t0[1], t0[2], t0[0] + 0.5, t0[1], t0[2]] {
         bytes.extend(v.to_le_bytes());
     }
-    let data = base64(&bytes);
+    let data = base64::encode(&bytes);
     let buffer = doc["buffers"].as_array().unwrap().len();
     doc["buffers"].as_array_mut().unwrap().push(serde_json::json!({
         "byteLength": 32, "uri": format!("data:application/octet-stream;base64,{data}")
@@ -218,22 +218,4 @@ fn camera_walk(path: &std::path::Path) -> String {
         "channels": [{"sampler": 0, "target": {"node": node, "path": "translation"}}]
     }]);
     doc.to_string()
-}
-
-/// Standard base64 with padding (for a data URI).
-fn base64(bytes: &[u8]) -> String {
-    const ALPHABET: &[u8] = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-    let mut out = String::new();
-    for chunk in bytes.chunks(3) {
-        let b = [chunk[0], *chunk.get(1).unwrap_or(&0), *chunk.get(2).unwrap_or(&0)];
-        let n = (b[0] as u32) << 16 | (b[1] as u32) << 8 | b[2] as u32;
-        for k in 0..4 {
-            if k <= chunk.len() {
-                out.push(ALPHABET[(n >> (18 - 6 * k) & 63) as usize] as char);
-            } else {
-                out.push('=');
-            }
-        }
-    }
-    out
 }

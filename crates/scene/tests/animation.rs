@@ -86,7 +86,7 @@ impl Doc {
     fn finish(self, mut root: Value) -> String {
         root["asset"] = json!({"version": "2.0"});
         root["buffers"] = json!([{"byteLength": self.bin.len(),
-                                  "uri": format!("data:application/octet-stream;base64,{}", base64(&self.bin))}]);
+                                  "uri": format!("data:application/octet-stream;base64,{}", base64::encode(&self.bin))}]);
         root["bufferViews"] = Value::Array(self.views);
         root["accessors"] = Value::Array(self.accessors);
         if root.get("extensions").is_none() {
@@ -95,23 +95,6 @@ impl Doc {
         root["extensionsUsed"] = json!(["KHR_lights_punctual"]);
         root.to_string()
     }
-}
-
-fn base64(data: &[u8]) -> String {
-    const A: &[u8; 64] = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-    let mut out = String::new();
-    for c in data.chunks(3) {
-        let n =
-            (u32::from(c[0]) << 16) | (u32::from(*c.get(1).unwrap_or(&0)) << 8) | u32::from(*c.get(2).unwrap_or(&0));
-        for k in 0..4 {
-            if k <= c.len() {
-                out.push(A[(n >> (18 - 6 * k) & 63) as usize] as char);
-            } else {
-                out.push('=');
-            }
-        }
-    }
-    out
 }
 
 /// A static light node (light 0), out of the way.

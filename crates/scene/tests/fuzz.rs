@@ -674,23 +674,6 @@ fn hand_seeds() -> Vec<Doc> {
 // ---------------------------------------------------------------------------------
 // Encodings.
 
-fn base64_encode(data: &[u8]) -> String {
-    const A: &[u8; 64] = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-    let mut out = String::with_capacity(data.len().div_ceil(3) * 4);
-    for c in data.chunks(3) {
-        let n =
-            (u32::from(c[0]) << 16) | (u32::from(*c.get(1).unwrap_or(&0)) << 8) | u32::from(*c.get(2).unwrap_or(&0));
-        for k in 0..4 {
-            if k <= c.len() {
-                out.push(A[(n >> (18 - 6 * k)) as usize & 63] as char);
-            } else {
-                out.push('=');
-            }
-        }
-    }
-    out
-}
-
 /// Lenient decoding (the mutators only decode what they encoded, or corrupted).
 fn base64_decode(s: &str) -> Option<Vec<u8>> {
     let mut out = Vec::with_capacity(s.len() / 4 * 3);
@@ -715,7 +698,7 @@ fn base64_decode(s: &str) -> Option<Vec<u8>> {
 }
 
 fn data_uri(mime: &str, data: &[u8]) -> String {
-    format!("data:{mime};base64,{}", base64_encode(data))
+    format!("data:{mime};base64,{}", base64::encode(data))
 }
 
 /// Splits a base64 data URI into (head up to and including the comma, bytes).
@@ -1346,7 +1329,7 @@ fn blob_set(doc: &mut Doc, b: Blob, bytes: Vec<u8>) -> Option<()> {
         Blob::Uri(key, i) => {
             let slot = doc.json.get_mut(key)?.get_mut(i)?.get_mut("uri")?;
             let (head, _) = split_data_uri(slot.as_str()?)?;
-            *slot = json!(format!("{head}{}", base64_encode(&bytes)));
+            *slot = json!(format!("{head}{}", base64::encode(&bytes)));
         }
     }
     Some(())
