@@ -26,6 +26,8 @@ pub struct ScenePose {
     pub version: u64,
     /// Host time of the last change (transforms, vertices, top level), in milliseconds.
     pub update_ms: f64,
+    /// Whether the scene has static triangles: the first part, which never moves.
+    has_static: bool,
 }
 
 impl ScenePose {
@@ -40,6 +42,7 @@ impl ScenePose {
             vertices: scene.vertices[first..].to_vec(),
             version: 0,
             update_ms: 0.0,
+            has_static: first > 0,
         }
     }
 
@@ -64,13 +67,13 @@ impl ScenePose {
 
     /// The TLAS's transforms, one per part: the static part's identity first when the scene
     /// has static triangles, then each instance's, row-major 3×4.
-    pub fn tlas_transforms(&self, has_static: bool) -> Vec<[f32; 12]> {
+    pub fn tlas_transforms(&self) -> Vec<[f32; 12]> {
         let rows = |m: &Mat4| {
             let r = |i: usize| m.row(i).to_array();
             let (a, b, c) = (r(0), r(1), r(2));
             [a[0], a[1], a[2], a[3], b[0], b[1], b[2], b[3], c[0], c[1], c[2], c[3]]
         };
-        let identity = has_static.then_some(leakless_accel::rayquery::IDENTITY);
+        let identity = self.has_static.then_some(leakless_accel::rayquery::IDENTITY);
         identity.into_iter().chain(self.transforms.iter().map(rows)).collect()
     }
 }

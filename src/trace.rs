@@ -224,7 +224,7 @@ impl TraceScene {
                         first_triangle: i.first_triangle,
                     }))
                     .collect();
-                let accel = RayQueryAccel::build(gpu, &parts, &pose.tlas_transforms(static_count > 0), opaque)?;
+                let accel = RayQueryAccel::build(gpu, &parts, &pose.tlas_transforms(), opaque)?;
                 let RayQueryStats {
                     build_ms,
                     blas_bytes,
@@ -283,8 +283,7 @@ impl TraceScene {
                 let blas_buffers: Vec<BufferHandle> =
                     accel.blases.iter().map(|b| graph.import_buffer(b.buffer())).collect();
                 if self.tlas_version.get() != pose.version {
-                    let has_static = gpu_scene.bvh.bvh.parts.first().is_some_and(|p| p.identity);
-                    accel.add_rebuild(graph, &pose.tlas_transforms(has_static), &mut tlas_buffer, &blas_buffers)?;
+                    accel.add_rebuild(graph, &pose.tlas_transforms(), &mut tlas_buffer, &blas_buffers)?;
                     self.tlas_version.set(pose.version);
                 }
                 Some(RayQueryHandles { tlas: accel.tlas.raw(), tlas_buffer, blas_buffers })
