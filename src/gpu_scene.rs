@@ -57,11 +57,6 @@ impl GpuScene {
                 | vk::BufferUsageFlags::SHADER_DEVICE_ADDRESS;
         }
         let vertices = Buffer::with_data(gpu, "vertices", vertex_usage, bytemuck::cast_slice(&scene.vertices))?;
-        if !scene.instances.is_empty() {
-            // Frames copy moved instances into it while the frame before may still read it:
-            // treated as written on the device, its first copy waits for every earlier use.
-            vertices.set_device_written();
-        }
         let triangle_materials =
             Buffer::with_data(gpu, "triangle materials", storage, bytemuck::cast_slice(&scene.triangle_material))?;
 

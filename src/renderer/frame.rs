@@ -1,7 +1,7 @@
-//! One frame, top to bottom: the camera, lights and moved instances of this frame, the G-buffer, direct light,
-//! the indirect light of the method, compose, the luminance statistics, and (for a window or a
-//! readback) the tonemap; then the counters copied out for the stats. Declared anew every
-//! frame from the renderer's state; submitted without waiting.
+//! One frame, top to bottom: the camera, lights and moved instances of this frame, the
+//! G-buffer, direct light, the indirect light of the method, compose, the luminance statistics,
+//! and (for a window or a readback) the tonemap; then the counters copied out for the stats.
+//! Declared anew every frame from the renderer's state; submitted without waiting.
 
 use std::time::Instant;
 

@@ -27,6 +27,9 @@ pub struct ResourceState {
     write_access: vk::AccessFlags2,
     /// Reads since that write, each already made visible.
     readers: Vec<Access>,
+    /// Stages of earlier frames that may still be reading the resource (frames in flight):
+    /// its first write in this frame waits for them.
+    earlier_frames: vk::PipelineStageFlags2,
 }
 
 impl ResourceState {
@@ -36,6 +39,19 @@ impl ResourceState {
         if written_before {
             state.write_stage = vk::PipelineStageFlags2::ALL_COMMANDS;
             state.write_access = vk::AccessFlags2::MEMORY_WRITE;
+        }
+        state
+    }
+
+    /// A buffer that frames share (imported, or kept in the pool from frame to frame), while
+    /// the frame before may still be running. Once written on the device, the last write
+    /// already makes a later write wait for everything before it; a buffer the host filled
+    /// (scene data, later updated by a copy) has no such write, so its first write waits for
+    /// every earlier command instead, and its reads wait for nothing.
+    pub fn shared_buffer(written_before: bool) -> Self {
+        let mut state = Self::buffer(written_before);
+        if !written_before {
+            state.earlier_frames = vk::PipelineStageFlags2::ALL_COMMANDS;
         }
         state
     }
@@ -59,14 +75,15 @@ impl ResourceState {
     }
 
     fn new(is_image: bool, layout: vk::ImageLayout) -> Self {
-        // Work from an earlier submission completed (the runner waits for it), but its writes
-        // still need making visible: treat them as one write by any stage.
+        // Work from an earlier submission is ordered before this one on the queue, but its
+        // writes still need making visible: treat them as one write by any stage.
         let (write_stage, write_access) = if layout == vk::ImageLayout::UNDEFINED {
             (vk::PipelineStageFlags2::NONE, vk::AccessFlags2::NONE)
         } else {
             (vk::PipelineStageFlags2::ALL_COMMANDS, vk::AccessFlags2::MEMORY_WRITE)
         };
-        ResourceState { is_image, layout, write_stage, write_access, readers: Vec::new() }
+        let earlier_frames = vk::PipelineStageFlags2::NONE;
+        ResourceState { is_image, layout, write_stage, write_access, readers: Vec::new(), earlier_frames }
     }
 
     pub fn layout(&self) -> vk::ImageLayout {
@@ -101,7 +118,8 @@ impl ResourceState {
 
         // A write or a layout change waits for the last write and for every read since it.
         let reader_stages = self.readers.iter().fold(vk::PipelineStageFlags2::NONE, |s, r| s | r.info().stage);
-        let src_stage = self.write_stage | reader_stages;
+        let src_stage = self.write_stage | reader_stages | self.earlier_frames;
+        self.earlier_frames = vk::PipelineStageFlags2::NONE;
         let transition = (src_stage != vk::PipelineStageFlags2::NONE || layout_change).then_some(Transition {
             src_stage,
             src_access: self.write_access,
@@ -147,6 +165,23 @@ mod tests {
     fn first_write_to_a_fresh_buffer_needs_no_barrier() {
         let mut b = ResourceState::buffer(false);
         assert_eq!(b.access(Access::ComputeWrite), None);
+    }
+
+    #[test]
+    fn a_shared_buffer_the_host_filled_waits_for_earlier_frames_before_its_first_write_only() {
+        let mut b = ResourceState::shared_buffer(false);
+        assert_eq!(b.access(Access::ComputeRead), None, "host data needs no barrier to be read");
+        let t = b.access(Access::TransferWrite).expect("a frame in flight may still read it");
+        assert_eq!((t.src_stage, t.src_access), (S::ALL_COMMANDS | S::COMPUTE_SHADER, A::NONE));
+        let t = b.access(Access::ComputeRead).expect("RAW");
+        assert_eq!((t.src_stage, t.src_access), (S::TRANSFER, A::TRANSFER_WRITE));
+        let t = b.access(Access::TransferWrite).expect("WAR within the frame");
+        assert_eq!(t.src_stage, S::TRANSFER | S::COMPUTE_SHADER, "earlier frames were waited for once");
+        // Written on the device before: the usual state already orders everything.
+        assert_eq!(
+            ResourceState::shared_buffer(true).access(Access::TransferWrite).map(|t| t.src_stage),
+            Some(S::ALL_COMMANDS)
+        );
     }
 
     #[test]

@@ -13,7 +13,7 @@ use leakless_device::{
 use crate::barrier::{ResourceState, Transition};
 use crate::bindings::{PassContext, Resolved, Resource};
 use crate::graph::{Graph, Pass, Source};
-use crate::pool::ResourcePool;
+use crate::pool::{PoolKey, ResourcePool};
 
 /// Time of one pass.
 #[derive(Clone, Debug)]
@@ -277,7 +277,11 @@ impl Graph<'_> {
             .zip(&sources)
             .map(|(r, s)| match (r, s) {
                 (_, Source::Acquired(_, stage)) => ResourceState::acquired_image(*stage),
-                (Resource::Buffer(b), _) => ResourceState::buffer(b.device_written()),
+                // This frame's copy of a per-frame buffer: the frame that used it last has completed.
+                (Resource::Buffer(b), Source::PoolBuffer(PoolKey::PerFrame(..))) => {
+                    ResourceState::buffer(b.device_written())
+                }
+                (Resource::Buffer(b), _) => ResourceState::shared_buffer(b.device_written()),
                 (Resource::Image(i), _) => ResourceState::image(i.layout()),
             })
             .collect();
