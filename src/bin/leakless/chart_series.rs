@@ -56,7 +56,8 @@ pub fn run(args: &ChartArgs) -> anyhow::Result<()> {
 
 fn print_table(s: &SceneSeries, budget_ms: f64) {
     println!(
-        "{} ({}x{}, ground truth {} frames x {} spp in {:.1} s):",
+        "{} ({}x{}, ground truth {} frames x {} spp in {:.1} s; errors at exactly each time, \
+         interpolated on log-log axes between the checkpoints around it):",
         s.scene,
         s.width,
         s.height,
@@ -67,18 +68,19 @@ fn print_table(s: &SceneSeries, budget_ms: f64) {
     println!("{:>8} {:<10} {:>8} {:>10} {:>9} {:>8}", "time", "method", "frames", "relMSE", "HDR-FLIP", "flicker");
     for t in [1000.0, budget_ms] {
         for m in [Method::Splat, Method::LeakLess, Method::Reference] {
-            let Some(p) = s.at(m, t) else {
-                println!("{:>7.0}s {:<10} (no image within the time)", t / 1e3, m.name());
+            let Some(e) = s.at(m, t) else {
+                println!("{:>7.0}s {:<10} (the series does not bracket this time)", t / 1e3, m.name());
                 continue;
             };
+            let flicker = s.points.iter().find(|p| p.method == m).and_then(|p| p.flicker);
             println!(
-                "{:>7.0}s {:<10} {:>8} {:>10.5} {:>9.4} {:>8}",
+                "{:>7.0}s {:<10} {:>7}+ {:>10.5} {:>9.4} {:>8}",
                 t / 1e3,
                 m.name(),
-                p.frames,
-                p.relmse.unwrap_or(f64::NAN),
-                p.flip,
-                p.flicker.map_or("-".into(), |f| format!("{f:.4}"))
+                e.frames,
+                e.relmse.unwrap_or(f64::NAN),
+                e.flip,
+                flicker.map_or("-".into(), |f| format!("{f:.4}"))
             );
         }
         if let (Some(ours), Some(reference)) = (s.at(Method::LeakLess, t), s.at(Method::Reference, t)) {
