@@ -73,11 +73,16 @@ vec3 indirect_sample(vec3 p, vec3 n, vec3 ng, vec3 albedo, inout Rng rng) {
         // reported on room B's floor triangle, whose centroid lies beyond the wall, and the path
         // went on from room B (one sample in 1.7 million on stress/partition-0mm.gltf, seed 1).
         // There the vertex moves back along the ray it arrived on, as view samples move toward
-        // the eye: that segment is free, so the point is on the side the path came from.
+        // the eye: that segment is free, so the point is on the side the path came from. Not
+        // where a lift is as large as the triangle (positions a million metres out, 1/16 m
+        // apart, lift 30 m): the move back would carry the vertex halfway to the last one, off
+        // every surface, while the move toward the centroid stays on the triangle.
         vec3 x = triangle_position(hit.triangle, hit.barycentrics);
-        vec3 y = near_boundary(hit.triangle, hit.barycentrics, lift_size(x))
+        vec3 middle = triangle_position(hit.triangle, vec2(1.0 / 3.0));
+        float lift = lift_size(x);
+        vec3 y = near_boundary(hit.triangle, hit.barycentrics, lift) && lift < 0.5 * distance(x, middle)
             ? nudge_toward(x, from)
-            : nudge_toward(x, triangle_position(hit.triangle, vec2(1.0 / 3.0)));
+            : nudge_toward(x, middle);
         vec3 ny = triangle_shading_normal(hit.triangle, hit.barycentrics);
         if (dot(ny, dir) > 0.0) {
             ny = -ny;  // two-sided: face the incoming ray
