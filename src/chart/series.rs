@@ -105,14 +105,10 @@ impl SceneSeries {
     pub fn at(&self, method: Method, ms: f64) -> Option<ErrorAt> {
         let mut points = self.points.iter().filter(|p| p.method == method);
         let before = points.clone().rfind(|p| p.wall_ms <= ms)?;
-        let after = match points.find(|p| p.wall_ms > ms) {
-            Some(after) => after,
-            None if before.wall_ms == ms => before,
-            None => return None,
-        };
-        if std::ptr::eq(before, after) {
+        if before.wall_ms == ms {
             return Some(ErrorAt { frames: before.frames, relmse: before.relmse, flip: before.flip });
         }
+        let after = points.find(|p| p.wall_ms > ms)?;
         let f = (ms.ln() - before.wall_ms.ln()) / (after.wall_ms.ln() - before.wall_ms.ln());
         let lerp = |a: f64, b: f64| {
             if a > 0.0 && b > 0.0 {
@@ -295,10 +291,10 @@ mod tests {
         assert_eq!(at.frames, 2);
         assert!((at.flip - 0.05).abs() < 1e-12, "{at:?}");
         assert!((at.relmse.expect("relmse") - 0.05).abs() < 1e-12);
-        // On a checkpoint: its own value.
-        assert!((s.at(Method::LeakLess, 1000.0).expect("bracketed").flip - 0.1).abs() < 1e-12);
-        // Outside the series, or another method: nothing.
+        // On a checkpoint, the last one included: its own value.
+        assert_eq!(s.at(Method::LeakLess, 1000.0), Some(ErrorAt { frames: 2, relmse: Some(0.1), flip: 0.1 }));
         assert_eq!(s.at(Method::LeakLess, 4000.0).map(|e| e.frames), Some(8));
+        // Outside the series, or another method: nothing.
         assert_eq!(s.at(Method::LeakLess, 4000.5), None);
         assert_eq!(s.at(Method::LeakLess, 400.0), None);
         assert_eq!(s.at(Method::Splat, 2000.0), None);
