@@ -35,6 +35,17 @@ pub fn max_list_entries(limits: &DeviceLimits) -> u32 {
     (limits.max_storage_buffer_range as u64 / per_entry).min(crate::splatting::MAX_LIST_CAPACITY as u64) as u32
 }
 
+/// The most light paths one frame may trace with `max_bounces` on a device with `limits`:
+/// its photon buffer within maxStorageBufferRange, its path and photon dispatches within
+/// maxComputeWorkGroupCount. [`check`] holds `--paths` to it; the frames of an accumulation
+/// grow to at most this many paths (their batches are clamped to it).
+pub fn max_frame_paths(limits: &DeviceLimits, max_bounces: u32) -> u64 {
+    let bounces = max_bounces.max(1) as u64;
+    let by_buffer = limits.max_storage_buffer_range as u64 / (bounces * std::mem::size_of::<Photon>() as u64);
+    let threads = limits.max_compute_work_group_count[0] as u64 * 64;
+    by_buffer.min(threads / bounces).min(threads)
+}
+
 /// Checks `settings` on `scene` with the trace `backend` against `limits`.
 pub fn check(settings: &RenderSettings, scene: &Scene, backend: Backend, limits: &DeviceLimits) -> Result<()> {
     let (w, h) = (settings.width, settings.height);

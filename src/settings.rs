@@ -24,6 +24,11 @@ pub struct RenderSettings {
     /// along one low-discrepancy sequence, with a gather radius that shrinks as in progressive
     /// photon mapping, and jittered pixel positions. 1: a single frame.
     pub frames: u32,
+    /// Photon batches (of `splat.paths` paths each) a frame of an accumulation traces at most:
+    /// frame k traces min(2^k, this) of them (`--max-batches`), so a still view's frames grow
+    /// and the per-frame work (view samples, hierarchy, visible disk, direct light) is shared by
+    /// more photons. 1: every frame traces `paths` paths.
+    pub max_batches: u32,
 }
 
 /// What computes the indirect light (docs/architecture.md §2).
@@ -80,6 +85,7 @@ impl Default for RenderSettings {
             seed: 0,
             splat: SplatSettings::default(),
             frames: 1,
+            max_batches: DEFAULT_MAX_BATCHES,
         }
     }
 }
@@ -91,6 +97,12 @@ pub const DEFAULT_CAP: u32 = 25;
 pub const MAX_SPP: u32 = 1 << 20;
 pub const MAX_BOUNCES: u32 = 64;
 pub const MAX_FRAMES: u32 = 1 << 16;
+pub const MAX_BATCHES: u32 = 64;
+
+/// Frames of an accumulation grow to 8 batches: the per-frame work is then under a tenth of a
+/// frame on lavapipe (docs/architecture.md §1), and a frame stays a few of the first frame's
+/// length, so the view still answers input while it converges.
+pub const DEFAULT_MAX_BATCHES: u32 = 8;
 
 /// Largest image side accepted: bounds memory (a 16k² frame of this renderer's layers would
 /// need tens of GiB).
@@ -110,6 +122,9 @@ impl RenderSettings {
         }
         if self.frames == 0 || self.frames > MAX_FRAMES {
             return bad(format!("--frames {} must be within 1..={MAX_FRAMES}", self.frames));
+        }
+        if self.max_batches == 0 || self.max_batches > MAX_BATCHES {
+            return bad(format!("--max-batches {} must be within 1..={MAX_BATCHES}", self.max_batches));
         }
         if self.max_bounces > MAX_BOUNCES {
             return bad(format!("--max-bounces {} must be at most {MAX_BOUNCES}", self.max_bounces));
@@ -156,6 +171,9 @@ impl RenderSettings {
                 );
                 if let Some(cap) = p.cap {
                     s += &format!(" cap={cap}");
+                }
+                if self.frames > 1 {
+                    s += &format!(" frames={} max_batches={}", self.frames, self.max_batches);
                 }
             }
             Method::Direct => {}

@@ -126,6 +126,8 @@ pub struct SplatFrame {
     pub eye: [f32; 3],
     /// Node-list entries this frame may use.
     pub list_capacity: u32,
+    /// Photon batches in `settings.paths` (the frames of an accumulation grow).
+    pub batches: u32,
 }
 
 /// The exponent α of the radius reduction of progressive photon mapping (Knaus and Zwicker,
@@ -134,10 +136,13 @@ pub struct SplatFrame {
 /// the variance that a shrinking radius adds against the bias it removes.
 pub const PPM_ALPHA: f64 = 2.0 / 3.0;
 
-/// The gather radius of frame `index` (0-based) of an accumulation that starts at `radius`:
-/// the global radius sequence of Knaus and Zwicker, one radius per frame for every pixel. It
-/// needs no per-pixel state (unlike SPPM's per-pixel radius, which needs each pixel's photon
-/// count), so each frame stays an independent estimate and the image is their plain average.
+/// The gather radius of photon batch `index` (0-based) of an accumulation that starts at
+/// `radius`: the global radius sequence of Knaus and Zwicker, one radius per batch of `paths`
+/// paths for every pixel. It needs no per-pixel state (unlike SPPM's per-pixel radius, which
+/// needs each pixel's photon count), so each batch stays an independent estimate and the image
+/// is their plain average. A frame of several batches gives all of them its first batch's
+/// radius: indexing by batches, not frames, makes the radius follow the photons traced so far
+/// however frames group them (as SPPM's follows each pixel's photon count).
 pub fn progressive_radius(radius: f32, index: u32) -> f32 {
     if index == 0 {
         return radius; // exactly: a single frame is the frame without accumulation
@@ -147,6 +152,13 @@ pub fn progressive_radius(radius: f32, index: u32) -> f32 {
         r2 *= (i as f64 + PPM_ALPHA) / (i as f64 + 1.0);
     }
     (radius as f64 * r2.sqrt()) as f32
+}
+
+/// Photon batches frame `index` (0-based) of an accumulation traces: 1, 2, 4, … up to
+/// `max_batches`. Frame 0 is one batch, exactly the frame without accumulation; doubling
+/// keeps the first second's frames short while the per-frame work soon weighs little.
+pub fn frame_batches(index: u32, max_batches: u32) -> u32 {
+    1u32.checked_shl(index).unwrap_or(u32::MAX).min(max_batches.max(1))
 }
 
 impl SplatFrame {
@@ -313,4 +325,19 @@ pub fn grown_list_capacity(current: u32, counters: &SplatCounters) -> Option<u32
     }
     // `entries_used` counts every attempted append: exactly what the frame needed.
     Some((counters.entries_used as u64 * 5 / 4).min(MAX_LIST_CAPACITY as u64) as u32)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn frames_double_their_batches_up_to_the_most() {
+        let batches: Vec<u32> = (0..6).map(|k| frame_batches(k, 8)).collect();
+        assert_eq!(batches, [1, 2, 4, 8, 8, 8]);
+        assert_eq!(frame_batches(40, 8), 8, "a shift past the word's width");
+        assert_eq!(frame_batches(u32::MAX, 64), 64);
+        assert_eq!((frame_batches(0, 1), frame_batches(5, 1)), (1, 1));
+        assert_eq!(frame_batches(3, 0), 1, "at least one batch");
+    }
 }

@@ -50,6 +50,8 @@ pub struct Stats {
     pub frame_wall_ms: f64,
     /// Reference samples (or photon frames) in the image.
     pub accumulated: u32,
+    /// Photon batches (of `paths` paths) in the image: frames grow while accumulating.
+    pub batches: u32,
     /// The seed of the image's photons.
     pub seed: u32,
     /// Seconds on the scene's animation clock.
@@ -92,6 +94,7 @@ impl Stats {
             frame_gpu_ms: frame.timings.iter().map(|t| t.ms).sum(),
             frame_wall_ms: frame.wall_ms,
             accumulated: frame.accumulated,
+            batches: frame.batches,
             seed: frame.seed,
             time: renderer.time(),
             instances: scene.instances.len(),

@@ -17,8 +17,10 @@ gpu_struct! {
         pub first: u32,
         /// 1 / the frames in the sums once this one is added.
         pub inv_frames: f32,
-        pub pad0: u32,
-        pub pad1: u32,
+        /// Photon batches this frame traced: the weight of its photon layers.
+        pub batches: f32,
+        /// 1 / the photon batches in the sums once this one is added.
+        pub inv_batches: f32,
     }
 }
 
@@ -60,6 +62,17 @@ pub struct Means<'a> {
     pub radiance: &'a mut ImageHandle,
 }
 
+/// How much an accumulation holds once a frame is added.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Accumulated {
+    /// Frames (1 for the first).
+    pub frames: u32,
+    /// Photon batches, this frame's included.
+    pub batches: u32,
+    /// Photon batches this frame traced.
+    pub frame_batches: u32,
+}
+
 pub struct AccumulatePass {
     pipeline: ComputePipeline,
 }
@@ -76,21 +89,22 @@ impl AccumulatePass {
         Ok(AccumulatePass { pipeline })
     }
 
-    /// Adds frame number `frames` (1 for the first) of an accumulation to `sums` and writes
-    /// the means.
+    /// Adds frame number `count.frames` (1 for the first) of an accumulation to `sums` and
+    /// writes the means: the direct layer's over frames, the photon layers' over batches.
     pub fn add<'r>(
         &'r self,
         graph: &mut Graph<'r>,
-        frames: u32,
+        count: Accumulated,
         frame: &BufferHandle,
         layers: FrameLayers<'_>,
         sums: Sums<'_>,
         means: Means<'_>,
     ) {
         let params = AccumulateParams {
-            first: (frames <= 1) as u32,
-            inv_frames: 1.0 / frames.max(1) as f32,
-            ..Default::default()
+            first: (count.frames <= 1) as u32,
+            inv_frames: 1.0 / count.frames.max(1) as f32,
+            batches: count.frame_batches as f32,
+            inv_batches: 1.0 / count.batches.max(1) as f32,
         };
         let extent = means.radiance.extent();
         let mut pass = graph.pass("accumulate");

@@ -13,7 +13,7 @@ use super::readback::{ReadbackRequest, LAYERS_BUFFER};
 use super::{FrameReport, Pending, Renderer};
 use crate::error::Result;
 use crate::gpu_types::Frame;
-use crate::passes::accumulate::{FrameLayers, Means, Sums};
+use crate::passes::accumulate::{Accumulated, FrameLayers, Means, Sums};
 use crate::passes::compose::{ComposeImages, ComposeParams};
 use crate::passes::gather::{self, GatherCounters, GatherOutputs};
 use crate::passes::gbuffer::{self, GBufferHandles};
@@ -81,20 +81,40 @@ impl Renderer {
         // frame without accumulation.
         let progressive = render && self.accumulating();
         let index = if progressive { self.accumulated } else { 0 };
+        // Its photons: `frame_batches` batches of `paths` paths, batch `first_batch` onward.
+        let first_batch = if progressive { self.batches } else { 0 };
+        let frame_batches = if progressive {
+            let fits = crate::limits::max_frame_paths(&self.gpu.report().limits, self.settings.max_bounces)
+                / self.settings.splat.paths.max(1) as u64;
+            splatting::frame_batches(index, self.settings.max_batches).min(fits.clamp(1, u32::MAX as u64) as u32)
+        } else {
+            1
+        };
         let mut splat = None;
-        if let Some(settings) = self.settings.photon_settings().filter(|_| render) {
+        if let Some(mut settings) = self.settings.photon_settings().filter(|_| render) {
             let radius = settings.radius.unwrap_or(0.05 * self.scene.bounds().bounding_radius());
             if !(radius.is_finite() && radius > 0.0) {
                 return Err(crate::RenderError::Settings(format!("--radius {radius} must be a positive number")));
             }
+            let batch_paths = settings.paths;
+            // Within limits::max_frame_paths: the batches are clamped to it, and check() holds
+            // one batch to it.
+            settings.paths = batch_paths.saturating_mul(frame_batches);
             splat = Some(SplatFrame {
-                radius: splatting::progressive_radius(radius, index),
-                path_offset: index.wrapping_mul(settings.paths),
+                radius: splatting::progressive_radius(radius, first_batch),
+                path_offset: first_batch.wrapping_mul(batch_paths),
                 eye: self.camera.position().to_array(),
                 settings,
                 max_bounces: self.settings.max_bounces,
                 seed,
-                list_capacity: self.list_capacity,
+                // The renderer's capacity is per batch, unless fixed by the user.
+                list_capacity: match self.settings.splat.list_capacity {
+                    Some(fixed) => fixed,
+                    None => (self.list_capacity as u64 * frame_batches as u64)
+                        .min(crate::limits::max_list_entries(&self.gpu.report().limits) as u64)
+                        as u32,
+                },
+                batches: frame_batches,
             });
         }
         // A reference frame of an accumulation is a whole image of `spp` samples.
@@ -108,6 +128,12 @@ impl Renderer {
             (true, _) if progressive => self.accumulated + 1,
             (true, Method::Reference) => self.accumulated + samples,
             (true, _) => 1,
+        };
+        // Photon batches in the image after this frame (frames without photons count one).
+        let batches = match (render, progressive) {
+            (false, _) => self.batches,
+            (true, true) => first_batch + frame_batches,
+            (true, false) => 1,
         };
         let jitter = if progressive { pixel_jitter(index) } else { glam::Vec2::ZERO };
         let frame_constants = Frame {
@@ -232,7 +258,7 @@ impl Renderer {
             let mut mean_radiance = layer(&mut g, "mean radiance")?;
             passes.accumulate.add(
                 &mut g,
-                accumulated,
+                Accumulated { frames: accumulated, batches, frame_batches },
                 &frame,
                 FrameLayers { direct: &direct, indirect: &indirect, leaked: &leaked },
                 Sums { direct: &mut sum_direct, indirect: &mut sum_indirect, leaked: &mut sum_leaked },
@@ -296,8 +322,17 @@ impl Renderer {
         }
         let _in_flight = g.submit(&sync)?;
         let index = self.runner.next_frame() - 1;
-        self.pending.push_back(Pending { index, shown_only: !render, seed, splat, accumulated, method, started });
-        self.accumulated = accumulated;
+        self.pending.push_back(Pending {
+            index,
+            shown_only: !render,
+            seed,
+            splat,
+            accumulated,
+            batches,
+            method,
+            started,
+        });
+        (self.accumulated, self.batches) = (accumulated, batches);
         // Fresh photons for the next frame, unless it continues an accumulation's sequence.
         if self.advance_seed && method.splats() && render && !progressive {
             self.seed_offset = self.seed_offset.wrapping_add(1);
@@ -330,6 +365,7 @@ impl Renderer {
             if self.settings.splat.list_capacity.is_none() {
                 if let Some(grown) = grown_list_capacity(frame.list_capacity, &counters.lists) {
                     let grown = grown.min(crate::limits::max_list_entries(&self.gpu.report().limits));
+                    let grown = grown.div_ceil(frame.batches.max(1));
                     if grown > self.list_capacity {
                         // The frame lost photons: an accumulation restarts without it.
                         self.list_capacity = grown;
@@ -354,6 +390,7 @@ impl Renderer {
             splat,
             luminance: counters.luminance,
             accumulated: pending.accumulated,
+            batches: pending.batches,
             wall_ms: pending.started.elapsed().as_secs_f64() * 1e3,
         });
         Ok(())

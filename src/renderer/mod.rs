@@ -91,6 +91,8 @@ struct Pending {
     splat: Option<SplatFrame>,
     /// Samples (reference) or frames (photons) in the image after this frame.
     accumulated: u32,
+    /// Photon batches in the image after this frame.
+    batches: u32,
     method: Method,
     started: std::time::Instant,
 }
@@ -109,6 +111,9 @@ pub struct FrameReport {
     pub luminance: LuminanceStats,
     /// Samples (reference) or frames accumulated in the image.
     pub accumulated: u32,
+    /// Photon batches (of `paths` paths) accumulated in the image: frames grow while the view
+    /// is still (`RenderSettings::max_batches`).
+    pub batches: u32,
     /// Host time from the start of the frame's declaration to the moment the host saw it
     /// complete (includes waiting for it).
     pub wall_ms: f64,
@@ -131,6 +136,8 @@ pub struct Renderer {
     list_capacity: u32,
     /// Samples (reference) or photon frames accumulated since the last change.
     accumulated: u32,
+    /// Photon batches in those frames.
+    batches: u32,
     /// Reference samples each frame adds.
     samples_per_frame: u32,
     /// Photon frames advance the seed unless frozen (a fixed seed fixes the frame).
@@ -183,6 +190,7 @@ impl Renderer {
             view: ViewLayer::Final,
             exposure: None,
             accumulated: 0,
+            batches: 0,
             samples_per_frame: 1,
             advance_seed: false,
             progressive: false,
@@ -292,6 +300,7 @@ impl Renderer {
     /// Restarts accumulation: the next frame starts a new image.
     fn restart(&mut self) {
         self.accumulated = 0;
+        self.batches = 0;
     }
 
     /// Changes any settings at once; validated first, and a change that needs a new backend

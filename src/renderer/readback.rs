@@ -46,6 +46,8 @@ pub struct RenderedFrame {
     pub splat: Option<SplatStats>,
     /// Reference samples (or photon frames) in the image.
     pub accumulated: u32,
+    /// Photon batches (of `paths` paths) in the image.
+    pub batches: u32,
     /// The seed the image's photons were traced with.
     pub seed: u32,
 }
@@ -145,6 +147,7 @@ impl Renderer {
             wall_ms: report.wall_ms,
             splat: report.splat.clone(),
             accumulated: report.accumulated,
+            batches: report.batches,
             seed: report.seed,
         })
     }

@@ -55,6 +55,11 @@ pub struct RenderOptions {
     /// sequence, a shrinking radius, jittered pixels).
     #[arg(long, default_value_t = 1)]
     pub frames: u32,
+    /// Photon batches of --paths paths a frame of an accumulation traces at most: frame k
+    /// traces min(2^k, this), so the per-frame work is shared by more photons as the image
+    /// converges (1: every frame traces --paths paths).
+    #[arg(long, default_value_t = leakless::settings::DEFAULT_MAX_BATCHES)]
+    pub max_batches: u32,
     /// Samples per pixel of the reference path tracer.
     #[arg(long, default_value_t = 64)]
     pub spp: u32,
@@ -164,6 +169,7 @@ impl RenderOptions {
             max_bounces: self.max_bounces,
             seed: self.seed,
             frames: self.frames,
+            max_batches: self.max_batches,
             splat: SplatSettings {
                 paths: self.paths,
                 radius: self.radius,

@@ -96,6 +96,9 @@ fn command(
         }
         if frame.accumulated > 1 {
             c.push(format!("--frames {}", frame.accumulated));
+            if s.max_batches != leakless::settings::DEFAULT_MAX_BATCHES {
+                c.push(format!("--max-batches {}", s.max_batches));
+            }
         }
     }
     if s.method == Method::Reference {

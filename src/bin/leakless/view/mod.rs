@@ -142,6 +142,11 @@ struct Running {
     animation_clock: f32,
     last_shown: Option<Instant>,
     frame_ms: f64,
+    /// Photon batches a still view's frames may grow to (`--max-batches`, the slider); each
+    /// accumulation grows to fewer when that would take a frame past `STILL_FRAME_BUDGET_MS`.
+    batch_limit: u32,
+    /// A measured frame has fitted the batches (until then, frames stay at one batch).
+    batches_fitted: bool,
     /// On CPU devices, per-pass times come from a frame every this many whose passes are each
     /// submitted alone (timestamps there do not bracket compute work); 0: every frame, from
     /// timestamps.
@@ -232,6 +237,8 @@ impl App {
             animation_clock: options.time,
             last_shown: None,
             frame_ms: 0.0,
+            batch_limit: options.max_batches,
+            batches_fitted: false,
             profile_every: if device_type == DeviceType::Cpu { 30 } else { 0 },
             backend_note: None,
             timings: None,

@@ -39,6 +39,8 @@ pub struct Sliders {
     pub radius: f32,
     pub radius_range: (f32, f32),
     pub paths: u32,
+    /// Photon batches a still view's frames grow to.
+    pub max_batches: u32,
     pub cap: u32,
     /// The scene's clock, and its animation's length (`None`: nothing moves).
     pub time: f32,
@@ -82,7 +84,8 @@ pub fn show(ctx: &egui::Context, info: &PanelInfo<'_>, sliders: &mut Sliders, he
             if report.method == Method::Reference {
                 ui.label(format!("reference: {} spp accumulated", report.accumulated));
             } else if let Some(s) = &report.splat {
-                ui.label(format!("{} photon frames accumulated, radius now {:.4}", report.accumulated, s.radius));
+                let (frames, batches) = (report.accumulated, report.batches);
+                ui.label(format!("{frames} photon frames accumulated ({batches} batches), radius now {:.4}", s.radius));
             }
             if let Some(timings) = info.timings {
                 ui.separator();
@@ -106,6 +109,8 @@ pub fn show(ctx: &egui::Context, info: &PanelInfo<'_>, sliders: &mut Sliders, he
         let (lo, hi) = sliders.radius_range;
         ui.add(egui::Slider::new(&mut sliders.radius, lo..=hi).logarithmic(true).text("radius"));
         ui.add(egui::Slider::new(&mut sliders.paths, 1_000..=1_000_000).logarithmic(true).text("paths"));
+        let most = leakless::settings::MAX_BATCHES;
+        ui.add(egui::Slider::new(&mut sliders.max_batches, 1..=most).logarithmic(true).text("batches when still"));
         ui.add(egui::Slider::new(&mut sliders.cap, 1..=200).text("cap"));
         if let Some(duration) = sliders.duration {
             ui.add(egui::Slider::new(&mut sliders.time, 0.0..=duration).text("time (s)"));

@@ -18,6 +18,9 @@ use super::{capture, Running, ViewArgs};
 
 /// The time step of scripted runs: the same motion whatever the machine's speed.
 const SCRIPT_DT: f32 = 1.0 / 30.0;
+/// A still view's frames grow only while they stay within this (fit_batches): 10 frames a
+/// second keeps keys and the mouse answered at once.
+const STILL_FRAME_BUDGET_MS: f64 = 100.0;
 
 impl Running {
     pub(super) fn resize(&mut self, width: u32, height: u32) {
@@ -167,6 +170,7 @@ impl Running {
         let profile = self.profile_every > 0 && self.frame % self.profile_every == 1;
         self.renderer.set_timing(if profile { Timing::PerPassSubmit } else { Timing::Timestamps });
 
+        self.fit_batches()?;
         let slot = self.renderer.wait_for_slot()?;
         let swapchain = self.swapchain.as_ref().expect("made above");
         let Some(acquired) = swapchain.acquire(slot)? else {
@@ -189,6 +193,35 @@ impl Running {
         }
         self.last_shown = Some(now);
         summary.frame();
+        Ok(())
+    }
+
+    /// How many photon batches a still view's frames may grow to, so that a frame stays
+    /// within `STILL_FRAME_BUDGET_MS` and the app answers a key at once. A frame of B batches
+    /// is taken to cost B times the last frame's time per batch (an upper bound: the view
+    /// samples' work is shared). Fitted at the start of each accumulation, and once more when
+    /// the first measurement arrives (frames do not grow before it). On a GPU a batch takes
+    /// milliseconds and frames grow to the limit; on lavapipe at the default size one batch
+    /// already fills the budget and frames stay at one.
+    fn fit_batches(&mut self) -> anyhow::Result<()> {
+        let fresh = self.renderer.accumulated() == 0;
+        if !fresh && self.batches_fitted {
+            return Ok(());
+        }
+        let s = self.renderer.settings();
+        let measured = self.renderer.last_report().and_then(|r| r.splat.as_ref()).filter(|_| self.frame_ms > 0.0);
+        let fit = match measured {
+            Some(last) => {
+                let per_batch = self.frame_ms / (last.paths / s.splat.paths.max(1)).max(1) as f64;
+                self.batches_fitted = true;
+                (STILL_FRAME_BUDGET_MS / per_batch).floor().clamp(1.0, self.batch_limit as f64) as u32
+            }
+            None if fresh => 1,
+            None => return Ok(()),
+        };
+        if fit != s.max_batches {
+            self.renderer.update(|s| s.max_batches = fit)?;
+        }
         Ok(())
     }
 
@@ -238,6 +271,7 @@ impl Running {
             radius: s.splat.radius.unwrap_or(auto_radius),
             radius_range: (auto_radius / 50.0, auto_radius * 50.0),
             paths: s.splat.paths,
+            max_batches: self.batch_limit,
             cap: s.splat.cap.unwrap_or(leakless::settings::DEFAULT_CAP),
             time: r.time(),
             duration: scene.is_animated().then(|| scene.duration()),
@@ -285,12 +319,15 @@ impl Running {
             self.animation_clock = sliders.time;
             self.set_time(scene, sliders.time)?;
         }
-        if (sliders.radius, sliders.paths, sliders.cap) != (before.radius, before.paths, before.cap) {
+        self.batch_limit = sliders.max_batches;
+        let changed = |s: &Sliders| (s.radius, s.paths, s.cap, s.max_batches);
+        if changed(&sliders) != changed(&before) {
             self.renderer.update(|s| {
                 if sliders.radius != before.radius {
                     s.splat.radius = Some(sliders.radius);
                 }
                 s.splat.paths = sliders.paths;
+                s.max_batches = sliders.max_batches;
                 if sliders.cap != before.cap {
                     s.splat.cap = Some(sliders.cap);
                 }
