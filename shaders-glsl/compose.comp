@@ -26,9 +26,11 @@ void main() {
         return;
     }
     // Never read the sum when it is not used: its content is then undefined.
-    vec3 l_indirect = params.indirect_scale == 0.0 ? vec3(0.0) : imageLoad(indirect_sum, pixel).rgb * params.indirect_scale;
+    vec4 sum = params.indirect_scale == 0.0 ? vec4(0.0, 0.0, 0.0, 1.0) : imageLoad(indirect_sum, pixel);
+    vec3 l_indirect = sum.rgb * params.indirect_scale;
     vec3 l_direct = imageLoad(direct, pixel).rgb;
-    imageStore(indirect, pixel, vec4(l_indirect, 1.0));
+    // .a: the gather's visible-disk mass, which accumulation weighs the frame by (1 otherwise).
+    imageStore(indirect, pixel, vec4(l_indirect, params.gathered != 0u ? sum.a : 1.0));
     imageStore(radiance, pixel, vec4(l_direct + l_indirect, 1.0));
     if (params.gathered == 0u) {
         imageStore(leaked, pixel, vec4(0.0));

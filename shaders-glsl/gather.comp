@@ -122,7 +122,7 @@ void main() {
     uint pixel = sorted_samples.pixels[s];
     ivec2 xy = ivec2(pixel % params.image_width, pixel / params.image_width);
     if (sorted_keys.keys[s] == INVALID_SAMPLE_KEY) {
-        imageStore(indirect_sum, xy, vec4(0.0));
+        imageStore(indirect_sum, xy, vec4(0.0, 0.0, 0.0, 1.0));
         imageStore(leaked, xy, vec4(0.0));
         imageStore(gather_counts, xy, vec4(0.0));
         return;
@@ -181,7 +181,8 @@ void main() {
     }
     vec3 albedo_over_pi = imageLoad(gbuffer_albedo, xy).rgb / PI;
     float mass = params.visible_disk != 0u ? imageLoad(disk_mass, xy).r : 1.0;
-    imageStore(indirect_sum, xy, vec4(albedo_over_pi * vec3(kept) / (params.fixed_scale * mass), 1.0));
+    // .a carries the mass on: accumulation divides summed flux by summed mass (accumulate.comp).
+    imageStore(indirect_sum, xy, vec4(albedo_over_pi * vec3(kept) / (params.fixed_scale * mass), mass));
     imageStore(leaked, xy, vec4(albedo_over_pi * vec3(lost) / params.fixed_scale, 1.0));
     float rays = params.visibility != 0u ? float(accepted - proven) : 0.0;
     imageStore(gather_counts, xy, vec4(float(candidates), rays, float(occluded), 0.0));

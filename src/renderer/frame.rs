@@ -83,7 +83,7 @@ impl Renderer {
         let index = if progressive { self.accumulated } else { 0 };
         // Its photons: `frame_batches` batches of `paths` paths, batch `first_batch` onward.
         let first_batch = if progressive { self.batches } else { 0 };
-        let frame_batches = if progressive {
+        let frame_batches = if progressive && method.splats() {
             let fits = crate::limits::max_frame_paths(&self.gpu.report().limits, self.settings.max_bounces)
                 / self.settings.splat.paths.max(1) as u64;
             splatting::frame_batches(index, self.settings.max_batches).min(fits.clamp(1, u32::MAX as u64) as u32)
