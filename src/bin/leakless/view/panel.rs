@@ -108,7 +108,9 @@ pub fn show(ctx: &egui::Context, info: &PanelInfo<'_>, sliders: &mut Sliders, he
         ui.separator();
         let (lo, hi) = sliders.radius_range;
         ui.add(egui::Slider::new(&mut sliders.radius, lo..=hi).logarithmic(true).text("radius"));
-        ui.add(egui::Slider::new(&mut sliders.paths, 1_000..=1_000_000).logarithmic(true).text("paths"));
+        // The range holds the value given on the command line: egui clamps a value outside it.
+        let paths_range = sliders.paths.min(1_000)..=sliders.paths.max(1_000_000);
+        ui.add(egui::Slider::new(&mut sliders.paths, paths_range).logarithmic(true).text("paths"));
         let most = leakless::settings::MAX_BATCHES;
         ui.add(egui::Slider::new(&mut sliders.max_batches, 1..=most).logarithmic(true).text("batches when still"));
         ui.add(egui::Slider::new(&mut sliders.cap, 1..=200).text("cap"));

@@ -21,6 +21,8 @@ const SCRIPT_DT: f32 = 1.0 / 30.0;
 /// A still view's frames grow only while they stay within this (fit_batches): 10 frames a
 /// second keeps keys and the mouse answered at once.
 const STILL_FRAME_BUDGET_MS: f64 = 100.0;
+/// Frames before one is taken to measure the time of a batch.
+const WARM_UP_FRAMES: u64 = 4;
 
 impl Running {
     pub(super) fn resize(&mut self, width: u32, height: u32) {
@@ -209,7 +211,9 @@ impl Running {
             return Ok(());
         }
         let s = self.renderer.settings();
-        let measured = self.renderer.last_report().and_then(|r| r.splat.as_ref()).filter(|_| self.frame_ms > 0.0);
+        // The first frames (pipelines warming, lists growing) are slower than the rest.
+        let settled = self.frame > WARM_UP_FRAMES && self.frame_ms > 0.0;
+        let measured = self.renderer.last_report().and_then(|r| r.splat.as_ref()).filter(|_| settled);
         let fit = match measured {
             Some(last) => {
                 let per_batch = self.frame_ms / (last.paths / s.splat.paths.max(1)).max(1) as f64;
