@@ -93,9 +93,10 @@ fn atrium_single_frames_are_unbiased_at_the_default_radius_and_twice_it() {
 
 /// Where the fix has less to fix, it must cost little accuracy: 16 accumulated frames of the
 /// Cornell box and the doorway, relMSE of the indirect layer against the reference with the
-/// same 16 pixel jitters. The issue asks for no worse; we measure the Cornell box 7% worse
-/// (0.0294 against 0.0276 here: the wall photons it no longer counts in corners were averaging
-/// noise away) and the doorway better, so this bounds the loss at 10% until that is won back.
+/// same 16 pixel jitters. The issue asks for no worse; we measure the Cornell box 1.6% worse
+/// (0.02798 against 0.02755 here, since accumulation divides summed flux by summed mass; 7% as
+/// a mean of per-frame ratios: the wall photons it no longer counts in corners were averaging
+/// noise away) and the doorway better, so this bounds the loss at 4% until that is won back.
 /// The two rooms' dark room stays exactly black.
 #[test]
 fn the_visible_disk_costs_no_accuracy_elsewhere() {
@@ -134,6 +135,6 @@ fn the_visible_disk_costs_no_accuracy_elsewhere() {
             "{path}: relMSE over 16 frames {:.5} with the whole disk, {:.5} with the visible disk",
             errors[0], errors[1]
         );
-        assert!(errors[1] <= 1.10 * errors[0], "{path}: {errors:?}");
+        assert!(errors[1] <= 1.04 * errors[0], "{path}: {errors:?}");
     }
 }
