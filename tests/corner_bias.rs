@@ -107,6 +107,7 @@ fn the_visible_disk_costs_no_accuracy_elsewhere() {
             method: Method::Reference,
             spp: 32,
             frames: 16,
+            max_batches: 1, // 16 frames of 32 samples each
             max_bounces: 8,
             seed: 7,
             ..Default::default()

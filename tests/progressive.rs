@@ -55,6 +55,24 @@ fn accumulation_converges_to_the_closed_form_on_the_sphere() {
     assert!((radius - expected_radius).abs() < 1e-7, "last frame's radius {radius}, not {expected_radius}");
 }
 
+/// The reference's frames grow as photon frames do, in batches of `spp` samples (1, 2, 4, then
+/// 8), each weighted by its samples: 8 frames of 1 sample per batch hold 1 + 2 + 4 + 8·5 = 47
+/// samples, and their mean on the closed sphere is the closed form (within 1%: 27k paths).
+#[test]
+fn reference_frames_grow_in_batches_of_samples() {
+    let (rho, k) = (0.5f64, 4);
+    let expected = rho / PI * (1..=k).map(|j| rho.powi(j)).sum::<f64>();
+    let s = RenderSettings { method: Method::Reference, spp: 1, ..settings(24, 24, 1000, 0.2, k as u32, 8) };
+    let Some(mut r) = renderer("scenes/sphere.gltf", s) else { return };
+    let frame = r.render().expect("8 frames");
+    r.gpu().check_validation().expect("validation clean");
+    assert_eq!((frame.accumulated, frame.batches), (8, 1 + 2 + 4 + 8 * 5));
+    let mean = common::mean(&frame.indirect);
+    let error = mean.iter().map(|c| (c - expected).abs() / expected).fold(0.0, f64::max);
+    eprintln!("sphere reference, 47 samples in 8 frames: mean indirect off the closed form by {error:.4}");
+    assert!(error < 0.01, "{error} from the closed form");
+}
+
 /// Cornell box, 1000 paths per frame: the indirect layer's relMSE against the reference falls
 /// at least 4× from 1 to 64 frames, and keeps falling on the way. The reference integrates
 /// the same 64 pixel jitters (64 frames of 64 samples), so antialiasing is not counted as error.
@@ -66,6 +84,7 @@ fn error_against_the_reference_falls_with_frames() {
         method: Method::Reference,
         spp: 64,
         frames: 64,
+        max_batches: 1, // 64 frames of 64 samples each
         max_bounces: 8,
         seed: 1,
         ..Default::default()

@@ -1,6 +1,7 @@
 //! `leakless chart --series`: error against wall time while an image accumulates — photon
-//! frames for `leakless` and `splat` (1, 2, 4, … frames), samples for the built-in reference
-//! path tracer (1, 2, 4, … spp, one jittered sample per frame) — on the same axes, against a
+//! frames for `leakless` and `splat`, jittered frames of samples for the built-in reference
+//! path tracer, read at 1, 2, 4, … frames; frames of every method grow alike, 1, 2, 4 and then
+//! `max_batches` batches of photons or samples (docs/architecture.md §1) — on the same axes, against a
 //! ground truth that integrates the same pixel footprint (a jittered reference of many
 //! frames). Errors: relMSE, RMSE and HDR-FLIP.
 
@@ -152,6 +153,7 @@ pub fn measure_series(
         method: Method::Reference,
         spp: config.truth_spp,
         frames: config.truth_frames,
+        max_batches: 1,
         seed: config.seed ^ 0x9e37_79b9,
         ..base.clone()
     };
@@ -172,7 +174,7 @@ pub fn measure_series(
         renderer.render()?;
         let flicker = if method.splats() { Some(flicker(&mut renderer, FLICKER_FRAMES)?) } else { None };
         // Frames without end: each photon frame further along the sequence with a smaller
-        // radius; each reference frame one more jittered sample.
+        // radius; each reference frame more jittered samples (1, 2, 4, then 8).
         settings.frames = MAX_FRAMES;
         renderer.set_settings(settings)?;
         renderer.set_advance_seed(false);
@@ -187,7 +189,9 @@ pub fn measure_series(
             let frame = renderer.capture_frame()?;
             let wall_ms = (start.elapsed() - excluded).as_secs_f64() * 1e3;
             let measuring = Instant::now();
-            points.push(point(method, n, wall_ms, &frame, &truth, eps, flicker));
+            // The reference's frames grow in batches of one sample: its count is samples.
+            let count = if method == Method::Reference { frame.batches } else { n };
+            points.push(point(method, count, wall_ms, &frame, &truth, eps, flicker));
             excluded += measuring.elapsed();
             if wall_ms >= config.budget.as_secs_f64() * 1e3 {
                 break;

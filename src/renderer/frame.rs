@@ -81,12 +81,16 @@ impl Renderer {
         // frame without accumulation.
         let progressive = render && self.accumulating();
         let index = if progressive { self.accumulated } else { 0 };
-        // Its photons: `frame_batches` batches of `paths` paths, batch `first_batch` onward.
+        // Its photons: `frame_batches` batches of `paths` paths, batch `first_batch` onward; a
+        // reference frame's samples: batches of `spp` samples. Both grow alike, so the series
+        // compare methods that share their per-frame work the same way.
         let first_batch = if progressive { self.batches } else { 0 };
         let frame_batches = if progressive && method.splats() {
             let fits = crate::limits::max_frame_paths(&self.gpu.report().limits, self.settings.max_bounces)
                 / self.settings.splat.paths.max(1) as u64;
             splatting::frame_batches(index, self.settings.max_batches).min(fits.clamp(1, u32::MAX as u64) as u32)
+        } else if progressive && method == Method::Reference {
+            splatting::frame_batches(index, self.settings.max_batches)
         } else {
             1
         };
@@ -117,9 +121,9 @@ impl Renderer {
                 batches: frame_batches,
             });
         }
-        // A reference frame of an accumulation is a whole image of `spp` samples.
+        // A reference frame of an accumulation is a whole image of `spp` samples per batch.
         let samples = match method {
-            Method::Reference if progressive => self.settings.spp,
+            Method::Reference if progressive => self.settings.spp.saturating_mul(frame_batches),
             Method::Reference => self.samples_per_frame,
             _ => 0,
         };
@@ -208,7 +212,7 @@ impl Renderer {
         if render && method == Method::Reference {
             // Progressive: frame `index` restarts the sum and continues the sequence.
             let first_sample = if progressive {
-                index.wrapping_mul(samples)
+                first_batch.wrapping_mul(self.settings.spp)
             } else if first {
                 0
             } else {
