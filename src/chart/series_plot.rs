@@ -107,9 +107,10 @@ fn draw<DB: DrawingBackend>(
         if line.is_empty() {
             continue;
         }
-        let unit = if method.splats() { "frames" } else { "spp" };
+        // The points sit at 1, 2, 4, … frames; the reference's are labelled with its samples.
+        let unit = if method.splats() { "frames 1, 2, 4 …" } else { "spp after frames 1, 2, 4 …" };
         cc.draw_series(LineSeries::new(line.clone(), colour.stroke_width(px(2.0) as u32)))?
-            .label(format!("{} (1, 2, 4 … {unit})", method.name()))
+            .label(format!("{} ({unit})", method.name()))
             .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], colour.stroke_width(2)));
         cc.draw_series(line.iter().map(|&p| Circle::new(p, px(3.5), colour.filled())))?;
         // Label the first and last checkpoints with their frame or sample counts.

@@ -42,9 +42,10 @@ pub struct ChartArgs {
     #[arg(long, value_delimiter = ',', value_parser = parse_backend)]
     backends: Option<Vec<Backend>>,
     /// Timed frames per setting after the warm-up frame; the fastest counts (lavapipe's
-    /// times vary by tens of percent from frame to frame).
+    /// times vary by tens of percent from frame to frame). Series: runs of every series, the
+    /// methods taking turns, each checkpoint at its fastest time.
     #[arg(long, default_value_t = 1)]
-    repeats: u32,
+    pub(crate) repeats: u32,
     /// Dark pixels (the second error of each chart): those whose reference indirect light is at
     /// most this fraction of its mean over the pixels with a surface.
     #[arg(long, default_value_t = 0.01)]

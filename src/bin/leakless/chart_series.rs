@@ -16,6 +16,9 @@ pub fn run(args: &ChartArgs) -> anyhow::Result<()> {
     if !(args.budget.is_finite() && args.budget > 0.0 && args.budget <= 3600.0) {
         anyhow::bail!("--budget {} must be within (0, 3600] seconds", args.budget);
     }
+    if !(1..=100).contains(&args.repeats) {
+        anyhow::bail!("--repeats {} must be within 1..=100", args.repeats);
+    }
     if args.truth_frames == 0 || args.ref_spp < args.truth_frames {
         anyhow::bail!("--truth-frames {} must be within 1..=--ref-spp ({})", args.truth_frames, args.ref_spp);
     }
@@ -31,6 +34,7 @@ pub fn run(args: &ChartArgs) -> anyhow::Result<()> {
         max_bounces: args.max_bounces,
         seed: args.seed,
         budget: Duration::from_secs_f64(args.budget),
+        repeats: args.repeats,
         truth_frames: args.truth_frames,
         truth_spp: args.ref_spp / args.truth_frames,
     };
