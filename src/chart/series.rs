@@ -196,12 +196,12 @@ pub fn measure_series(
 fn merge_run(points: &mut Vec<SeriesPoint>, run: Vec<SeriesPoint>) {
     let Some(method) = run.first().map(|p| p.method) else { return };
     let mine: Vec<&mut SeriesPoint> = points.iter_mut().filter(|p| p.method == method).collect();
-    let kept = mine.len();
+    let known = mine.len();
     for (kept, again) in mine.into_iter().zip(&run) {
         debug_assert_eq!(kept.frames, again.frames);
         kept.wall_ms = kept.wall_ms.min(again.wall_ms);
     }
-    points.extend(run.into_iter().skip(kept));
+    points.extend(run.into_iter().skip(known));
     // Each method's checkpoints together, in plotting order.
     points.sort_by_key(|p| (SERIES_METHODS.iter().position(|m| *m == p.method), p.frames));
 }
