@@ -24,6 +24,16 @@ const STILL_FRAME_BUDGET_MS: f64 = 100.0;
 /// Frames before one is taken to measure the time of a batch.
 const WARM_UP_FRAMES: u64 = 4;
 
+/// Whether the host interval that ended at the start of tick `tick - 1` (the time of tick
+/// `tick - 2`, which `frame_ms` holds when tick `tick` fits the batches) is a frame like the
+/// others. A profiled tick (`tick % profile_every == 1`) submits each pass alone and waits,
+/// so it is slower; the one after it finds the frames before already done and waits for
+/// none, so it is faster. Neither measures a batch.
+fn interval_is_typical(tick: u64, profile_every: u64) -> bool {
+    let measured = tick.wrapping_sub(2);
+    profile_every == 0 || !matches!(measured % profile_every, 1 | 2)
+}
+
 impl Running {
     pub(super) fn resize(&mut self, width: u32, height: u32) {
         if width == 0 || height == 0 {
@@ -212,7 +222,8 @@ impl Running {
         }
         let s = self.renderer.settings();
         // The first frames (pipelines warming, lists growing) are slower than the rest.
-        let settled = self.frame > WARM_UP_FRAMES && self.frame_ms > 0.0;
+        let settled =
+            self.frame > WARM_UP_FRAMES && self.frame_ms > 0.0 && interval_is_typical(self.frame, self.profile_every);
         let measured = self.renderer.last_report().and_then(|r| r.splat.as_ref()).filter(|_| settled);
         let fit = match measured {
             Some(last) => {
@@ -338,5 +349,20 @@ impl Running {
             })?;
         }
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::interval_is_typical;
+
+    #[test]
+    fn the_intervals_of_a_profiled_tick_and_the_one_after_it_do_not_measure_a_batch() {
+        // Profiled ticks 1, 31, 61, …: their times reach fit_batches at ticks 3, 33, …, and the
+        // times of the ticks after them at 4, 34, ….
+        let skipped: Vec<u64> = (3..70).filter(|&t| !interval_is_typical(t, 30)).collect();
+        assert_eq!(skipped, [3, 4, 33, 34, 63, 64]);
+        // Without profiling (GPUs) every interval counts.
+        assert!((0..100).all(|t| interval_is_typical(t, 0)));
     }
 }
