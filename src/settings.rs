@@ -161,7 +161,13 @@ impl RenderSettings {
     pub fn describe(&self) -> String {
         let mut s = format!("size={}x{} method={}", self.width, self.height, self.method.name());
         match self.method {
-            Method::Reference => s += &format!(" spp={} max_bounces={} seed={}", self.spp, self.max_bounces, self.seed),
+            Method::Reference => {
+                s += &format!(" spp={} max_bounces={} seed={}", self.spp, self.max_bounces, self.seed);
+                // A reference of several frames holds `spp` × its batches samples.
+                if self.frames > 1 {
+                    s += &format!(" frames={} max_batches={}", self.frames, self.max_batches);
+                }
+            }
             Method::Splat | Method::LeakLessCapped | Method::LeakLess => {
                 let p = self.photon_settings().expect("a photon method");
                 let radius = p.radius.map_or("auto".to_string(), |r| r.to_string());
@@ -179,5 +185,24 @@ impl RenderSettings {
             Method::Direct => {}
         }
         s
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_description_names_what_sets_the_samples_of_an_accumulation() {
+        let reference = RenderSettings { method: Method::Reference, spp: 2, ..Default::default() };
+        assert!(!reference.describe().contains("frames="), "{}", reference.describe());
+        let frames = RenderSettings { frames: 4, max_batches: 2, ..reference };
+        assert!(
+            frames.describe().ends_with(" spp=2 max_bounces=8 seed=0 frames=4 max_batches=2"),
+            "{}",
+            frames.describe()
+        );
+        let photons = RenderSettings { method: Method::LeakLess, frames: 4, ..Default::default() };
+        assert!(photons.describe().ends_with(" frames=4 max_batches=8"), "{}", photons.describe());
     }
 }
