@@ -58,6 +58,11 @@ fn accumulation_converges_to_the_closed_form_on_the_sphere() {
 /// The reference's frames grow as photon frames do, in batches of `spp` samples (1, 2, 4, then
 /// 8), each weighted by its samples: 8 frames of 1 sample per batch hold 1 + 2 + 4 + 8·5 = 47
 /// samples, and their mean on the closed sphere is the closed form (within 1%: 27k paths).
+///
+/// The weighting shows in the noise: every pixel of the sphere has the same expectation, so
+/// the spread over pixels is the per-pixel noise, and 47 samples in growing frames must be as
+/// quiet as 47 in one frame. Frames weighted equally would leave 1.75× its variance
+/// ((1 + 1/2 + 1/4 + 5/8) / 64 against 1/47); 576 pixels measure a variance to about 6%.
 #[test]
 fn reference_frames_grow_in_batches_of_samples() {
     let (rho, k) = (0.5f64, 4);
@@ -65,12 +70,23 @@ fn reference_frames_grow_in_batches_of_samples() {
     let s = RenderSettings { method: Method::Reference, spp: 1, ..settings(24, 24, 1000, 0.2, k as u32, 8) };
     let Some(mut r) = renderer("scenes/sphere.gltf", s) else { return };
     let frame = r.render().expect("8 frames");
-    r.gpu().check_validation().expect("validation clean");
     assert_eq!((frame.accumulated, frame.batches), (8, 1 + 2 + 4 + 8 * 5));
     let mean = common::mean(&frame.indirect);
     let error = mean.iter().map(|c| (c - expected).abs() / expected).fold(0.0, f64::max);
-    eprintln!("sphere reference, 47 samples in 8 frames: mean indirect off the closed form by {error:.4}");
+    r.update(|s| (s.frames, s.spp) = (1, 47)).expect("settings");
+    let single = r.render().expect("one frame of 47 samples");
+    r.gpu().check_validation().expect("validation clean");
+    let variance = |layer: &[[f32; 3]]| {
+        let m = common::mean(layer)[0];
+        layer.iter().map(|p| (p[0] as f64 - m).powi(2)).sum::<f64>() / (layer.len() - 1) as f64
+    };
+    let ratio = variance(&frame.indirect) / variance(&single.indirect);
+    eprintln!(
+        "sphere reference, 47 samples in 8 frames: mean indirect off the closed form by {error:.4}; \
+         pixel variance {ratio:.3}× that of one frame of 47 samples"
+    );
     assert!(error < 0.01, "{error} from the closed form");
+    assert!((0.75..1.3).contains(&ratio), "growing frames are not weighted by their samples: variance ratio {ratio}");
 }
 
 /// Cornell box, 1000 paths per frame: the indirect layer's relMSE against the reference falls
