@@ -58,68 +58,18 @@ fn group(pass: &str) -> &str {
 }
 
 pub fn show(ctx: &egui::Context, info: &PanelInfo<'_>, sliders: &mut Sliders, help: &mut bool) {
-    egui::Window::new("leakless").default_pos([8.0, 8.0]).resizable(false).collapsible(true).show(ctx, |ui| {
-        ui.label(RichText::new(info.scene).strong());
-        ui.label(format!("{} — {} ({})", info.device, info.backend, info.backend_why));
-        ui.label(format!("{}×{}   {}   layer: {}", info.width, info.height, info.method.name(), info.layer.name()));
-        let fps = if info.frame_ms > 0.0 { 1000.0 / info.frame_ms } else { 0.0 };
-        let mut flags = Vec::new();
-        if info.paused {
-            flags.push("paused");
-        }
-        if info.seed_frozen {
-            flags.push("seed frozen");
-        }
-        if !info.trivial_accept {
-            flags.push("trivial accept off");
-        }
-        if info.light_moved {
-            flags.push("light moved");
-        }
-        if info.playing {
-            flags.push("playing");
-        }
-        ui.label(format!("{:.1} ms/frame, {:.1} fps   {}", info.frame_ms, fps, flags.join(", ")));
-        if let Some(report) = info.report {
-            if report.method == Method::Reference {
-                ui.label(format!("reference: {} spp accumulated", report.accumulated));
-            } else if let Some(s) = &report.splat {
-                let (frames, batches) = (report.accumulated, report.batches);
-                ui.label(format!("{frames} photon frames accumulated ({batches} batches), radius now {:.4}", s.radius));
-            }
-            if let Some(timings) = info.timings {
-                ui.separator();
-                pass_bars(ui, timings, info.timing_note);
-            }
-            if let Some(s) = &report.splat {
-                ui.separator();
-                ui.label(format!("photons stored {}   paths {}   radius {:.4}", s.photons_stored, s.paths, s.radius));
-                let proven = 100.0 * s.proven_clear as f64 / s.visibility_tests.max(1) as f64;
-                ui.label(format!(
-                    "visibility tests {} ({proven:.0}% proven clear)   rays {}   leaks culled {}",
-                    s.visibility_tests, s.visibility_rays, s.leaks_culled
-                ));
-                ui.label(format!("leaked energy {:.2}%", 100.0 * s.leaked_energy_fraction));
-                let drops = s.photons_dropped as u64 + s.list_entries_dropped as u64;
-                let text = format!("drops: photons {}, list entries {}", s.photons_dropped, s.list_entries_dropped);
-                ui.label(if drops > 0 { RichText::new(text).color(Color32::LIGHT_RED) } else { RichText::new(text) });
-            }
-        }
-        ui.separator();
-        let (lo, hi) = sliders.radius_range;
-        ui.add(egui::Slider::new(&mut sliders.radius, lo..=hi).logarithmic(true).text("radius"));
-        // The range holds the value given on the command line: egui clamps a value outside it.
-        let paths_range = sliders.paths.min(1_000)..=sliders.paths.max(1_000_000);
-        ui.add(egui::Slider::new(&mut sliders.paths, paths_range).logarithmic(true).text("paths"));
-        let most = leakless::settings::MAX_BATCHES;
-        ui.add(egui::Slider::new(&mut sliders.max_batches, 1..=most).logarithmic(true).text("batches when still"));
-        ui.add(egui::Slider::new(&mut sliders.cap, 1..=200).text("cap"));
-        if let Some(duration) = sliders.duration {
-            ui.add(egui::Slider::new(&mut sliders.time, 0.0..=duration).text("time (s)"));
-            ui.label(format!("M: play / stop   instance update {:.2} ms (host)", info.pose_update_ms));
-        }
-        ui.label("H / F1: keys   Tab: hide");
-    });
+    // A small window (the default on CPU devices is 640×480) is shorter than the panel: it
+    // scrolls within the screen rather than cutting off the sliders (a scrolling egui window
+    // is as tall as its default height, 400 points unless set).
+    let height = (ctx.content_rect().height() - 24.0).max(100.0);
+    egui::Window::new("leakless")
+        .default_pos([8.0, 8.0])
+        .resizable(false)
+        .collapsible(true)
+        .vscroll(true)
+        .default_height(height)
+        .max_height(height)
+        .show(ctx, |ui| contents(ui, info, sliders));
     if *help {
         egui::Window::new("keys").anchor(egui::Align2::RIGHT_TOP, [-8.0, 8.0]).open(help).show(ctx, |ui| {
             egui::Grid::new("keymap").striped(true).show(ui, |ui| {
@@ -134,6 +84,70 @@ pub fn show(ctx: &egui::Context, info: &PanelInfo<'_>, sliders: &mut Sliders, he
             });
         });
     }
+}
+
+/// The panel's labels, per-pass bars and sliders.
+fn contents(ui: &mut egui::Ui, info: &PanelInfo<'_>, sliders: &mut Sliders) {
+    ui.label(RichText::new(info.scene).strong());
+    ui.label(format!("{} — {} ({})", info.device, info.backend, info.backend_why));
+    ui.label(format!("{}×{}   {}   layer: {}", info.width, info.height, info.method.name(), info.layer.name()));
+    let fps = if info.frame_ms > 0.0 { 1000.0 / info.frame_ms } else { 0.0 };
+    let mut flags = Vec::new();
+    if info.paused {
+        flags.push("paused");
+    }
+    if info.seed_frozen {
+        flags.push("seed frozen");
+    }
+    if !info.trivial_accept {
+        flags.push("trivial accept off");
+    }
+    if info.light_moved {
+        flags.push("light moved");
+    }
+    if info.playing {
+        flags.push("playing");
+    }
+    ui.label(format!("{:.1} ms/frame, {:.1} fps   {}", info.frame_ms, fps, flags.join(", ")));
+    if let Some(report) = info.report {
+        if report.method == Method::Reference {
+            ui.label(format!("reference: {} spp accumulated", report.accumulated));
+        } else if let Some(s) = &report.splat {
+            let (frames, batches) = (report.accumulated, report.batches);
+            ui.label(format!("{frames} photon frames accumulated ({batches} batches), radius now {:.4}", s.radius));
+        }
+        if let Some(timings) = info.timings {
+            ui.separator();
+            pass_bars(ui, timings, info.timing_note);
+        }
+        if let Some(s) = &report.splat {
+            ui.separator();
+            ui.label(format!("photons stored {}   paths {}   radius {:.4}", s.photons_stored, s.paths, s.radius));
+            let proven = 100.0 * s.proven_clear as f64 / s.visibility_tests.max(1) as f64;
+            ui.label(format!(
+                "visibility tests {} ({proven:.0}% proven clear)   rays {}   leaks culled {}",
+                s.visibility_tests, s.visibility_rays, s.leaks_culled
+            ));
+            ui.label(format!("leaked energy {:.2}%", 100.0 * s.leaked_energy_fraction));
+            let drops = s.photons_dropped as u64 + s.list_entries_dropped as u64;
+            let text = format!("drops: photons {}, list entries {}", s.photons_dropped, s.list_entries_dropped);
+            ui.label(if drops > 0 { RichText::new(text).color(Color32::LIGHT_RED) } else { RichText::new(text) });
+        }
+    }
+    ui.separator();
+    let (lo, hi) = sliders.radius_range;
+    ui.add(egui::Slider::new(&mut sliders.radius, lo..=hi).logarithmic(true).text("radius"));
+    // The range holds the value given on the command line: egui clamps a value outside it.
+    let paths_range = sliders.paths.min(1_000)..=sliders.paths.max(1_000_000);
+    ui.add(egui::Slider::new(&mut sliders.paths, paths_range).logarithmic(true).text("paths"));
+    let most = leakless::settings::MAX_BATCHES;
+    ui.add(egui::Slider::new(&mut sliders.max_batches, 1..=most).logarithmic(true).text("batches when still"));
+    ui.add(egui::Slider::new(&mut sliders.cap, 1..=200).text("cap"));
+    if let Some(duration) = sliders.duration {
+        ui.add(egui::Slider::new(&mut sliders.time, 0.0..=duration).text("time (s)"));
+        ui.label(format!("M: play / stop   instance update {:.2} ms (host)", info.pose_update_ms));
+    }
+    ui.label("H / F1: keys   Tab: hide");
 }
 
 fn pass_bars(ui: &mut egui::Ui, timings: &[leakless_graph::PassTiming], note: &str) {
