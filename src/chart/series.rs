@@ -218,7 +218,8 @@ fn measure_method(
     eps: f64,
 ) -> Result<Vec<SeriesPoint>> {
     // Warm-up: pipelines compiled, node lists sized, before the clock starts.
-    let mut settings = RenderSettings { method, spp: 1, ..base.clone() };
+    let spp = 1;
+    let mut settings = RenderSettings { method, spp, ..base.clone() };
     let mut renderer = Renderer::new(open()?, scene, settings.clone())?;
     renderer.render()?;
     let flicker = if method.splats() { Some(flicker(&mut renderer, FLICKER_FRAMES)?) } else { None };
@@ -239,8 +240,8 @@ fn measure_method(
         let frame = renderer.capture_frame()?;
         let wall_ms = (start.elapsed() - excluded).as_secs_f64() * 1e3;
         let measuring = Instant::now();
-        // The reference's frames grow in batches of one sample: its count is samples.
-        let count = if method == Method::Reference { frame.batches } else { n };
+        // The reference's frames grow in batches of `spp` samples: its count is samples.
+        let count = if method == Method::Reference { frame.batches.saturating_mul(spp) } else { n };
         points.push(point(method, count, wall_ms, &frame, truth, eps, flicker));
         excluded += measuring.elapsed();
         if wall_ms >= config.budget.as_secs_f64() * 1e3 {
