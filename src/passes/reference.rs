@@ -50,7 +50,8 @@ impl ReferencePass {
     }
 
     /// Adds `params.sample_count` samples per view sample to `accumulated` (overwrites it
-    /// when `params.first_sample` is 0).
+    /// when `params.first_sample` is 0), in passes of at most [`PATHS_PER_PASS`] paths each
+    /// (see [`dispatches`]).
     pub fn add<'r>(
         &'r self,
         graph: &mut Graph<'r>,
@@ -59,12 +60,62 @@ impl ReferencePass {
         accumulated: &mut ImageHandle,
     ) {
         let extent = accumulated.extent();
-        let mut pass = graph.pass("reference");
-        let (inputs, surfaces, trace) = view.declare(&mut pass);
-        let own = ReferenceBindings { accumulated: pass.write(accumulated, Access::ComputeReadWrite) };
-        pass.record(move |ctx| {
-            let groups: [&dyn leakless_graph::Bindings; 4] = [&inputs, &surfaces, &trace, &own];
-            ctx.dispatch(&self.pipeline, &groups, &params, [extent.width, extent.height, 1])
+        for params in dispatches(params, extent.width as u64 * extent.height as u64) {
+            let mut pass = graph.pass("reference");
+            let (inputs, surfaces, trace) = view.declare(&mut pass);
+            let own = ReferenceBindings { accumulated: pass.write(accumulated, Access::ComputeReadWrite) };
+            pass.record(move |ctx| {
+                let groups: [&dyn leakless_graph::Bindings; 4] = [&inputs, &surfaces, &trace, &own];
+                ctx.dispatch(&self.pipeline, &groups, &params, [extent.width, extent.height, 1])
+            });
+        }
+    }
+}
+
+/// Paths one reference pass may trace (samples × view samples), unless one sample per view
+/// sample is already more. The device's progress is read between passes
+/// (`LEAKLESS_GPU_TIMEOUT` counts a pass that makes none as a lost device): a frame of many
+/// samples on a slow device (lavapipe: about 40 s for this many in the atrium) is then many
+/// passes that each finish, and on a GPU no dispatch runs for long.
+pub const PATHS_PER_PASS: u64 = 1 << 24;
+
+/// `params` split into the dispatches of one frame: each continues the sequence where the last
+/// stopped and adds to its sum; only the first may start the sum over.
+pub fn dispatches(params: ReferenceParams, view_samples: u64) -> Vec<ReferenceParams> {
+    let per_pass = (PATHS_PER_PASS / view_samples.max(1)).clamp(1, u32::MAX as u64) as u32;
+    let mut out = vec![ReferenceParams { sample_count: params.sample_count.min(per_pass), ..params }];
+    let mut done = out[0].sample_count;
+    while done < params.sample_count {
+        let count = per_pass.min(params.sample_count - done);
+        out.push(ReferenceParams {
+            first_sample: params.first_sample.wrapping_add(done),
+            sample_count: count,
+            restart: 0,
+            ..params
         });
+        done += count;
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_frame_of_many_samples_is_split_into_passes_that_continue_its_sequence() {
+        let frame = ReferenceParams { first_sample: 40, sample_count: 300, restart: 1, seed: 9, ..Default::default() };
+        // 2^24 paths over 2^16 view samples: 256 samples a pass.
+        let passes = dispatches(frame, 1 << 16);
+        let spans: Vec<_> = passes.iter().map(|p| (p.first_sample, p.sample_count, p.restart)).collect();
+        assert_eq!(spans, [(40, 256, 1), (296, 44, 0)]);
+        assert!(passes.iter().all(|p| p.seed == 9));
+        // A sum that starts at sample 0 is overwritten by the first pass only.
+        let fresh = dispatches(ReferenceParams { first_sample: 0, sample_count: 3, ..Default::default() }, 1 << 23);
+        let spans: Vec<_> = fresh.iter().map(|p| (p.first_sample, p.sample_count)).collect();
+        assert_eq!(spans, [(0, 2), (2, 1)]);
+        // More view samples than a pass's paths: one sample a pass; few samples: one pass.
+        assert_eq!(dispatches(frame, 1 << 26).len(), 300);
+        assert_eq!(dispatches(frame, 64).len(), 1);
     }
 }
