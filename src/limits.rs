@@ -35,15 +35,30 @@ pub fn max_list_entries(limits: &DeviceLimits) -> u32 {
     (limits.max_storage_buffer_range as u64 / per_entry).min(crate::splatting::MAX_LIST_CAPACITY as u64) as u32
 }
 
-/// The most light paths one frame may trace with `max_bounces` on a device with `limits`:
-/// its photon buffer within maxStorageBufferRange, its path and photon dispatches within
-/// maxComputeWorkGroupCount. [`check`] holds `--paths` to it; the frames of an accumulation
-/// grow to at most this many paths (their batches are clamped to it).
-pub fn max_frame_paths(limits: &DeviceLimits, max_bounces: u32) -> u64 {
+/// What bounds the light paths of one frame with `max_bounces` on a device with `limits`: its
+/// photon buffer within maxStorageBufferRange, its path and photon dispatches (64 threads a
+/// group) within maxComputeWorkGroupCount.
+struct FramePathLimits {
+    by_buffer: u64,
+    by_workgroups: u64,
+}
+
+fn frame_path_limits(limits: &DeviceLimits, max_bounces: u32) -> FramePathLimits {
     let bounces = max_bounces.max(1) as u64;
-    let by_buffer = limits.max_storage_buffer_range as u64 / (bounces * std::mem::size_of::<Photon>() as u64);
     let threads = limits.max_compute_work_group_count[0] as u64 * 64;
-    by_buffer.min(threads / bounces).min(threads)
+    FramePathLimits {
+        by_buffer: limits.max_storage_buffer_range as u64 / (bounces * std::mem::size_of::<Photon>() as u64),
+        // One thread a path, and one a photon stored (up to `bounces` a path).
+        by_workgroups: threads / bounces,
+    }
+}
+
+/// The most light paths one frame may trace with `max_bounces` on a device with `limits`.
+/// [`check`] holds `--paths` to it; the frames of an accumulation grow to at most this many
+/// paths (their batches are clamped to it).
+pub fn max_frame_paths(limits: &DeviceLimits, max_bounces: u32) -> u64 {
+    let bounds = frame_path_limits(limits, max_bounces);
+    bounds.by_buffer.min(bounds.by_workgroups)
 }
 
 /// Checks `settings` on `scene` with the trace `backend` against `limits`.
@@ -127,19 +142,20 @@ pub fn check(settings: &RenderSettings, scene: &Scene, backend: Backend, limits:
         let s = &settings.splat;
         let photons = s.paths as u64 * settings.max_bounces.max(1) as u64;
         photon_bytes = photons * std::mem::size_of::<Photon>() as u64;
-        if photon_bytes > range {
+        let bounds = frame_path_limits(limits, settings.max_bounces);
+        if s.paths as u64 > bounds.by_buffer {
             return Err(limit(format!(
                 "--paths {} × --max-bounces {}: the photon buffer needs {photon_bytes} bytes, above the device's maxStorageBufferRange ({range})",
                 s.paths, settings.max_bounces
             )));
         }
-        for (what, threads) in [("--paths", s.paths as u64), ("photons stored", photons)] {
-            if groups(threads, 64) > max_groups {
-                return Err(limit(format!(
-                    "{what} {threads}: {} workgroups, above the device's maxComputeWorkGroupCount ({max_groups})",
-                    groups(threads, 64)
-                )));
-            }
+        if s.paths as u64 > bounds.by_workgroups {
+            return Err(limit(format!(
+                "--paths {} × --max-bounces {}: {photons} photons stored need {} workgroups, above the device's maxComputeWorkGroupCount ({max_groups})",
+                s.paths,
+                settings.max_bounces,
+                groups(photons, 64)
+            )));
         }
         // The renderer keeps its own list capacity within the range (max_list_entries); a
         // capacity asked for must fit.
@@ -223,12 +239,27 @@ mod tests {
         // Two triangles, one allowed per BLAS: ray queries refuse, the compute BVH does not.
         assert!(error(&ok, Backend::RayQuery).contains("2 triangles exceed the device's maxPrimitiveCount (1)"));
         let mut many = ok.clone();
-        many.splat.paths = 1_000_000; // 8M photons × 48 B > 2^27
+        many.splat.paths = 1_000_000; // 8M photons × 64 B > 2^27
         assert!(
             error(&many, Backend::Compute).contains("maxStorageBufferRange (134217728)"),
             "{}",
             error(&many, Backend::Compute)
         );
+        // check() holds --paths to max_frame_paths exactly, whichever limit binds: the photon
+        // buffer (2^27 B / (8 bounces × 64 B) = 262,144 paths) or the workgroups of the photons
+        // stored (65,535 × 64 / 8 = 524,280 paths with a 2 GiB range).
+        let cases = [(1u32 << 27, 262_144, "maxStorageBufferRange"), (1 << 31, 524_280, "maxComputeWorkGroupCount")];
+        for (range, expected, binds) in cases {
+            let device = DeviceLimits { max_storage_buffer_range: range, ..limits() };
+            let most = max_frame_paths(&device, ok.max_bounces);
+            assert_eq!(most, expected);
+            let mut at = ok.clone();
+            at.splat.paths = most as u32;
+            assert!(check(&at, &scene(), Backend::Compute, &device).is_ok(), "{most} paths");
+            at.splat.paths += 1;
+            let e = check(&at, &scene(), Backend::Compute, &device).unwrap_err().to_string();
+            assert!(e.contains(binds), "{e}");
+        }
         many.method = Method::Reference; // no photons: nothing to hold
         assert!(check(&many, &scene(), Backend::Compute, &limits()).is_ok());
         let wide = RenderSettings { width: 2000, height: 2000, ..ok.clone() };

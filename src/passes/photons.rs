@@ -23,7 +23,7 @@ use crate::shaders;
 use crate::trace::{Backend, TraceHandles, TraceScene};
 
 gpu_struct! {
-    /// `struct Photon` of photon.glsl: 48 bytes, std430.
+    /// `struct Photon` of photon.glsl: 64 bytes, std430.
     #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
     pub struct Photon {
         pub position: [f32; 3],
