@@ -89,6 +89,34 @@ fn reference_frames_grow_in_batches_of_samples() {
     assert!((0.75..1.3).contains(&ratio), "growing frames are not weighted by their samples: variance ratio {ratio}");
 }
 
+/// The app's reference while the view is still (progressive, frames of batches of one sample)
+/// is `render --method reference --frames N` bit for bit, jittered: four frames of 1, 2, 2, 2
+/// samples. One frame of the same 7 samples at the pixel centres is not that image (the Cornell
+/// box's edges are antialiased by the jitter).
+#[test]
+fn the_still_views_reference_is_the_rendered_progressive_reference() {
+    let s = RenderSettings { method: Method::Reference, spp: 1, max_batches: 2, ..settings(32, 24, 1000, 0.2, 4, 1) };
+    let Some(mut app) = renderer("scenes/cornell-box.gltf", s.clone()) else { return };
+    app.set_progressive(true);
+    for _ in 0..3 {
+        app.render_frame(None).expect("a still frame");
+    }
+    let still = app.capture_frame().expect("the fourth frame");
+    app.gpu().check_validation().expect("validation clean");
+    drop(app);
+    let Some(mut cli) = renderer("scenes/cornell-box.gltf", RenderSettings { frames: 4, ..s.clone() }) else { return };
+    let rendered = cli.render().expect("4 frames");
+    assert_eq!((still.accumulated, still.batches), (4, 1 + 2 + 2 + 2));
+    assert_eq!((rendered.accumulated, rendered.batches), (4, 7));
+    assert!(still.direct == rendered.direct && still.indirect == rendered.indirect, "the still view is not the render");
+    cli.update(|c| (c.frames, c.spp) = (1, 7)).expect("settings");
+    let centres = cli.render().expect("7 samples at the pixel centres");
+    cli.gpu().check_validation().expect("validation clean");
+    let differing = centres.direct.iter().zip(&still.direct).filter(|(a, b)| a != b).count();
+    eprintln!("still reference: {differing} of {} direct pixels differ from the unjittered image", still.direct.len());
+    assert!(differing > 0, "the still view's reference is not jittered");
+}
+
 /// Cornell box, 1000 paths per frame: the indirect layer's relMSE against the reference falls
 /// at least 4× from 1 to 64 frames, and keeps falling on the way. The reference integrates
 /// the same 64 pixel jitters (64 frames of 64 samples), so antialiasing is not counted as error.

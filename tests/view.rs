@@ -139,10 +139,10 @@ fn scripted_session_is_clean_and_captures_what_render_renders() {
     std::fs::create_dir_all(&dir).unwrap();
     let capture = dir.join("capture.exr");
     let mut script = String::new();
-    let mut frame = 2;
-    let mut at = |s: &mut String, event: &str| {
-        s.push_str(&format!("{frame} {event}\n"));
-        frame += 2;
+    let frame = std::cell::Cell::new(2);
+    let at = |s: &mut String, event: &str| {
+        s.push_str(&format!("{} {event}\n", frame.get()));
+        frame.set(frame.get() + 2);
     };
     // Every method, every view layer (in leakless), settings and the light.
     for key in ["Digit1", "Digit2", "Digit3", "Digit5", "Digit4"] {
@@ -165,6 +165,12 @@ fn scripted_session_is_clean_and_captures_what_render_renders() {
     at(&mut script, "resize 96 72");
     at(&mut script, "key Tab");
     at(&mut script, "key Tab");
+    // The reference, accumulating jittered frames while the view is still, captured.
+    let reference = dir.join("reference.exr");
+    at(&mut script, "key Digit5");
+    frame.set(frame.get() + 10); // still frames
+    at(&mut script, &format!("capture {}", reference.display()));
+    at(&mut script, "key Digit4");
     // A fixed seed, then a capture.
     at(&mut script, "key KeyP");
     at(&mut script, &format!("capture {}", capture.display()));
@@ -186,14 +192,24 @@ fn scripted_session_is_clean_and_captures_what_render_renders() {
         assert!(capture.with_extension(ext).exists(), "capture .{ext} written");
     }
 
-    // The command the capture recorded renders the same EXR.
+    // The command each capture recorded renders the same EXR.
+    let reference_command = assert_command_renders(&reference, &dir.join("reference-again.exr"));
+    assert!(
+        reference_command.contains("--method reference") && reference_command.contains("--frames"),
+        "{reference_command}"
+    );
+    assert_command_renders(&capture, &dir.join("again.exr"));
+}
+
+/// Runs the `leakless render` command recorded beside `capture`, writing `again`, and checks
+/// that it renders the same EXR. Returns the command.
+fn assert_command_renders(capture: &Path, again: &Path) -> String {
     let stats: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(capture.with_extension("json")).unwrap()).unwrap();
     let command = stats["command"].as_str().expect("the capture records its command");
     let words: Vec<&str> = command.split_whitespace().collect();
     assert_eq!(&words[..2], ["leakless", "render"]);
     let out_at = words.iter().position(|w| *w == "--out").expect("--out");
-    let again = dir.join("again.exr");
     let mut args: Vec<String> = words[1..out_at].iter().map(|s| s.to_string()).collect();
     args.extend(["--out".into(), again.display().to_string()]);
     let render = Command::new(env!("CARGO_BIN_EXE_leakless"))
@@ -203,7 +219,8 @@ fn scripted_session_is_clean_and_captures_what_render_renders() {
         .output()
         .expect("run leakless render");
     assert!(render.status.success(), "{command}: {}", String::from_utf8_lossy(&render.stderr));
-    assert_same_exr(&capture, &again);
+    assert_same_exr(capture, again);
+    command.to_string()
 }
 
 #[test]

@@ -333,6 +333,7 @@ impl Renderer {
             splat,
             accumulated,
             batches,
+            frame_batches,
             method,
             started,
         });
@@ -395,6 +396,7 @@ impl Renderer {
             luminance: counters.luminance,
             accumulated: pending.accumulated,
             batches: pending.batches,
+            frame_batches: pending.frame_batches,
             wall_ms: pending.started.elapsed().as_secs_f64() * 1e3,
         });
         Ok(())

@@ -93,6 +93,8 @@ struct Pending {
     accumulated: u32,
     /// Photon batches in the image after this frame.
     batches: u32,
+    /// Batches the frame traced.
+    frame_batches: u32,
     method: Method,
     started: std::time::Instant,
 }
@@ -114,6 +116,9 @@ pub struct FrameReport {
     /// Photon batches (of `paths` paths) accumulated in the image: frames grow while the view
     /// is still (`RenderSettings::max_batches`).
     pub batches: u32,
+    /// Batches this frame traced: of `paths` photon paths, or of `spp` reference samples per
+    /// pixel (1 for a frame that does not accumulate).
+    pub frame_batches: u32,
     /// Host time from the start of the frame's declaration to the moment the host saw it
     /// complete (includes waiting for it).
     pub wall_ms: f64,
@@ -359,8 +364,9 @@ impl Renderer {
         self.advance_seed = advance;
     }
 
-    /// Whether photon frames accumulate while nothing changes, without end (the app while the
-    /// view is still). A render accumulates `settings.frames` either way.
+    /// Whether frames accumulate while nothing changes, without end (the app while the view is
+    /// still): photon frames, and reference frames of `spp` samples per batch, each at its own
+    /// pixel jitter. A render accumulates `settings.frames` either way.
     pub fn set_progressive(&mut self, progressive: bool) {
         if progressive != self.progressive {
             self.progressive = progressive;
@@ -369,10 +375,10 @@ impl Renderer {
     }
 
     /// Whether this frame adds to an accumulation of frames, each at its own pixel jitter
-    /// (else it is the image): photon frames while progressive or when `frames` > 1; other
-    /// methods when `frames` > 1 (a reference frame is then `spp` samples, a whole image).
+    /// (else it is the image): while progressive or when `frames` > 1. A reference frame is
+    /// then a whole image of `spp` samples per batch.
     fn accumulating(&self) -> bool {
-        (self.settings.method.splats() && self.progressive) || self.settings.frames > 1
+        self.progressive || self.settings.frames > 1
     }
 
     /// While paused, frames show the last image again without rendering anything new.
@@ -428,16 +434,6 @@ impl Renderer {
 
     fn extent(&self) -> vk::Extent2D {
         vk::Extent2D { width: self.settings.width, height: self.settings.height }
-    }
-
-    /// Whether the image is complete for what was asked (`spp` reference samples; `frames`
-    /// photon frames; never while accumulating progressively).
-    pub fn converged(&self) -> bool {
-        match self.settings.method {
-            Method::Reference if self.settings.frames <= 1 => self.accumulated >= self.settings.spp,
-            _ if self.progressive && self.settings.method.splats() => false,
-            _ => self.accumulated >= self.settings.frames.max(1),
-        }
     }
 
     /// Waits for every frame in flight (before reading back, or tearing resources down).

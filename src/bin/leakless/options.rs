@@ -62,7 +62,8 @@ pub struct RenderOptions {
     /// batches of --spp samples.
     #[arg(long, default_value_t = leakless::settings::DEFAULT_MAX_BATCHES)]
     pub max_batches: u32,
-    /// Samples per pixel of the reference path tracer.
+    /// Samples per pixel of the reference path tracer (`view`: while the view is still it
+    /// accumulates frames of batches of one sample per pixel instead).
     #[arg(long, default_value_t = 64)]
     pub spp: u32,
     /// Indirect bounces after the first surface.

@@ -26,7 +26,7 @@ pub fn capture(r: &mut Running, scene: &Scene, exr: &Path) -> anyhow::Result<()>
     }
     let frame = r.renderer.capture_frame().context("capturing")?;
     let light = r.light_moved.then(|| r.renderer.lights()[0].position);
-    let view = View { camera: r.camera.spec(), light, time: r.renderer.time() };
+    let view = View { camera: r.camera.spec(), light, time: r.renderer.time(), progressive: !r.seed_frozen };
     let command = command(r.renderer.settings(), r.renderer.backend(), scene, &frame, view, exr);
     let paths = OutputPaths {
         exr: exr.to_path_buf(),
@@ -56,6 +56,9 @@ struct View {
     light: Option<glam::Vec3>,
     /// The scene's clock.
     time: f32,
+    /// Whether frames accumulate (else each frame is the image; a reference's frames then add
+    /// samples to one unjittered image).
+    progressive: bool,
 }
 
 /// The `leakless render` command that renders `frame` again: every setting explicit, the
@@ -68,7 +71,7 @@ fn command(
     view: View,
     exr: &Path,
 ) -> String {
-    let View { camera, light, time } = view;
+    let View { camera, light, time, progressive } = view;
     let mut c = vec![
         "leakless".to_string(),
         "render".into(),
@@ -94,15 +97,17 @@ fn command(
         if let Some(n) = s.splat.list_capacity {
             c.push(format!("--list-capacity {n}"));
         }
-        if frame.accumulated > 1 {
-            c.push(format!("--frames {}", frame.accumulated));
-            if s.max_batches != leakless::settings::DEFAULT_MAX_BATCHES {
-                c.push(format!("--max-batches {}", s.max_batches));
-            }
-        }
     }
-    if s.method == Method::Reference {
-        c.push(format!("--spp {}", frame.accumulated));
+    match (s.method, progressive) {
+        (Method::Reference, true) => c.push(format!("--spp {}", s.spp)),
+        (Method::Reference, false) => c.push(format!("--spp {}", frame.accumulated)),
+        _ => {}
+    }
+    if progressive && frame.accumulated > 1 {
+        c.push(format!("--frames {}", frame.accumulated));
+        if s.max_batches != leakless::settings::DEFAULT_MAX_BATCHES {
+            c.push(format!("--max-batches {}", s.max_batches));
+        }
     }
     if time != 0.0 {
         c.push(format!("--time {time}"));

@@ -18,7 +18,7 @@ use std::sync::Arc;
 use std::time::Instant;
 
 use anyhow::{bail, Context};
-use leakless::{Renderer, Scene};
+use leakless::{RenderSettings, Renderer, Scene};
 use leakless_device::{DeviceType, PresentMode, Swapchain};
 use raw_window_handle::{HasDisplayHandle, HasWindowHandle};
 use winit::application::ApplicationHandler;
@@ -196,10 +196,12 @@ impl App {
         if size != (w, h) {
             let _ = window.request_inner_size(winit::dpi::PhysicalSize::new(size.0, size.1));
         }
-        let mut renderer =
-            Renderer::new(gpu, &self.scene, options.settings(render_size)).context("setting up the renderer")?;
+        // The reference accumulates while the view is still, as photon frames do, in batches
+        // of one sample per pixel: its frames start short and grow as the batch fit allows.
+        let settings = RenderSettings { spp: 1, ..options.settings(render_size) };
+        let mut renderer = Renderer::new(gpu, &self.scene, settings).context("setting up the renderer")?;
         options.apply_view(&mut renderer, &self.scene)?;
-        // Photon frames accumulate while nothing changes (P freezes the photons instead).
+        // Frames accumulate while nothing changes (P freezes the photons instead).
         renderer.set_advance_seed(true);
         renderer.set_progressive(true);
         let camera = FlyCamera::new(&self.scene, renderer.camera());

@@ -110,8 +110,13 @@ fn contents(ui: &mut egui::Ui, info: &PanelInfo<'_>, sliders: &mut Sliders) {
     }
     ui.label(format!("{:.1} ms/frame, {:.1} fps   {}", info.frame_ms, fps, flags.join(", ")));
     if let Some(report) = info.report {
-        if report.method == Method::Reference {
+        if report.method == Method::Reference && info.seed_frozen {
+            // Not accumulating frames: samples add to one image at the pixel centres.
             ui.label(format!("reference: {} spp accumulated", report.accumulated));
+        } else if report.method == Method::Reference {
+            // Jittered frames of batches of one sample per pixel (the app's reference).
+            let (frames, samples) = (report.accumulated, report.batches);
+            ui.label(format!("reference: {frames} frames accumulated ({samples} spp)"));
         } else if let Some(s) = &report.splat {
             let (frames, batches) = (report.accumulated, report.batches);
             ui.label(format!("{frames} photon frames accumulated ({batches} batches), radius now {:.4}", s.radius));

@@ -4,7 +4,7 @@
 use std::time::{Duration, Instant};
 
 use ash::vk;
-use leakless::{BackendChoice, DisplayTarget, Scene};
+use leakless::{BackendChoice, DisplayTarget, Method, Scene};
 use leakless_device::{PresentOutcome, SubmitSync, Swapchain};
 use leakless_graph::Timing;
 use winit::keyboard::KeyCode;
@@ -208,13 +208,14 @@ impl Running {
         Ok(())
     }
 
-    /// How many photon batches a still view's frames may grow to, so that a frame stays
-    /// within `STILL_FRAME_BUDGET_MS` and the app answers a key at once. A frame of B batches
-    /// is taken to cost B times the last frame's time per batch (an upper bound: the view
-    /// samples' work is shared). Fitted at the start of each accumulation, and once more when
-    /// the first measurement arrives (frames do not grow before it). On a GPU a batch takes
-    /// milliseconds and frames grow to the limit; on lavapipe at the default size one batch
-    /// already fills the budget and frames stay at one.
+    /// How many batches (of photon paths, or of reference samples) a still view's frames may
+    /// grow to, so that a frame stays within `STILL_FRAME_BUDGET_MS` and the app answers a key
+    /// at once. A frame of B batches is taken to cost B times the last frame's time per batch
+    /// (an upper bound: the view samples' work is shared). Fitted at the start of each
+    /// accumulation, and once more when the first measurement of the method arrives (frames do
+    /// not grow before it). On a GPU a batch takes milliseconds and frames grow to the limit;
+    /// on lavapipe at the default size one photon batch already fills the budget and frames
+    /// stay at one.
     fn fit_batches(&mut self) -> anyhow::Result<()> {
         let fresh = self.renderer.accumulated() == 0;
         if !fresh && self.batches_fitted {
@@ -224,10 +225,12 @@ impl Running {
         // The first frames (pipelines warming, lists growing) are slower than the rest.
         let settled =
             self.frame > WARM_UP_FRAMES && self.frame_ms > 0.0 && interval_is_typical(self.frame, self.profile_every);
-        let measured = self.renderer.last_report().and_then(|r| r.splat.as_ref()).filter(|_| settled);
+        // A frame of the method now drawn: after a switch, the last one may be of another.
+        let measured =
+            self.renderer.last_report().filter(|r| settled && r.method == s.method && r.method != Method::Direct);
         let fit = match measured {
             Some(last) => {
-                let per_batch = self.frame_ms / (last.paths / s.splat.paths.max(1)).max(1) as f64;
+                let per_batch = self.frame_ms / last.frame_batches.max(1) as f64;
                 self.batches_fitted = true;
                 (STILL_FRAME_BUDGET_MS / per_batch).floor().clamp(1.0, self.batch_limit as f64) as u32
             }
