@@ -17,12 +17,12 @@ layout(set = 0, binding = 3, rgba32f) uniform readonly image2D gbuffer_normal;
 layout(set = 0, binding = 4, rgba32f) uniform readonly image2D gbuffer_albedo;
 layout(set = 0, binding = 5, rgba32f) uniform image2D accumulated;
 layout(push_constant) uniform ReferenceParams {
-    uint first_sample;   // samples already in `accumulated` (0: start over)
+    uint first_sample;   // index of this dispatch's first sample in the sequence
     uint sample_count;   // samples this dispatch adds
     uint max_bounces;    // indirect bounces after the view sample
     uint seed;
     uint roulette_start; // bounces before Russian roulette may end a path
-    uint restart;        // 1: start the sum over although first_sample continues the sequence
+    uint restart;        // 1: start the sum over (else add to it)
     uint pad1;
     uint pad2;
 } params;
@@ -110,7 +110,7 @@ void main() {
     if (pixel.x >= int(frame.width) || pixel.y >= int(frame.height)) {
         return;
     }
-    vec3 sum = params.first_sample == 0u || params.restart != 0u ? vec3(0.0) : imageLoad(accumulated, pixel).rgb;
+    vec3 sum = params.restart != 0u ? vec3(0.0) : imageLoad(accumulated, pixel).rgb;
     vec4 position = imageLoad(gbuffer_position, pixel);
     if (position.w > 0.0) {
         uint triangle = uint(position.w) - 1u;

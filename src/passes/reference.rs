@@ -14,7 +14,8 @@ gpu_struct! {
     /// The `ReferenceParams` push constants of reference.comp.
     #[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
     pub struct ReferenceParams {
-        /// Samples already in the sum (0: start over).
+        /// Index of the dispatch's first sample in the sequence (the samples already in the sum,
+        /// or further along it for a progressive reference's frames).
         pub first_sample: u32,
         /// Samples this dispatch adds.
         pub sample_count: u32,
@@ -22,8 +23,8 @@ gpu_struct! {
         pub seed: u32,
         /// Bounces before Russian roulette may end a path.
         pub roulette_start: u32,
-        /// 1: start the sum over while `first_sample` continues the sequence (a progressive
-        /// reference's frames: each is a whole image, averaged by the accumulate pass).
+        /// 1: start the sum over (a reference's first samples, and every frame of a progressive
+        /// reference: each is a whole image, averaged by the accumulate pass); 0: add to it.
         pub restart: u32,
         pub pad1: u32,
         pub pad2: u32,
@@ -50,8 +51,8 @@ impl ReferencePass {
     }
 
     /// Adds `params.sample_count` samples per view sample to `accumulated` (overwrites it
-    /// when `params.first_sample` is 0), in passes of at most [`PATHS_PER_PASS`] paths each
-    /// (see [`dispatches`]).
+    /// when `params.restart` is 1), in passes of about [`PATHS_PER_PASS`] paths each (see
+    /// [`dispatches`]).
     pub fn add<'r>(
         &'r self,
         graph: &mut Graph<'r>,
@@ -73,16 +74,22 @@ impl ReferencePass {
 }
 
 /// Paths one reference pass may trace (samples × view samples), unless one sample per view
-/// sample is already more. The device's progress is read between passes
-/// (`LEAKLESS_GPU_TIMEOUT` counts a pass that makes none as a lost device): a frame of many
-/// samples on a slow device (lavapipe: about 40 s for this many in the atrium) is then many
-/// passes that each finish, and on a GPU no dispatch runs for long.
+/// sample is already more, or the frame would need more than [`MAX_PASSES_PER_FRAME`]. The
+/// device's progress is read between passes (`LEAKLESS_GPU_TIMEOUT` counts a pass that makes
+/// none as a lost device): a frame of many samples on a slow device (lavapipe: about 40 s for
+/// this many in the atrium) is then many passes that each finish, and on a GPU no dispatch runs
+/// for long.
 pub const PATHS_PER_PASS: u64 = 1 << 24;
+
+/// Reference passes one frame may hold: a quarter of the pass graph's `MAX_PASSES`, leaving
+/// the rest of the frame its own.
+pub const MAX_PASSES_PER_FRAME: u32 = leakless_graph::MAX_PASSES / 4;
 
 /// `params` split into the dispatches of one frame: each continues the sequence where the last
 /// stopped and adds to its sum; only the first may start the sum over.
 pub fn dispatches(params: ReferenceParams, view_samples: u64) -> Vec<ReferenceParams> {
-    let per_pass = (PATHS_PER_PASS / view_samples.max(1)).clamp(1, u32::MAX as u64) as u32;
+    let by_paths = (PATHS_PER_PASS / view_samples.max(1)).clamp(1, u32::MAX as u64) as u32;
+    let per_pass = by_paths.max(params.sample_count.div_ceil(MAX_PASSES_PER_FRAME));
     let mut out = vec![ReferenceParams { sample_count: params.sample_count.min(per_pass), ..params }];
     let mut done = out[0].sample_count;
     while done < params.sample_count {
@@ -110,12 +117,17 @@ mod tests {
         let spans: Vec<_> = passes.iter().map(|p| (p.first_sample, p.sample_count, p.restart)).collect();
         assert_eq!(spans, [(40, 256, 1), (296, 44, 0)]);
         assert!(passes.iter().all(|p| p.seed == 9));
-        // A sum that starts at sample 0 is overwritten by the first pass only.
-        let fresh = dispatches(ReferenceParams { first_sample: 0, sample_count: 3, ..Default::default() }, 1 << 23);
-        let spans: Vec<_> = fresh.iter().map(|p| (p.first_sample, p.sample_count)).collect();
-        assert_eq!(spans, [(0, 2), (2, 1)]);
-        // More view samples than a pass's paths: one sample a pass; few samples: one pass.
-        assert_eq!(dispatches(frame, 1 << 26).len(), 300);
+        // A sum that starts over is overwritten by the first pass only.
+        let fresh = ReferenceParams { first_sample: 0, sample_count: 3, restart: 1, ..Default::default() };
+        let spans: Vec<_> =
+            dispatches(fresh, 1 << 23).iter().map(|p| (p.first_sample, p.sample_count, p.restart)).collect();
+        assert_eq!(spans, [(0, 2, 1), (2, 1, 0)]);
+        // Few samples: one pass. More view samples than a pass's paths: one sample a pass, but
+        // never more passes than a frame may hold (4K, 512 samples: 64 passes of 8).
         assert_eq!(dispatches(frame, 64).len(), 1);
+        assert_eq!(dispatches(ReferenceParams { sample_count: 60, ..frame }, 1 << 26).len(), 60);
+        let big = dispatches(ReferenceParams { sample_count: 512, ..frame }, 3840 * 2160);
+        assert_eq!(big.len() as u32, MAX_PASSES_PER_FRAME);
+        assert_eq!(big.iter().map(|p| p.sample_count).sum::<u32>(), 512);
     }
 }

@@ -220,7 +220,8 @@ impl Renderer {
             };
             let params = ReferenceParams {
                 first_sample,
-                restart: progressive as u32,
+                // Progressive frames are whole images; a single reference starts over at its first.
+                restart: (progressive || first) as u32,
                 sample_count: samples,
                 max_bounces: self.settings.max_bounces,
                 seed: self.settings.seed,
@@ -391,7 +392,8 @@ impl Renderer {
             slot: done.slot,
             seed: pending.seed,
             method: pending.method,
-            timings: done.timings,
+            // A pass split into several dispatches (the reference's) reports once.
+            timings: super::readback::merged_by_name(&done.timings),
             splat,
             luminance: counters.luminance,
             accumulated: pending.accumulated,

@@ -374,10 +374,11 @@ impl Renderer {
         }
     }
 
-    /// Whether this frame adds to an accumulation of frames, each at its own pixel jitter
+    /// Whether the next frame adds to an accumulation of frames, each at its own pixel jitter
     /// (else it is the image): while progressive or when `frames` > 1. A reference frame is
-    /// then a whole image of `spp` samples per batch.
-    fn accumulating(&self) -> bool {
+    /// then a whole image of `spp` samples per batch; otherwise a reference's frames add
+    /// samples to one image at the pixel centres.
+    pub fn accumulating(&self) -> bool {
         self.progressive || self.settings.frames > 1
     }
 

@@ -157,6 +157,13 @@ impl Renderer {
 #[derive(Default)]
 struct Timings(Vec<PassTiming>);
 
+/// `run` with the passes of one name summed into the first of them.
+pub(super) fn merged_by_name(run: &[PassTiming]) -> Vec<PassTiming> {
+    let mut timings = Timings::default();
+    timings.add(run);
+    timings.0
+}
+
 impl Timings {
     fn add(&mut self, run: &[PassTiming]) {
         for t in run {

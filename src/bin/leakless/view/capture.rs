@@ -26,7 +26,7 @@ pub fn capture(r: &mut Running, scene: &Scene, exr: &Path) -> anyhow::Result<()>
     }
     let frame = r.renderer.capture_frame().context("capturing")?;
     let light = r.light_moved.then(|| r.renderer.lights()[0].position);
-    let view = View { camera: r.camera.spec(), light, time: r.renderer.time(), progressive: !r.seed_frozen };
+    let view = View { camera: r.camera.spec(), light, time: r.renderer.time(), progressive: r.renderer.accumulating() };
     let command = command(r.renderer.settings(), r.renderer.backend(), scene, &frame, view, exr);
     let paths = OutputPaths {
         exr: exr.to_path_buf(),

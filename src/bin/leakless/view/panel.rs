@@ -25,6 +25,8 @@ pub struct PanelInfo<'a> {
     pub timing_note: &'a str,
     pub paused: bool,
     pub seed_frozen: bool,
+    /// Frames accumulate (`Renderer::accumulating`).
+    pub accumulating: bool,
     pub trivial_accept: bool,
     pub light_moved: bool,
     /// The scene's animation plays.
@@ -110,7 +112,7 @@ fn contents(ui: &mut egui::Ui, info: &PanelInfo<'_>, sliders: &mut Sliders) {
     }
     ui.label(format!("{:.1} ms/frame, {:.1} fps   {}", info.frame_ms, fps, flags.join(", ")));
     if let Some(report) = info.report {
-        if report.method == Method::Reference && info.seed_frozen {
+        if report.method == Method::Reference && !info.accumulating {
             // Not accumulating frames: samples add to one image at the pixel centres.
             ui.label(format!("reference: {} spp accumulated", report.accumulated));
         } else if report.method == Method::Reference {

@@ -234,7 +234,11 @@ impl Running {
                 self.batches_fitted = true;
                 (STILL_FRAME_BUDGET_MS / per_batch).floor().clamp(1.0, self.batch_limit as f64) as u32
             }
-            None if fresh => 1,
+            None if fresh => {
+                // Refit once a frame of this method has been measured (after a switch, none has).
+                self.batches_fitted = false;
+                1
+            }
             None => return Ok(()),
         };
         if fit != s.max_batches {
@@ -325,6 +329,7 @@ impl Running {
             timing_note: &timing_note,
             paused: r.paused(),
             seed_frozen: self.seed_frozen,
+            accumulating: r.accumulating(),
             trivial_accept: s.splat.trivial_accept,
             light_moved: self.light_moved,
             playing: self.playing && scene.is_animated(),
