@@ -21,6 +21,12 @@ pub fn next_path(scene: &str) -> anyhow::Result<PathBuf> {
 
 /// Captures the next frame to `exr` (+ `.png`, `.json` beside it).
 pub fn capture(r: &mut Running, scene: &Scene, exr: &Path) -> anyhow::Result<()> {
+    // Paused since a change: the window shows an image of the state before it, which no
+    // command renders.
+    if r.renderer.paused() && r.renderer.accumulated() == 0 {
+        println!("not captured: paused since the last change (Space resumes)");
+        return Ok(());
+    }
     if let Some(dir) = exr.parent().filter(|d| !d.as_os_str().is_empty()) {
         std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
     }
