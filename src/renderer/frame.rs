@@ -72,8 +72,9 @@ impl Renderer {
             self.collect(done)?;
         }
         let method = self.settings.method;
-        // Paused: the layers of the last frame are shown again; nothing new is rendered.
-        let render = !self.paused;
+        // Paused, or the accumulation full: the layers of the last frame are shown again;
+        // nothing new is rendered.
+        let render = !self.paused && !self.accumulation_full();
         let first = self.accumulated == 0;
         let seed = self.frame_seed();
         // A frame that adds to an accumulation of photon frames: number `index` (0-based) of

@@ -374,6 +374,14 @@ impl Renderer {
         }
     }
 
+    /// Whether the image holds as much as one accumulation may: `MAX_FRAMES` frames, or a
+    /// single reference's `MAX_SPP` samples. Further frames show it again, as when paused, so
+    /// what it holds stays within what `render` accepts (the app's captures record it as a
+    /// command). At 60 frames a second a still view gets there in 18 minutes.
+    pub fn accumulation_full(&self) -> bool {
+        accumulation_full(self.settings.method, self.accumulating(), self.accumulated)
+    }
+
     /// Whether the next frame adds to an accumulation of frames, each at its own pixel jitter
     /// (else it is the image): while progressive or when `frames` > 1. A reference frame is
     /// then a whole image of `spp` samples per batch; otherwise a reference's frames add
@@ -467,5 +475,31 @@ impl Drop for Renderer {
         }
         // Frames may be in flight: their resources must outlive them.
         let _ = self.runner.wait_idle(&self.gpu);
+    }
+}
+
+fn accumulation_full(method: Method, accumulating: bool, accumulated: u32) -> bool {
+    match (accumulating, method) {
+        (true, _) => accumulated >= crate::settings::MAX_FRAMES,
+        (false, Method::Reference) => accumulated >= crate::settings::MAX_SPP,
+        // A single photon frame is drawn anew every time.
+        (false, _) => false,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::settings::{MAX_FRAMES, MAX_SPP};
+
+    #[test]
+    fn an_accumulation_stops_at_what_render_accepts() {
+        assert!(!accumulation_full(Method::LeakLess, true, MAX_FRAMES - 1));
+        assert!(accumulation_full(Method::LeakLess, true, MAX_FRAMES));
+        assert!(accumulation_full(Method::Reference, true, MAX_FRAMES));
+        // A reference that does not accumulate frames counts samples.
+        assert!(!accumulation_full(Method::Reference, false, MAX_FRAMES));
+        assert!(accumulation_full(Method::Reference, false, MAX_SPP));
+        assert!(!accumulation_full(Method::Splat, false, u32::MAX));
     }
 }

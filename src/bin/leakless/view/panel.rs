@@ -27,6 +27,8 @@ pub struct PanelInfo<'a> {
     pub seed_frozen: bool,
     /// Frames accumulate (`Renderer::accumulating`).
     pub accumulating: bool,
+    /// The accumulation holds all it may (`Renderer::accumulation_full`).
+    pub accumulation_full: bool,
     pub trivial_accept: bool,
     pub light_moved: bool,
     /// The scene's animation plays.
@@ -100,6 +102,9 @@ fn contents(ui: &mut egui::Ui, info: &PanelInfo<'_>, sliders: &mut Sliders) {
     }
     if info.seed_frozen {
         flags.push("seed frozen");
+    }
+    if info.accumulation_full {
+        flags.push("accumulation full");
     }
     if !info.trivial_accept {
         flags.push("trivial accept off");

@@ -330,6 +330,7 @@ impl Running {
             paused: r.paused(),
             seed_frozen: self.seed_frozen,
             accumulating: r.accumulating(),
+            accumulation_full: r.accumulation_full(),
             trivial_accept: s.splat.trivial_accept,
             light_moved: self.light_moved,
             playing: self.playing && scene.is_animated(),
