@@ -177,8 +177,9 @@ fn a_reset_gives_the_single_frame_bit_for_bit() {
 }
 
 /// Flicker (a still view, fresh photons every frame, default paths and radius): `leakless`
-/// flickers no more than 1.1× `splat` on the leak scenes; and each frame of an accumulation changes the image less than
-/// the frames before it did (mean change over frames 2–4, 5–8, 9–16, 17–32).
+/// flickers no more than 1.1× `splat` on the leak scenes; and each frame of an accumulation
+/// changes the image less than the frames before it did (mean change over frames 2–4, 5–8,
+/// 9–16, 17–32).
 #[test]
 fn leakless_flickers_no_more_than_splat_and_accumulation_settles() {
     use leakless::flicker::{accumulation_changes, flicker, FLICKER_FRAMES};
@@ -197,6 +198,9 @@ fn leakless_flickers_no_more_than_splat_and_accumulation_settles() {
         eprintln!("{path}: flicker splat {splat:.4}, leakless {ours:.4}");
         assert!(ours <= 1.1 * splat, "{path}: leakless flickers {ours} against splat's {splat}");
         if path == "scenes/doorway.gltf" {
+            // One batch a frame: frames that grow only make the fall steeper, and they took
+            // two thirds of this test's time (38 of 58 s in release).
+            r.update(|s| s.max_batches = 1).expect("settings");
             let changes = accumulation_changes(&mut r, 32).expect("accumulation");
             let window = |a: usize, b: usize| changes[a - 2..b - 1].iter().sum::<f64>() / (b - a + 1) as f64;
             let means = [window(2, 4), window(5, 8), window(9, 16), window(17, 32)];
