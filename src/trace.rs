@@ -60,7 +60,7 @@ impl BackendChoice {
     /// ray queries on a GPU that has them; the compute BVH on a CPU device such as lavapipe,
     /// where it is faster than the device's ray queries (`leakless bench rays`: up to 2× on
     /// the sphere, and the leak scenes' visibility rays) and watertight where lavapipe's ray
-    /// queries are not (tests/trace.rs); the compute BVH on any device without ray queries.
+    /// queries are not (tests/suite/trace.rs); the compute BVH on any device without ray queries.
     pub fn resolve(self, caps: Capabilities, device_type: DeviceType, device: &str) -> Result<ResolvedBackend> {
         let (backend, why) = match self {
             Self::Compute => (Backend::Compute, "forced by --backend compute"),

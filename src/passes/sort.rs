@@ -36,7 +36,7 @@ use crate::shaders;
 /// against reflection).
 pub const WORKGROUP_SIZE: u32 = 256;
 /// Consecutive elements per thread in the histogram and scatter passes (`SORT_ITEMS`; not
-/// reflected: a mismatch fails every test of `tests/sort.rs` longer than one block).
+/// reflected: a mismatch fails every test of `tests/suite/sort.rs` longer than one block).
 /// Measured on lavapipe at 640×480: 4 → ~30 ms, 8 → ~23-36, 16 → ~20, 32 → ~23-27 (noisy).
 pub const ITEMS_PER_THREAD: u32 = 16;
 /// Elements per workgroup of the histogram and scatter passes.

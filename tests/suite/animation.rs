@@ -2,7 +2,7 @@
 //! once closed, the open door agrees with the reference at the same time, and a scene played
 //! to a time equals the scene frozen at that time, bit for bit on the compute backend.
 
-mod common;
+use crate::common;
 
 use leakless::chart::metrics;
 use leakless::{BackendChoice, Method, RenderSettings, RenderedFrame, Renderer, Scene};
@@ -118,7 +118,7 @@ fn a_played_scene_equals_the_scene_frozen_at_that_time() {
         }
         by_backend.push(frames);
     }
-    // The backends agree on the moving scene as on static ones (tests/leak.rs: 1e-4).
+    // The backends agree on the moving scene as on static ones (tests/suite/leak.rs: 1e-4).
     if let [rq, cs] = &by_backend[..] {
         for (step, (a, b)) in rq.iter().zip(cs).enumerate() {
             let diff = common::relative_rms(&a.radiance, &b.radiance);

@@ -2,7 +2,7 @@
 //! tested, never the result; the energy is right; error falls with more photons and smaller
 //! radii; a seed fixes the frame.
 
-mod common;
+use crate::common;
 
 use std::f64::consts::PI;
 

@@ -1,7 +1,7 @@
 //! The scenes where splatting leaks (scenes/two-rooms, doorway): leakless removes the leak,
 //! at every scale, on both backends.
 
-mod common;
+use crate::common;
 
 use leakless::chart::metrics;
 use leakless::{BackendChoice, Method, RenderSettings, RenderedFrame, Scene};

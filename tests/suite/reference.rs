@@ -3,10 +3,10 @@
 //!
 //! The Cornell-box ground truth is regenerated in the test run (64×48, 4096 spp, a few seconds on
 //! lavapipe) rather than stored: a stored EXR would silently go stale whenever the scene, the
-//! camera or the light transport changes, while the sphere's closed form (tests/trace.rs)
+//! camera or the light transport changes, while the sphere's closed form (tests/suite/trace.rs)
 //! already pins the path tracer itself to an analytic answer.
 
-mod common;
+use crate::common;
 
 use leakless::{BackendChoice, Method, RenderSettings, RenderedFrame};
 

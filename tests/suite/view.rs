@@ -7,7 +7,7 @@
 //! Without an X server (no Xvfb installed, or it fails to start) the tests say so loudly and
 //! pass, unless LEAKLESS_REQUIRE_DEVICE=1 (CI), where that is a failure.
 
-mod common;
+use crate::common;
 
 use std::path::Path;
 use std::process::{Child, Command, Output, Stdio};

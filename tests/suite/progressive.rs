@@ -2,7 +2,7 @@
 //! on the sphere, its error against the reference falls with N, and a reset gives the single
 //! frame back bit for bit.
 
-mod common;
+use crate::common;
 
 use std::f64::consts::PI;
 

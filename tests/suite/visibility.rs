@@ -2,7 +2,7 @@
 //! the photons' clearance never exceeds the true distance to other geometry, and walls of
 //! zero thickness (single quads sealed by shared edges) stop every leak at any scale.
 
-mod common;
+use crate::common;
 
 use glam::DVec3;
 use leakless::passes::photon_clearance::Clearance;

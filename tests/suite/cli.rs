@@ -1,7 +1,7 @@
 //! The command line: bad input gives one clear line on stderr and a non-zero exit, never a
 //! panic; a good render writes what it says.
 
-mod common;
+use crate::common;
 
 use std::process::{Command, Output};
 

@@ -1,7 +1,7 @@
 //! `leakless chart` end to end at a tiny size: measure, CSV, SVG and PNG charts. The metric
 //! functions have exact unit tests in `src/chart/metrics.rs`.
 
-mod common;
+use crate::common;
 
 use std::path::Path;
 

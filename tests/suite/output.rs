@@ -1,6 +1,6 @@
 //! The files a render leaves: layered EXR with header attributes, PNG, stats.
 
-mod common;
+use crate::common;
 
 use leakless::output::exr;
 

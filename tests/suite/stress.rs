@@ -3,7 +3,7 @@
 //! exactly zero in the dark room for the leak-free methods, a leak for `splat` — and
 //! `leakless` leaves no lone black pixel among lit neighbours.
 
-mod common;
+use crate::common;
 
 use leakless::stability::in_dark_box;
 use leakless::{BackendChoice, Method, RenderSettings, RenderedFrame, Renderer, Scene, SplatSettings};

@@ -3,7 +3,7 @@
 //! emitted power of spot and directional lights (closed form against numerical integration on
 //! the CPU, and measured on the GPU by storing first hits on a floor that catches them).
 
-mod common;
+use crate::common;
 
 use std::f64::consts::PI;
 

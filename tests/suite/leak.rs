@@ -1,6 +1,6 @@
 //! Leakage removal: what leaks is removed, nothing else is, on both backends, at any scale.
 
-mod common;
+use crate::common;
 
 use glam::Vec3;
 use leakless::{BackendChoice, Method, RenderSettings, RenderedFrame, Renderer, Scene, SplatSettings};

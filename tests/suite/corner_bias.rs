@@ -2,7 +2,7 @@
 //! the reference does. `leakless` divides by the kernel's mass over the visible part of its
 //! disk (gather.comp); `--whole-disk` is the estimator before that fix, measured beside it.
 
-mod common;
+use crate::common;
 
 use leakless::chart::metrics;
 use leakless::{Method, RenderSettings, RenderedFrame, Renderer, SplatSettings};

@@ -1,6 +1,6 @@
 //! The first frame: G-buffer + direct light, checked against closed-form answers.
 
-mod common;
+use crate::common;
 
 use std::f32::consts::PI;
 

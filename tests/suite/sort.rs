@@ -2,7 +2,7 @@
 //! lengths, stability under many equal keys, sorted and reversed input, the 0xFFFFFFFF
 //! sentinel of invalid pixels, keys beyond `key_bits`, and the errors of its bounds.
 
-mod common;
+use crate::common;
 
 use leakless::passes::sort::{self, SortPass};
 use leakless::{shaders, Gpu};
@@ -119,7 +119,7 @@ fn morton_keys(rng: &mut Rng, n: usize, sentinel_percent: u32) -> Vec<u32> {
 }
 
 /// The sort shaders' workgroups are what sort.rs assumes (their bindings are checked with
-/// every pass's in tests/bindings.rs; no GPU needed).
+/// every pass's in tests/suite/bindings.rs; no GPU needed).
 #[test]
 fn workgroup_sizes_match() {
     for shader in
@@ -254,7 +254,7 @@ fn bounds_are_errors() {
 }
 
 /// The cost at 640×480 on this device, each pass submitted and timed alone (not asserted).
-/// `cargo test -p leakless --test sort -- --nocapture sort_time`
+/// `cargo test -p leakless --test suite -- --nocapture sort_time`
 #[test]
 fn sort_time_640x480() {
     print_sort_time(640, 480);

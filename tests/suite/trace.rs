@@ -1,7 +1,7 @@
 //! Both trace backends: they agree ray by ray, they are watertight, shadows are exact, and
 //! the reference path tracer converges to the closed sphere's analytic radiance.
 
-mod common;
+use crate::common;
 
 use std::f32::consts::PI;
 

@@ -1,7 +1,7 @@
 //! The device layer on the real driver: validation errors are caught, not just printed, and
 //! the device reports what it can do.
 
-mod common;
+use crate::common;
 
 use leakless_device::{vk, Buffer, BufferDesc, DeviceError, MemoryLocation};
 
