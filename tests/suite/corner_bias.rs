@@ -26,18 +26,12 @@ fn photons(visible_disk: bool, radius: Option<f32>, paths: u32, frames: u32) -> 
     }
 }
 
-fn reference(path: &str, spp: u32) -> Option<RenderedFrame> {
+/// One reference frame of `spp` samples, all at the pixel centres, as a single photon frame
+/// samples.
+fn reference(path: &str, (width, height): (u32, u32), spp: u32) -> Option<RenderedFrame> {
     common::render_with(
         path,
-        RenderSettings {
-            width: WIDTH,
-            height: HEIGHT,
-            method: Method::Reference,
-            spp,
-            max_bounces: 8,
-            seed: 7,
-            ..Default::default()
-        },
+        RenderSettings { width, height, method: Method::Reference, spp, max_bounces: 8, seed: 7, ..Default::default() },
     )
 }
 
@@ -73,7 +67,7 @@ const ATRIUM_PATHS: u32 = 200_000;
 #[test]
 fn atrium_single_frames_are_unbiased_at_the_default_radius_and_twice_it() {
     let path = "scenes/atrium.gltf";
-    let Some(reference) = reference(path, 1024) else { return };
+    let Some(reference) = reference(path, (WIDTH, HEIGHT), 1024) else { return };
     let target = luminance(&reference.indirect);
     let gpu = common::gpu_with(false).expect("device");
     let scene = common::scene(path);
@@ -105,18 +99,7 @@ fn atrium_single_frames_are_unbiased_at_the_default_radius_and_twice_it() {
 #[test]
 fn the_visible_disk_costs_no_accuracy_elsewhere() {
     for path in ["scenes/cornell-box.gltf", "scenes/doorway.gltf", "scenes/two-rooms.gltf"] {
-        let reference = RenderSettings {
-            width: 96,
-            height: 72,
-            method: Method::Reference,
-            spp: 32,
-            frames: 16,
-            max_batches: 1, // 16 frames of 32 samples each
-            max_bounces: 8,
-            seed: 7,
-            ..Default::default()
-        };
-        let Some(reference) = common::render_with(path, reference) else { return };
+        let Some(reference) = common::jittered_reference(path, (96, 72), 32, 16, 7) else { return };
         let eps = metrics::epsilon(&reference.indirect);
         let gpu = common::gpu_with(false).expect("device");
         let settings = RenderSettings { width: 96, height: 72, ..photons(false, None, 10_000, 16) };
@@ -156,16 +139,7 @@ fn the_visible_disk_costs_no_accuracy_elsewhere() {
 fn cornell_single_frames_do_not_darken_at_edges() {
     let path = "scenes/cornell-box.gltf";
     let (width, height) = (96, 72);
-    let centres = RenderSettings {
-        width,
-        height,
-        method: Method::Reference,
-        spp: 1024, // one frame: every sample at the pixel centre
-        max_bounces: 8,
-        seed: 7,
-        ..Default::default()
-    };
-    let Some(reference) = common::render_with(path, centres) else { return };
+    let Some(reference) = reference(path, (width, height), 1024) else { return };
     let eps = metrics::epsilon(&reference.indirect);
     let gpu = common::gpu_with(false).expect("device");
     let settings = RenderSettings { width, height, ..photons(true, None, 10_000, 1) };

@@ -122,18 +122,7 @@ fn the_still_views_reference_is_the_rendered_progressive_reference() {
 /// the same 64 pixel jitters (64 frames of 64 samples), so antialiasing is not counted as error.
 #[test]
 fn error_against_the_reference_falls_with_frames() {
-    let reference = RenderSettings {
-        width: 64,
-        height: 48,
-        method: Method::Reference,
-        spp: 64,
-        frames: 64,
-        max_batches: 1, // 64 frames of 64 samples each
-        max_bounces: 8,
-        seed: 1,
-        ..Default::default()
-    };
-    let Some(reference) = common::render_with("scenes/cornell-box.gltf", reference) else { return };
+    let Some(reference) = common::jittered_reference("scenes/cornell-box.gltf", (64, 48), 64, 64, 1) else { return };
     let Some(mut r) = renderer("scenes/cornell-box.gltf", settings(64, 48, 1000, 0.05, 8, 1)) else { return };
     let eps = metrics::epsilon(&reference.indirect);
     let mut errors = Vec::new();

@@ -100,6 +100,30 @@ pub fn reference(path: &str, spp: u32, max_bounces: u32) -> Option<RenderedFrame
     render_with(path, settings)
 }
 
+/// The reference path tracer's antialiased image of `path` at 8 bounces: `frames` frames of
+/// `spp` samples each (one batch a frame), at the pixel jitters of the photon frames an
+/// accumulation of as many frames renders.
+pub fn jittered_reference(
+    path: &str,
+    (width, height): (u32, u32),
+    spp: u32,
+    frames: u32,
+    seed: u32,
+) -> Option<RenderedFrame> {
+    let settings = RenderSettings {
+        width,
+        height,
+        method: leakless::Method::Reference,
+        spp,
+        frames,
+        max_batches: 1,
+        max_bounces: 8,
+        seed,
+        ..Default::default()
+    };
+    render_with(path, settings)
+}
+
 /// A photon method at the leak scenes' test settings: 64×48, 4 bounces, seed 1.
 pub fn photon_settings(
     method: leakless::Method,
