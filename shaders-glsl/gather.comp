@@ -18,7 +18,7 @@
 // sample inside the ball, more than 2τ above the surface, to the lifted photon stays in the
 // ball (which is convex) and above that plane (a half-space): it meets no triangle, so
 // tracing it would find nothing. The images are bit-identical either way
-// (tests/leak.rs checks it on every leak scene and both backends).
+// (tests/suite/leak.rs checks it on every leak scene and both backends).
 //
 // Sums are kept in 64-bit fixed point: the splat appends to the lists with atomics, so their
 // order changes from run to run, and only an order-independent sum makes a frame
