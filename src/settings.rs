@@ -117,6 +117,10 @@ impl RenderSettings {
         if self.spp == 0 || self.spp > MAX_SPP {
             return bad(format!("--spp {} must be within 1..={MAX_SPP}", self.spp));
         }
+        if self.splat.paths == 0 {
+            // Each photon carries the light's power over the paths traced: none would divide by 0.
+            return bad("--paths 0: a photon frame must trace at least one light path".into());
+        }
         if self.splat.cap == Some(0) {
             return bad("--cap 0: a cap must let at least one photon through (omit --cap for the thesis' 25)".into());
         }

@@ -49,6 +49,21 @@ fn bad_size_is_rejected() {
     assert!(!out.status.success());
 }
 
+/// Settings that would render nonsense are refused before a device is opened: no light paths
+/// (each photon carries the light's power over the paths: this rendered NaN), and an exposure
+/// that is not a positive multiplier.
+#[test]
+fn settings_without_meaning_are_refused() {
+    let out = leakless(&["render", "scenes/cornell-box.gltf", "--paths", "0", "--out", "/dev/null"], &[]);
+    assert_one_line_error(&out, "--paths 0");
+    for exposure in ["--exposure=0", "--exposure=-1", "--exposure=nan"] {
+        let out = leakless(&["render", "scenes/cornell-box.gltf", exposure, "--out", "/dev/null"], &[]);
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(!out.status.success() && stderr.contains("positive number"), "{exposure}: {stderr}");
+        assert!(!stderr.contains("panicked"), "{stderr}");
+    }
+}
+
 /// Device limits are checked before anything is allocated, and named with their values: 10⁸
 /// paths need a 51 GB photon buffer, beyond any device's maxStorageBufferRange (at most 4 GiB).
 #[test]

@@ -86,7 +86,7 @@ pub struct RenderOptions {
     #[arg(long, default_value_t = 0.0, value_parser = parse_time)]
     pub time: f32,
     /// PNG and window exposure multiplier (default: automatic).
-    #[arg(long)]
+    #[arg(long, value_parser = parse_exposure)]
     pub exposure: Option<f32>,
 }
 
@@ -151,6 +151,15 @@ fn parse_time(s: &str) -> Result<f32, String> {
         Ok(t)
     } else {
         Err(format!("'{s}' is not a finite number of seconds"))
+    }
+}
+
+fn parse_exposure(s: &str) -> Result<f32, String> {
+    let e: f32 = s.trim().parse().map_err(|_| format!("'{s}' is not a number"))?;
+    if e.is_finite() && e > 0.0 {
+        Ok(e)
+    } else {
+        Err(format!("'{s}': an exposure multiplies the image, so it must be a positive number"))
     }
 }
 
