@@ -120,6 +120,8 @@ fn chart_command_writes_every_file_and_fails_in_one_line() {
     };
     let (ok, _, err) = run(&["chart", "scenes/cornell-box.gltf", "--out", "/tmp/x", "--paths", "0"]);
     assert!(!ok && err.trim().lines().count() == 1 && err.contains("--paths"), "{err}");
+    let (ok, _, err) = run(&["chart", "scenes/cornell-box.gltf", "--series", "--out", "/tmp/x", "--frame-paths", "0"]);
+    assert!(!ok && err.trim().lines().count() == 1 && err.contains("--frame-paths 0"), "{err}");
 
     if common::gpu_with(false).is_none() {
         return;

@@ -19,6 +19,9 @@ pub fn run(args: &ChartArgs) -> anyhow::Result<()> {
     if !(1..=100).contains(&args.repeats) {
         anyhow::bail!("--repeats {} must be within 1..=100", args.repeats);
     }
+    if args.frame_paths == 0 {
+        anyhow::bail!("--frame-paths 0: a photon frame must trace at least one light path");
+    }
     if args.truth_frames == 0 || args.ref_spp < args.truth_frames {
         anyhow::bail!("--truth-frames {} must be within 1..=--ref-spp ({})", args.truth_frames, args.ref_spp);
     }
