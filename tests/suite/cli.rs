@@ -64,6 +64,26 @@ fn settings_without_meaning_are_refused() {
     }
 }
 
+/// A benchmark's counts are held to what it can measure: a best of no repeats, and changes of
+/// an accumulation of fewer than two frames, were printed as measurements.
+#[test]
+fn bench_counts_outside_their_range_are_refused() {
+    let cases: [&[&str]; 3] = [
+        &["bench", "leak", "scenes/cornell-box.gltf", "--repeats", "0"],
+        &["bench", "rays", "scenes/cornell-box.gltf", "--repeats", "0"],
+        &["bench", "flicker", "scenes/cornell-box.gltf", "--frames", "1"],
+    ];
+    for args in cases {
+        let out = leakless(args, &[]);
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(
+            !out.status.success() && stderr.contains(args[4]) && stderr.contains("is not in"),
+            "{args:?}: {stderr}"
+        );
+        assert!(!stderr.contains("panicked"), "{stderr}");
+    }
+}
+
 /// Device limits are checked before anything is allocated, and named with their values: 10⁸
 /// paths need a 51 GB photon buffer, beyond any device's maxStorageBufferRange (at most 4 GiB).
 #[test]

@@ -3,6 +3,7 @@
 use std::path::PathBuf;
 
 use anyhow::Context;
+use leakless::settings::MAX_FRAMES;
 use leakless::{Backend, BackendChoice, Scene};
 
 #[derive(clap::Subcommand)]
@@ -15,7 +16,7 @@ pub enum BenchCommand {
         #[arg(long, default_value = "512x512", value_parser = crate::parse_size)]
         size: (u32, u32),
         /// Timed repeats per measurement (the best counts).
-        #[arg(long, default_value_t = 3)]
+        #[arg(long, default_value_t = 3, value_parser = clap::value_parser!(u32).range(1..=100))]
         repeats: u32,
     },
     /// Leakage removal, per scene: frame time of splat, leakless-capped and leakless at the
@@ -37,7 +38,7 @@ pub enum BenchCommand {
         #[arg(long, default_value = "auto", value_parser = crate::parse_backend)]
         backend: BackendChoice,
         /// Timed frames per configuration after a warm-up frame (the fastest counts).
-        #[arg(long, default_value_t = 3)]
+        #[arg(long, default_value_t = 3, value_parser = clap::value_parser!(u32).range(1..=100))]
         repeats: u32,
     },
     /// Temporal stability, per scene: flicker of splat, leakless-capped and leakless (a still
@@ -54,8 +55,8 @@ pub enum BenchCommand {
         /// Trace backend.
         #[arg(long, default_value = "auto", value_parser = crate::parse_backend)]
         backend: BackendChoice,
-        /// Frames of the accumulation whose changes are printed.
-        #[arg(long, default_value_t = 32)]
+        /// Frames of the accumulation whose changes are printed (from frame 2, the first change).
+        #[arg(long, default_value_t = 32, value_parser = clap::value_parser!(u32).range(2..=MAX_FRAMES as i64))]
         frames: u32,
     },
     /// Scenes that move: a leakless frame whose animation advances every frame against the
@@ -68,7 +69,7 @@ pub enum BenchCommand {
         #[arg(long, default_value_t = 10_000)]
         paths: u32,
         /// Timed frames per configuration, at frames/3 times through the animation.
-        #[arg(long, default_value_t = 15)]
+        #[arg(long, default_value_t = 15, value_parser = clap::value_parser!(u32).range(1..=MAX_FRAMES as i64))]
         frames: u32,
     },
     /// Photon splatting: per-pass times, hierarchy tests against brute force, growth with
@@ -93,7 +94,7 @@ pub fn run(cmd: BenchCommand) -> anyhow::Result<()> {
             crate::bench_flicker::run(&scenes, size, paths, backend, frames)
         }
         BenchCommand::Animation { scene, size, paths, frames } => {
-            crate::bench_animation::run(&scene, size, paths, frames.max(1))
+            crate::bench_animation::run(&scene, size, paths, frames)
         }
         BenchCommand::Leak { scenes, size, paths, radius, backend, repeats } => {
             crate::bench_leak::run(&scenes, size, paths, radius, backend, repeats)
