@@ -223,6 +223,33 @@ fn assert_command_renders(capture: &Path, again: &Path) -> String {
     command.to_string()
 }
 
+/// A key that would take a setting past a device limit is refused, not fatal: `=` doubles the
+/// paths past what the photon buffer holds (from half the device's limit plus one); the app
+/// says so once and runs on at the paths it had. `render` exits on the same setting.
+#[test]
+fn a_key_past_a_device_limit_is_refused_and_the_app_runs_on() {
+    let Some(x) = xvfb() else { return };
+    let Some(gpu) = common::gpu() else { return };
+    // 64 bounces: the photon buffer's limit is low (32,768 paths on lavapipe's 128 MiB range).
+    let most = leakless::limits::max_frame_paths(&gpu.report().limits, 64);
+    drop(gpu);
+    let paths = (most / 2 + 1).to_string();
+    let dir = common::tmp_path("view-refused");
+    std::fs::create_dir_all(&dir).unwrap();
+    let script = dir.join("script.txt");
+    std::fs::write(&script, "3 key Equal\n5 key Equal\n12 quit\n").unwrap();
+    let args = ["scenes/cornell-box.gltf", "--size", "32x24", "--max-bounces", "64", "--paths", &paths, "--script"];
+    let mut args: Vec<&str> = args.to_vec();
+    args.push(script.to_str().unwrap());
+    let out = view(&x, &args, true);
+    let stdout = assert_clean(&out);
+    assert!(stdout.contains("frames 12,"), "the app ran to the end of its script: {stdout}");
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    let refusals: Vec<&str> = stderr.lines().filter(|l| l.starts_with("not applied:")).collect();
+    assert_eq!(refusals.len(), 1, "said once: {stderr}");
+    assert!(refusals[0].contains(&format!("--paths {}", 2 * (most / 2 + 1))), "{stderr}");
+}
+
 #[test]
 fn soak_keeps_memory_flat() {
     let Some(x) = xvfb() else { return };

@@ -8,6 +8,7 @@ mod capture;
 mod keys;
 mod overlay;
 mod panel;
+mod refusal;
 mod script;
 mod summary;
 mod tick;
@@ -151,8 +152,9 @@ struct Running {
     /// submitted alone (timestamps there do not bracket compute work); 0: every frame, from
     /// timestamps.
     profile_every: u64,
-    /// Why B did nothing, when it could not.
-    backend_note: Option<&'static str>,
+    /// Why the last change of settings (a key, a slider, the window's size) was not made, or
+    /// was made smaller (`refusal`).
+    refusal: Option<String>,
     /// Per-pass times of the newest frame that measured them (see `profile_every`).
     timings: Option<Vec<leakless_graph::PassTiming>>,
     quit: bool,
@@ -242,7 +244,7 @@ impl App {
             batch_limit: options.max_batches,
             batches_fitted: false,
             profile_every: if device_type == DeviceType::Cpu { 30 } else { 0 },
-            backend_note: None,
+            refusal: None,
             timings: None,
             quit: false,
         })

@@ -12,6 +12,8 @@ pub struct PanelInfo<'a> {
     pub device: &'a str,
     pub backend: &'a str,
     pub backend_why: &'a str,
+    /// Why the last change was not made (`refusal`).
+    pub refusal: Option<&'a str>,
     pub width: u32,
     pub height: u32,
     pub method: Method,
@@ -116,6 +118,9 @@ fn contents(ui: &mut egui::Ui, info: &PanelInfo<'_>, sliders: &mut Sliders) {
         flags.push("playing");
     }
     ui.label(format!("{:.1} ms/frame, {:.1} fps   {}", info.frame_ms, fps, flags.join(", ")));
+    if let Some(why) = info.refusal {
+        ui.label(RichText::new(format!("not applied: {why}")).color(Color32::from_rgb(255, 170, 60)));
+    }
     if let Some(report) = info.report {
         if report.method == Method::Reference && !info.accumulating {
             // Not accumulating frames: samples add to one image at the pixel centres.

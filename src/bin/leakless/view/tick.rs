@@ -12,6 +12,7 @@ use winit::keyboard::KeyCode;
 use super::camera::Motion;
 use super::keys::{self, Action};
 use super::panel::{self, PanelInfo, Sliders};
+use super::refusal;
 use super::script::{Event, Script};
 use super::summary::Summary;
 use super::{capture, Running, ViewArgs};
@@ -45,38 +46,43 @@ impl Running {
         }
     }
 
-    /// One press of `code`.
+    /// One press of `code`. A change of settings the device cannot render or the settings
+    /// refuse is not made, and the panel says why (`refusal`).
     pub(super) fn key(&mut self, code: KeyCode, scene: &Scene) -> anyhow::Result<()> {
         let Some(action) = keys::action(code) else { return Ok(()) };
         let r = &mut self.renderer;
-        match action {
-            Action::Method(m) => r.set_method(m)?,
-            Action::CycleLayer => r.set_view_layer(r.view_layer().next()),
+        let change = match action {
+            Action::Method(m) => r.set_method(m),
+            Action::CycleLayer => {
+                r.set_view_layer(r.view_layer().next());
+                Ok(())
+            }
             Action::RadiusDown | Action::RadiusUp => {
                 let radius = r.settings().splat.radius.unwrap_or(0.05 * scene.bounds().bounding_radius());
                 let radius = if action == Action::RadiusUp { radius * 1.25 } else { radius / 1.25 };
-                r.update(|s| s.splat.radius = Some(radius))?;
+                r.update(|s| s.splat.radius = Some(radius))
             }
-            Action::PathsDown => r.update(|s| s.splat.paths = (s.splat.paths / 2).max(1))?,
+            Action::PathsDown => r.update(|s| s.splat.paths = (s.splat.paths / 2).max(1)),
             Action::PathsUp => {
                 let paths = r.settings().splat.paths.saturating_mul(2);
-                r.update(|s| s.splat.paths = paths)?
+                r.update(|s| s.splat.paths = paths)
             }
             Action::CapDown | Action::CapUp => {
                 let cap = r.settings().splat.cap.unwrap_or(leakless::settings::DEFAULT_CAP);
                 let cap = if action == Action::CapUp { cap + 5 } else { cap.saturating_sub(5).max(1) };
-                r.update(|s| s.splat.cap = Some(cap))?;
+                r.update(|s| s.splat.cap = Some(cap))
             }
-            Action::ToggleTrivialAccept => r.update(|s| s.splat.trivial_accept = !s.splat.trivial_accept)?,
+            Action::ToggleTrivialAccept => r.update(|s| s.splat.trivial_accept = !s.splat.trivial_accept),
             Action::SwitchBackend => {
                 if r.gpu().capabilities().ray_query {
                     let next = match r.backend() {
                         leakless::Backend::RayQuery => BackendChoice::Compute,
                         leakless::Backend::Compute => BackendChoice::RayQuery,
                     };
-                    r.set_backend(next)?;
+                    r.set_backend(next)
                 } else {
-                    self.backend_note = Some("B: this device has no ray queries");
+                    // What the device lacks, said as a limit is.
+                    Err(leakless::RenderError::Limit("B: this device has no ray queries".into()))
                 }
             }
             Action::MoveLight(d) => {
@@ -85,22 +91,51 @@ impl Running {
                 light.position += glam::Vec3::new(d[0] as f32, d[1] as f32, d[2] as f32) * step;
                 r.set_light(0, light)?;
                 self.light_moved = true;
+                Ok(())
             }
             Action::FreezeSeed => {
                 self.seed_frozen = !self.seed_frozen;
                 r.set_advance_seed(!self.seed_frozen);
                 r.set_progressive(!self.seed_frozen);
+                Ok(())
             }
-            Action::PlayAnimation => self.playing = !self.playing,
-            Action::Pause => r.set_paused(!r.paused()),
+            Action::PlayAnimation => {
+                self.playing = !self.playing;
+                Ok(())
+            }
+            Action::Pause => {
+                r.set_paused(!r.paused());
+                Ok(())
+            }
             Action::Capture => {
                 let path = capture::next_path(&scene.name)?;
                 capture::capture(self, scene, &path)?;
+                Ok(())
             }
-            Action::ResetCamera => self.camera.reset(),
-            Action::Help => self.show_help = !self.show_help,
-            Action::ToggleOverlay => self.show_overlay = !self.show_overlay,
+            Action::ResetCamera => {
+                self.camera.reset();
+                Ok(())
+            }
+            Action::Help => {
+                self.show_help = !self.show_help;
+                Ok(())
+            }
+            Action::ToggleOverlay => {
+                self.show_overlay = !self.show_overlay;
+                Ok(())
+            }
+        };
+        self.settle(change)
+    }
+
+    /// Keeps the reason a change was refused for the panel (and says it once on stderr); a
+    /// change made clears it.
+    fn settle(&mut self, change: leakless::Result<()>) -> anyhow::Result<()> {
+        let why = refusal::refused(change)?;
+        if why.is_some() && why != self.refusal {
+            eprintln!("not applied: {}", why.as_deref().unwrap_or_default());
         }
+        self.refusal = why;
         Ok(())
     }
 
@@ -272,8 +307,16 @@ impl Running {
             self.minimized = true;
             return Ok(());
         }
-        let scaled = |v: u32| ((v as f32 * self.render_scale).round() as u32).max(1);
-        self.renderer.set_size(scaled(e.width), scaled(e.height))?;
+        let renderer = &mut self.renderer;
+        let (size, why) =
+            refusal::fit_render_size((e.width, e.height), self.render_scale, |w, h| renderer.set_size(w, h))?;
+        if let Some(why) = why {
+            let why = format!("render size held to {}×{} ({why})", size.0, size.1);
+            if self.refusal.as_ref() != Some(&why) {
+                eprintln!("{why}");
+            }
+            self.refusal = Some(why);
+        }
         self.renderer.prepare_display(swapchain.format())?;
         self.overlay.set_format(swapchain.format())?;
         self.swapchain = Some(swapchain);
@@ -318,7 +361,8 @@ impl Running {
             scene: &scene.name,
             device: &gpu.name,
             backend: r.backend().name(),
-            backend_why: self.backend_note.unwrap_or(r.backend_why()),
+            backend_why: r.backend_why(),
+            refusal: self.refusal.as_deref(),
             width: s.width,
             height: s.height,
             method: s.method,
@@ -346,7 +390,7 @@ impl Running {
         self.batch_limit = sliders.max_batches;
         let changed = |s: &Sliders| (s.radius, s.paths, s.cap, s.max_batches);
         if changed(&sliders) != changed(&before) {
-            self.renderer.update(|s| {
+            let change = self.renderer.update(|s| {
                 if sliders.radius != before.radius {
                     s.splat.radius = Some(sliders.radius);
                 }
@@ -355,7 +399,8 @@ impl Running {
                 if sliders.cap != before.cap {
                     s.splat.cap = Some(sliders.cap);
                 }
-            })?;
+            });
+            self.settle(change)?;
         }
         Ok(())
     }
