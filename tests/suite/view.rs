@@ -87,6 +87,14 @@ fn assert_clean(out: &Output) -> String {
     stdout
 }
 
+/// An empty directory of the test's own for scripts and captures.
+fn fresh_dir(name: &str) -> std::path::PathBuf {
+    let dir = common::tmp_path(name);
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
 /// Every channel of two EXRs, bit for bit.
 fn assert_same_exr(a: &Path, b: &Path) {
     let (a_exr, b_exr) = (exr::read(a).expect("read capture"), exr::read(b).expect("read render"));
@@ -108,8 +116,7 @@ fn a_lost_device_ends_the_app_with_one_line() {
         eprintln!("\n*** SKIPPED: fault injection exists in debug builds only ***\n");
         return;
     }
-    let dir = common::tmp_path("view-lost");
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = fresh_dir("view-lost");
     // Should the stall not happen, the script ends the app instead of the test hanging.
     let script = dir.join("quit.txt");
     std::fs::write(&script, "200 quit\n").unwrap();
@@ -134,9 +141,7 @@ fn a_lost_device_ends_the_app_with_one_line() {
 #[test]
 fn scripted_session_is_clean_and_captures_what_render_renders() {
     let Some(x) = xvfb() else { return };
-    let dir = common::tmp_path("view-session");
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = fresh_dir("view-session");
     let capture = dir.join("capture.exr");
     let mut script = String::new();
     let frame = std::cell::Cell::new(2);
@@ -234,8 +239,7 @@ fn a_key_past_a_device_limit_is_refused_and_the_app_runs_on() {
     let most = leakless::limits::max_frame_paths(&gpu.report().limits, 64);
     drop(gpu);
     let paths = (most / 2 + 1).to_string();
-    let dir = common::tmp_path("view-refused");
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = fresh_dir("view-refused");
     let script = dir.join("script.txt");
     std::fs::write(&script, "3 key Equal\n5 key Equal\n12 quit\n").unwrap();
     let args = ["scenes/cornell-box.gltf", "--size", "32x24", "--max-bounces", "64", "--paths", &paths, "--script"];
@@ -290,9 +294,7 @@ fn soak_keeps_memory_flat() {
 #[test]
 fn the_app_plays_the_door_shut_and_m_stops_it() {
     let Some(x) = xvfb() else { return };
-    let dir = common::tmp_path("view-door");
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = fresh_dir("view-door");
     let [open, closed, stopped] = ["open", "closed", "stopped"].map(|n| dir.join(format!("{n}.exr")));
     let script = format!(
         "3 capture {}\n80 capture {}\n85 key KeyM\n130 capture {}\n132 quit\n",
