@@ -310,13 +310,12 @@ impl Running {
         let renderer = &mut self.renderer;
         let (size, why) =
             refusal::fit_render_size((e.width, e.height), self.render_scale, |w, h| renderer.set_size(w, h))?;
-        if let Some(why) = why {
-            let why = format!("render size held to {}×{} ({why})", size.0, size.1);
-            if self.refusal.as_ref() != Some(&why) {
-                eprintln!("{why}");
-            }
-            self.refusal = Some(why);
+        // A window size applied is a change made: it clears an earlier refusal, as keys do.
+        let why = why.map(|why| format!("render size held to {}×{} ({why})", size.0, size.1));
+        if why.is_some() && why != self.refusal {
+            eprintln!("{}", why.as_deref().unwrap_or_default());
         }
+        self.refusal = why;
         self.renderer.prepare_display(swapchain.format())?;
         self.overlay.set_format(swapchain.format())?;
         self.swapchain = Some(swapchain);
