@@ -122,6 +122,14 @@ fn chart_command_writes_every_file_and_fails_in_one_line() {
     assert!(!ok && err.trim().lines().count() == 1 && err.contains("--paths"), "{err}");
     let (ok, _, err) = run(&["chart", "scenes/cornell-box.gltf", "--series", "--out", "/tmp/x", "--frame-paths", "0"]);
     assert!(!ok && err.trim().lines().count() == 1 && err.contains("--frame-paths 0"), "{err}");
+    // A flag of the other mode is refused rather than ignored (a series once ran at the
+    // automatic radius whatever --radius said).
+    let (ok, _, err) = run(&["chart", "scenes/cornell-box.gltf", "--series", "--out", "/tmp/x", "--paths", "5k"]);
+    assert!(!ok && err.trim().lines().count() == 1 && err.contains("--paths applies to the grid"), "{err}");
+    let (ok, _, err) = run(&["chart", "scenes/cornell-box.gltf", "--out", "/tmp/x", "--budget", "5"]);
+    assert!(!ok && err.trim().lines().count() == 1 && err.contains("--budget applies to --series only"), "{err}");
+    let (ok, _, err) = run(&["chart", "scenes/cornell-box.gltf", "--series", "--out", "/tmp/x", "--radius", "0.1,0.2"]);
+    assert!(!ok && err.trim().lines().count() == 1 && err.contains("one radius"), "{err}");
 
     if common::gpu_with(false).is_none() {
         return;

@@ -28,28 +28,30 @@ pub struct ChartArgs {
     /// this build has].
     #[arg(long, value_delimiter = ',', value_parser = parse_method)]
     methods: Option<Vec<Method>>,
-    /// Light paths per frame, comma-separated (`k` = thousand).
-    #[arg(long, value_delimiter = ',', default_value = "5k,20k,80k", value_parser = parse_count)]
-    paths: Vec<u32>,
+    /// Light paths per frame, comma-separated (`k` = thousand) [default: 5k,20k,80k].
+    #[arg(long, value_delimiter = ',', value_parser = parse_count)]
+    paths: Option<Vec<u32>>,
     /// Gather radii in scene units, comma-separated [default: 0.5, 1 and 2 × the automatic
-    /// radius, 5% of the scene's bounding radius; see --radius-scale].
+    /// radius, 5% of the scene's bounding radius; see --radius-scale]. Series: one radius, the
+    /// first frame's [default: the automatic radius].
     #[arg(long, value_delimiter = ',', conflicts_with = "radius_scale")]
-    radius: Option<Vec<f32>>,
-    /// Gather radii as multiples of the automatic radius, comma-separated.
-    #[arg(long, value_delimiter = ',', default_value = "0.5,1,2")]
-    radius_scale: Vec<f32>,
+    pub(crate) radius: Option<Vec<f32>>,
+    /// Gather radii as multiples of the automatic radius, comma-separated [default: 0.5,1,2].
+    #[arg(long, value_delimiter = ',')]
+    radius_scale: Option<Vec<f32>>,
     /// Trace backends, comma-separated: rayquery, compute [default: every one the device has].
+    /// Series: one backend [default: the device's choice].
     #[arg(long, value_delimiter = ',', value_parser = parse_backend)]
-    backends: Option<Vec<Backend>>,
+    pub(crate) backends: Option<Vec<Backend>>,
     /// Timed frames per setting after the warm-up frame; the fastest counts (lavapipe's
     /// times vary by tens of percent from frame to frame). Series: runs of every series, the
     /// methods taking turns, each checkpoint at its fastest time.
     #[arg(long, default_value_t = 1)]
     pub(crate) repeats: u32,
     /// Dark pixels (the second error of each chart): those whose reference indirect light is at
-    /// most this fraction of its mean over the pixels with a surface.
-    #[arg(long, default_value_t = 0.01)]
-    dark_fraction: f64,
+    /// most this fraction of its mean over the pixels with a surface [default: 0.01].
+    #[arg(long)]
+    dark_fraction: Option<f64>,
     /// Seed of every random sequence.
     #[arg(long, default_value_t = 0)]
     pub(crate) seed: u32,
@@ -61,15 +63,34 @@ pub struct ChartArgs {
     /// jittered ground truth; writes PREFIX-<scene>-series.csv and -series-{relmse,flip}.svg/.png.
     #[arg(long)]
     pub(crate) series: bool,
-    /// Series: wall time each method accumulates for, seconds.
-    #[arg(long, default_value_t = 10.0)]
-    pub(crate) budget: f64,
-    /// Series: light paths per photon frame.
-    #[arg(long, default_value_t = 10_000)]
-    pub(crate) frame_paths: u32,
-    /// Series: the ground truth's jittered frames, each of --ref-spp / this many samples.
-    #[arg(long, default_value_t = 64)]
-    pub(crate) truth_frames: u32,
+    /// Series: wall time each method accumulates for, seconds [default: 10].
+    #[arg(long)]
+    pub(crate) budget: Option<f64>,
+    /// Series: light paths per photon frame [default: 10000].
+    #[arg(long)]
+    pub(crate) frame_paths: Option<u32>,
+    /// Series: the ground truth's jittered frames, each of --ref-spp / this many samples
+    /// [default: 64].
+    #[arg(long)]
+    pub(crate) truth_frames: Option<u32>,
+}
+
+impl ChartArgs {
+    /// The first flag given that the chosen mode has no use for: the grid's settings with
+    /// `--series`, the series' without it. Ignoring it would chart something else than asked.
+    fn flag_of_the_other_mode(&self) -> Option<&'static str> {
+        let given = |flag: &'static str, is: bool| is.then_some(flag);
+        if self.series {
+            given("--methods", self.methods.is_some())
+                .or(given("--paths", self.paths.is_some()))
+                .or(given("--radius-scale", self.radius_scale.is_some()))
+                .or(given("--dark-fraction", self.dark_fraction.is_some()))
+        } else {
+            given("--budget", self.budget.is_some())
+                .or(given("--frame-paths", self.frame_paths.is_some()))
+                .or(given("--truth-frames", self.truth_frames.is_some()))
+        }
+    }
 }
 
 fn parse_method(s: &str) -> Result<Method, String> {
@@ -100,9 +121,14 @@ fn parse_count(s: &str) -> Result<u32, String> {
 
 pub fn run(args: ChartArgs) -> anyhow::Result<()> {
     use std::io::IsTerminal;
+    if let Some(flag) = args.flag_of_the_other_mode() {
+        let mode = if args.series { "the grid chart, not --series" } else { "--series only" };
+        anyhow::bail!("{flag} applies to {mode}");
+    }
     if args.series {
         return crate::chart_series::run(&args);
     }
+    let defaults = ChartConfig::default();
     let config = ChartConfig {
         width: args.size.0,
         height: args.size.1,
@@ -110,14 +136,14 @@ pub fn run(args: ChartArgs) -> anyhow::Result<()> {
         max_bounces: args.max_bounces,
         seed: args.seed,
         methods: args.methods.unwrap_or_else(chart::default_methods),
-        paths: args.paths,
         radii: match args.radius {
             Some(r) => Radii::Absolute(r),
-            None => Radii::Auto(args.radius_scale),
+            None => args.radius_scale.map_or(defaults.radii, Radii::Auto),
         },
+        paths: args.paths.unwrap_or(defaults.paths),
         backends: args.backends.unwrap_or_default(),
         repeats: args.repeats,
-        dark_fraction: args.dark_fraction,
+        dark_fraction: args.dark_fraction.unwrap_or(defaults.dark_fraction),
     };
     config.validate()?;
     chart::plot::check_size(args.chart_size)?;

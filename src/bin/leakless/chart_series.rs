@@ -7,46 +7,61 @@ use anyhow::Context;
 use leakless::chart::series::{measure_series, write_series_csv, SceneSeries, SeriesConfig};
 use leakless::chart::series_plot::{plot_series, SeriesMetric};
 use leakless::chart::{file_stem, plot};
-use leakless::{BackendChoice, Method, Scene};
+use leakless::{Backend, BackendChoice, Method, Scene};
 
 use crate::chart::ChartArgs;
 
 pub fn run(args: &ChartArgs) -> anyhow::Result<()> {
     plot::check_size(args.chart_size)?;
-    if !(args.budget.is_finite() && args.budget > 0.0 && args.budget <= 3600.0) {
-        anyhow::bail!("--budget {} must be within (0, 3600] seconds", args.budget);
+    let budget = args.budget.unwrap_or(10.0);
+    if !(budget.is_finite() && budget > 0.0 && budget <= 3600.0) {
+        anyhow::bail!("--budget {budget} must be within (0, 3600] seconds");
     }
     if !(1..=100).contains(&args.repeats) {
         anyhow::bail!("--repeats {} must be within 1..=100", args.repeats);
     }
-    if args.frame_paths == 0 {
+    let frame_paths = args.frame_paths.unwrap_or(10_000);
+    if frame_paths == 0 {
         anyhow::bail!("--frame-paths 0: a photon frame must trace at least one light path");
     }
-    if args.truth_frames == 0 || args.ref_spp < args.truth_frames {
-        anyhow::bail!("--truth-frames {} must be within 1..=--ref-spp ({})", args.truth_frames, args.ref_spp);
+    let truth_frames = args.truth_frames.unwrap_or(64);
+    if truth_frames == 0 || args.ref_spp < truth_frames {
+        anyhow::bail!("--truth-frames {truth_frames} must be within 1..=--ref-spp ({})", args.ref_spp);
     }
+    let radius = match args.radius.as_deref() {
+        None => None,
+        Some(&[r]) if r.is_finite() && r > 0.0 => Some(r),
+        Some(&[r]) => anyhow::bail!("--radius {r} must be a positive length"),
+        Some(_) => anyhow::bail!("--radius: a series starts from one radius, not several"),
+    };
+    let backend = match args.backends.as_deref() {
+        None => BackendChoice::Auto,
+        Some(&[Backend::RayQuery]) => BackendChoice::RayQuery,
+        Some(&[Backend::Compute]) => BackendChoice::Compute,
+        Some(_) => anyhow::bail!("--backends: a series runs on one backend, not several"),
+    };
     if let Some(dir) = args.out.parent().filter(|d| !d.as_os_str().is_empty()) {
         std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
     }
     let config = SeriesConfig {
         width: args.size.0,
         height: args.size.1,
-        backend: BackendChoice::Auto,
-        paths: args.frame_paths,
-        radius: None,
+        backend,
+        paths: frame_paths,
+        radius,
         max_bounces: args.max_bounces,
         seed: args.seed,
-        budget: Duration::from_secs_f64(args.budget),
+        budget: Duration::from_secs_f64(budget),
         repeats: args.repeats,
-        truth_frames: args.truth_frames,
-        truth_spp: args.ref_spp / args.truth_frames,
+        truth_frames,
+        truth_spp: args.ref_spp / truth_frames,
     };
     let open = || Ok(leakless::Gpu::new(&leakless::GpuOptions { validation: None, ray_tracing: true, window: None })?);
     for path in &args.scenes {
         let scene = Scene::load(path).with_context(|| format!("loading {}", path.display()))?;
         let series = measure_series(&open, &scene, &config, &mut |what| eprintln!("{}: {what}", scene.name))
             .with_context(|| format!("charting {}", path.display()))?;
-        print_table(&series, args.budget * 1e3);
+        print_table(&series, budget * 1e3);
         let base = format!("{}-{}-series", args.out.display(), file_stem(&series.scene));
         let csv = std::path::PathBuf::from(format!("{base}.csv"));
         write_series_csv(&series, &csv)?;
