@@ -130,6 +130,11 @@ pub struct SplatFrame {
     pub batches: u32,
 }
 
+/// The gather radius when `--radius` is not given: 5% of the scene's bounding radius.
+pub fn auto_radius(scene: &crate::Scene) -> f32 {
+    0.05 * scene.bounds().bounding_radius()
+}
+
 /// The exponent α of the radius reduction of progressive photon mapping (Knaus and Zwicker,
 /// "Progressive Photon Mapping: A Probabilistic Approach", 2011): r²ᵢ₊₁ = r²ᵢ (i + α)/(i + 1).
 /// Any α in (0, 1) makes the average of the frames converge; 2/3 is their choice, balancing

@@ -265,7 +265,7 @@ pub fn measure_with_progress(
     let dark = metrics::dark_mask(&reference.indirect, Some(&covered), config.dark_fraction);
     done += 1;
 
-    let auto_radius = 0.05 * scene.bounds().bounding_radius();
+    let auto_radius = crate::splatting::auto_radius(scene);
     let radii = config.radii.resolve(auto_radius);
     let mut points = Vec::new();
     for &backend in &backends {

@@ -97,7 +97,7 @@ impl Renderer {
         };
         let mut splat = None;
         if let Some(mut settings) = self.settings.photon_settings().filter(|_| render) {
-            let radius = settings.radius.unwrap_or(0.05 * self.scene.bounds().bounding_radius());
+            let radius = settings.radius.unwrap_or_else(|| splatting::auto_radius(&self.scene));
             if !(radius.is_finite() && radius > 0.0) {
                 return Err(crate::RenderError::Settings(format!("--radius {radius} must be a positive number")));
             }

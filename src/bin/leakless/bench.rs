@@ -144,7 +144,7 @@ fn rays(path: PathBuf, size: (u32, u32), repeats: u32) -> anyhow::Result<()> {
 fn splat(path: PathBuf, (w, h): (u32, u32), paths: u32) -> anyhow::Result<()> {
     use leakless::{Method, RenderSettings, SplatSettings};
     let scene = Scene::load(&path).with_context(|| format!("loading {}", path.display()))?;
-    let auto = 0.05 * scene.bounds().bounding_radius();
+    let auto = leakless::splatting::auto_radius(&scene);
     let open = || Ok(leakless::Gpu::new(&leakless::GpuOptions { validation: None, ray_tracing: true, window: None })?);
     let s =
         |paths, radius: f32, branching| SplatSettings { paths, radius: Some(radius), branching, ..Default::default() };

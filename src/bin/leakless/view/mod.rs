@@ -3,11 +3,13 @@
 //! runs for tests. It drives the same `Renderer` as `render`: one frame in flight while the
 //! next is recorded, nothing read back except on capture.
 
+mod batches;
 mod camera;
 mod capture;
 mod keys;
 mod overlay;
 mod panel;
+mod press;
 mod refusal;
 mod script;
 mod summary;

@@ -1,16 +1,15 @@
 //! One iteration of the app's loop: the script's events, the camera, the overlay's UI, then
-//! a frame acquired, rendered and presented. And what each key does.
+//! a frame acquired, rendered and presented.
 
 use std::time::{Duration, Instant};
 
 use ash::vk;
-use leakless::{BackendChoice, DisplayTarget, Method, Scene};
+use leakless::{DisplayTarget, Scene};
 use leakless_device::{PresentOutcome, SubmitSync, Swapchain};
 use leakless_graph::Timing;
-use winit::keyboard::KeyCode;
 
 use super::camera::Motion;
-use super::keys::{self, Action};
+use super::keys;
 use super::panel::{self, PanelInfo, Sliders};
 use super::refusal;
 use super::script::{Event, Script};
@@ -19,21 +18,6 @@ use super::{capture, Running, ViewArgs};
 
 /// The time step of scripted runs: the same motion whatever the machine's speed.
 const SCRIPT_DT: f32 = 1.0 / 30.0;
-/// A still view's frames grow only while they stay within this (fit_batches): 10 frames a
-/// second keeps keys and the mouse answered at once.
-const STILL_FRAME_BUDGET_MS: f64 = 100.0;
-/// Frames before one is taken to measure the time of a batch.
-const WARM_UP_FRAMES: u64 = 4;
-
-/// Whether the host interval that ended at the start of tick `tick - 1` (the time of tick
-/// `tick - 2`, which `frame_ms` holds when tick `tick` fits the batches) is a frame like the
-/// others. A profiled tick (`tick % profile_every == 1`) submits each pass alone and waits,
-/// so it is slower; the one after it finds the frames before already done and waits for
-/// none, so it is faster. Neither measures a batch.
-fn interval_is_typical(tick: u64, profile_every: u64) -> bool {
-    let measured = tick.wrapping_sub(2);
-    profile_every == 0 || !matches!(measured % profile_every, 1 | 2)
-}
 
 impl Running {
     pub(super) fn resize(&mut self, width: u32, height: u32) {
@@ -44,99 +28,6 @@ impl Running {
             self.size = (width, height);
             self.recreate = true;
         }
-    }
-
-    /// One press of `code`. A change of settings the device cannot render or the settings
-    /// refuse is not made, and the panel says why (`refusal`).
-    pub(super) fn key(&mut self, code: KeyCode, scene: &Scene) -> anyhow::Result<()> {
-        let Some(action) = keys::action(code) else { return Ok(()) };
-        let r = &mut self.renderer;
-        let change = match action {
-            Action::Method(m) => r.set_method(m),
-            Action::CycleLayer => {
-                r.set_view_layer(r.view_layer().next());
-                Ok(())
-            }
-            Action::RadiusDown | Action::RadiusUp => {
-                let radius = r.settings().splat.radius.unwrap_or(0.05 * scene.bounds().bounding_radius());
-                let radius = if action == Action::RadiusUp { radius * 1.25 } else { radius / 1.25 };
-                r.update(|s| s.splat.radius = Some(radius))
-            }
-            Action::PathsDown => r.update(|s| s.splat.paths = (s.splat.paths / 2).max(1)),
-            Action::PathsUp => {
-                let paths = r.settings().splat.paths.saturating_mul(2);
-                r.update(|s| s.splat.paths = paths)
-            }
-            Action::CapDown | Action::CapUp => {
-                let cap = r.settings().splat.cap.unwrap_or(leakless::settings::DEFAULT_CAP);
-                let cap = if action == Action::CapUp { cap + 5 } else { cap.saturating_sub(5).max(1) };
-                r.update(|s| s.splat.cap = Some(cap))
-            }
-            Action::ToggleTrivialAccept => r.update(|s| s.splat.trivial_accept = !s.splat.trivial_accept),
-            Action::SwitchBackend => {
-                if r.gpu().capabilities().ray_query {
-                    let next = match r.backend() {
-                        leakless::Backend::RayQuery => BackendChoice::Compute,
-                        leakless::Backend::Compute => BackendChoice::RayQuery,
-                    };
-                    r.set_backend(next)
-                } else {
-                    // What the device lacks, said as a limit is.
-                    Err(leakless::RenderError::Limit("B: this device has no ray queries".into()))
-                }
-            }
-            Action::MoveLight(d) => {
-                let step = 0.02 * scene.bounds().bounding_radius();
-                let mut light = r.lights()[0].clone();
-                light.position += glam::Vec3::new(d[0] as f32, d[1] as f32, d[2] as f32) * step;
-                r.set_light(0, light)?;
-                self.light_moved = true;
-                Ok(())
-            }
-            Action::FreezeSeed => {
-                self.seed_frozen = !self.seed_frozen;
-                r.set_advance_seed(!self.seed_frozen);
-                r.set_progressive(!self.seed_frozen);
-                Ok(())
-            }
-            Action::PlayAnimation => {
-                self.playing = !self.playing;
-                Ok(())
-            }
-            Action::Pause => {
-                r.set_paused(!r.paused());
-                Ok(())
-            }
-            Action::Capture => {
-                let path = capture::next_path(&scene.name)?;
-                capture::capture(self, scene, &path)?;
-                Ok(())
-            }
-            Action::ResetCamera => {
-                self.camera.reset();
-                Ok(())
-            }
-            Action::Help => {
-                self.show_help = !self.show_help;
-                Ok(())
-            }
-            Action::ToggleOverlay => {
-                self.show_overlay = !self.show_overlay;
-                Ok(())
-            }
-        };
-        self.settle(change)
-    }
-
-    /// Keeps the reason a change was refused for the panel (and says it once on stderr); a
-    /// change made clears it.
-    fn settle(&mut self, change: leakless::Result<()>) -> anyhow::Result<()> {
-        let why = refusal::refused(change)?;
-        if why.is_some() && why != self.refusal {
-            eprintln!("not applied: {}", why.as_deref().unwrap_or_default());
-        }
-        self.refusal = why;
-        Ok(())
     }
 
     /// One loop iteration.
@@ -243,45 +134,6 @@ impl Running {
         Ok(())
     }
 
-    /// How many batches (of photon paths, or of reference samples) a still view's frames may
-    /// grow to, so that a frame stays within `STILL_FRAME_BUDGET_MS` and the app answers a key
-    /// at once. A frame of B batches is taken to cost B times the last frame's time per batch
-    /// (an upper bound: the view samples' work is shared). Fitted at the start of each
-    /// accumulation, and once more when the first measurement of the method arrives (frames do
-    /// not grow before it). On a GPU a batch takes milliseconds and frames grow to the limit;
-    /// on lavapipe at the default size one photon batch already fills the budget and frames
-    /// stay at one.
-    fn fit_batches(&mut self) -> anyhow::Result<()> {
-        let fresh = self.renderer.accumulated() == 0;
-        if !fresh && self.batches_fitted {
-            return Ok(());
-        }
-        let s = self.renderer.settings();
-        // The first frames (pipelines warming, lists growing) are slower than the rest.
-        let settled =
-            self.frame > WARM_UP_FRAMES && self.frame_ms > 0.0 && interval_is_typical(self.frame, self.profile_every);
-        // A frame of the method now drawn: after a switch, the last one may be of another.
-        let measured =
-            self.renderer.last_report().filter(|r| settled && r.method == s.method && r.method != Method::Direct);
-        let fit = match measured {
-            Some(last) => {
-                let per_batch = self.frame_ms / last.frame_batches.max(1) as f64;
-                self.batches_fitted = true;
-                (STILL_FRAME_BUDGET_MS / per_batch).floor().clamp(1.0, self.batch_limit as f64) as u32
-            }
-            None if fresh => {
-                // Refit once a frame of this method has been measured (after a switch, none has).
-                self.batches_fitted = false;
-                1
-            }
-            None => return Ok(()),
-        };
-        if fit != s.max_batches {
-            self.renderer.update(|s| s.max_batches = fit)?;
-        }
-        Ok(())
-    }
-
     /// Moves the scene to time `t`; an animated camera takes the fly camera with it.
     fn set_time(&mut self, scene: &Scene, t: f32) -> anyhow::Result<()> {
         let before = self.renderer.camera().clone();
@@ -330,7 +182,7 @@ impl Running {
         }
         let r = &self.renderer;
         let s = r.settings();
-        let auto_radius = 0.05 * scene.bounds().bounding_radius();
+        let auto_radius = leakless::splatting::auto_radius(scene);
         let mut sliders = Sliders {
             radius: s.splat.radius.unwrap_or(auto_radius),
             radius_range: (auto_radius / 50.0, auto_radius * 50.0),
@@ -402,20 +254,5 @@ impl Running {
             self.settle(change)?;
         }
         Ok(())
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::interval_is_typical;
-
-    #[test]
-    fn the_intervals_of_a_profiled_tick_and_the_one_after_it_do_not_measure_a_batch() {
-        // Profiled ticks 1, 31, 61, …: their times reach fit_batches at ticks 3, 33, …, and the
-        // times of the ticks after them at 4, 34, ….
-        let skipped: Vec<u64> = (3..70).filter(|&t| !interval_is_typical(t, 30)).collect();
-        assert_eq!(skipped, [3, 4, 33, 34, 63, 64]);
-        // Without profiling (GPUs) every interval counts.
-        assert!((0..100).all(|t| interval_is_typical(t, 0)));
     }
 }
