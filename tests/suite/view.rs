@@ -160,7 +160,13 @@ fn scripted_session_is_clean_and_captures_what_render_renders() {
         at(&mut script, &format!("key {key}"));
     }
     at(&mut script, "drag 15 -10");
+    // Paused, then a change: the window still shows the state before it, which no command
+    // renders, so a capture is refused (panel and stderr) and nothing is written.
+    let paused_capture = dir.join("paused.exr");
     at(&mut script, "key Space");
+    at(&mut script, "key Equal");
+    at(&mut script, "key Minus");
+    at(&mut script, &format!("capture {}", paused_capture.display()));
     at(&mut script, "key Space");
     // 20 resizes, then minimised and restored.
     for i in 0..20 {
@@ -196,6 +202,9 @@ fn scripted_session_is_clean_and_captures_what_render_renders() {
     for ext in ["exr", "png", "json"] {
         assert!(capture.with_extension(ext).exists(), "capture .{ext} written");
     }
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(stderr.contains("not applied: capture: paused since the last change"), "{stderr}");
+    assert!(!paused_capture.exists(), "a refused capture writes nothing");
 
     // The command each capture recorded renders the same EXR.
     let reference_command = assert_command_renders(&reference, &dir.join("reference-again.exr"));

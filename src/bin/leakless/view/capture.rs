@@ -19,13 +19,15 @@ pub fn next_path(scene: &str) -> anyhow::Result<PathBuf> {
     Ok(path)
 }
 
-/// Captures the next frame to `exr` (+ `.png`, `.json` beside it).
-pub fn capture(r: &mut Running, scene: &Scene, exr: &Path) -> anyhow::Result<()> {
+/// Captures the next frame to `exr` (+ `.png`, `.json` beside it). Returns why not when the
+/// frame cannot be captured, for the app to say as it says a refused key (`refusal`).
+pub fn capture(r: &mut Running, scene: &Scene, exr: &Path) -> anyhow::Result<Option<String>> {
     // Paused since a change: the window shows an image of the state before it, which no
     // command renders.
     if r.renderer.paused() && r.renderer.accumulated() == 0 {
-        println!("not captured: paused since the last change (Space resumes)");
-        return Ok(());
+        return Ok(Some(
+            "capture: paused since the last change, the window shows the state before it (Space resumes)".into(),
+        ));
     }
     if let Some(dir) = exr.parent().filter(|d| !d.as_os_str().is_empty()) {
         std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
@@ -43,7 +45,7 @@ pub fn capture(r: &mut Running, scene: &Scene, exr: &Path) -> anyhow::Result<()>
     for path in output::write_render(&paths, &scene_path, &r.renderer, &frame, Some(command))? {
         println!("captured {}", path.display());
     }
-    Ok(())
+    Ok(None)
 }
 
 /// The scene's file as the command line names it (the app was started with it).

@@ -72,8 +72,9 @@ impl Running {
             }
             Action::Capture => {
                 let path = capture::next_path(&scene.name)?;
-                capture::capture(self, scene, &path)?;
-                Ok(())
+                let why = capture::capture(self, scene, &path)?;
+                self.note_refusal(why);
+                return Ok(());
             }
             Action::ResetCamera => {
                 self.camera.reset();
@@ -95,10 +96,15 @@ impl Running {
     /// change made clears it.
     pub(super) fn settle(&mut self, change: leakless::Result<()>) -> anyhow::Result<()> {
         let why = refusal::refused(change)?;
+        self.note_refusal(why);
+        Ok(())
+    }
+
+    /// Keeps why the last action was not done (`None`: it was), saying a new reason once.
+    pub(super) fn note_refusal(&mut self, why: Option<String>) {
         if why.is_some() && why != self.refusal {
             eprintln!("not applied: {}", why.as_deref().unwrap_or_default());
         }
         self.refusal = why;
-        Ok(())
     }
 }

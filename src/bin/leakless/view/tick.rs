@@ -58,7 +58,10 @@ impl Running {
                         // the same whether or not the window system honours the request.
                         self.resize(w, h);
                     }
-                    Event::Capture(path) => capture::capture(self, scene, &path)?,
+                    Event::Capture(path) => {
+                        let why = capture::capture(self, scene, &path)?;
+                        self.note_refusal(why);
+                    }
                     Event::Quit => self.quit = true,
                 }
             }
