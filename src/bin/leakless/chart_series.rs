@@ -56,7 +56,9 @@ pub fn run(args: &ChartArgs) -> anyhow::Result<()> {
         truth_frames,
         truth_spp: args.ref_spp / truth_frames,
     };
-    let open = || Ok(leakless::Gpu::new(&leakless::GpuOptions { validation: None, ray_tracing: true, window: None })?);
+    // A compute-only series opens the device as `render --backend compute` does.
+    let ray_tracing = backend.wants_ray_queries();
+    let open = || Ok(leakless::Gpu::new(&leakless::GpuOptions { validation: None, ray_tracing, window: None })?);
     for path in &args.scenes {
         let scene = Scene::load(path).with_context(|| format!("loading {}", path.display()))?;
         let series = measure_series(&open, &scene, &config, &mut |what| eprintln!("{}: {what}", scene.name))
