@@ -54,8 +54,9 @@ impl Default for SeriesConfig {
             seed: 0,
             budget: Duration::from_secs(10),
             repeats: 1,
-            truth_frames: 256,
-            truth_spp: 64,
+            // `chart --series`' defaults: 64 frames of 16 samples (--ref-spp 1024).
+            truth_frames: 64,
+            truth_spp: 16,
         }
     }
 }

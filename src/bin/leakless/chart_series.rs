@@ -13,18 +13,19 @@ use crate::chart::ChartArgs;
 
 pub fn run(args: &ChartArgs) -> anyhow::Result<()> {
     plot::check_size(args.chart_size)?;
-    let budget = args.budget.unwrap_or(10.0);
+    let defaults = SeriesConfig::default();
+    let budget = args.budget.unwrap_or(defaults.budget.as_secs_f64());
     if !(budget.is_finite() && budget > 0.0 && budget <= 3600.0) {
         anyhow::bail!("--budget {budget} must be within (0, 3600] seconds");
     }
     if !(1..=100).contains(&args.repeats) {
         anyhow::bail!("--repeats {} must be within 1..=100", args.repeats);
     }
-    let frame_paths = args.frame_paths.unwrap_or(10_000);
+    let frame_paths = args.frame_paths.unwrap_or(defaults.paths);
     if frame_paths == 0 {
         anyhow::bail!("--frame-paths 0: a photon frame must trace at least one light path");
     }
-    let truth_frames = args.truth_frames.unwrap_or(64);
+    let truth_frames = args.truth_frames.unwrap_or(defaults.truth_frames);
     if truth_frames == 0 || args.ref_spp < truth_frames {
         anyhow::bail!("--truth-frames {truth_frames} must be within 1..=--ref-spp ({})", args.ref_spp);
     }
