@@ -85,6 +85,10 @@ pub struct SceneSeries {
     pub device: String,
     pub width: u32,
     pub height: u32,
+    /// Light paths per photon batch, and the radius the photon methods' first frame gathers
+    /// with (the automatic one unless given): a chart at other settings says so.
+    pub paths: u32,
+    pub radius: f32,
     pub truth_frames: u32,
     pub truth_spp: u32,
     pub truth_ms: f64,
@@ -184,6 +188,8 @@ pub fn measure_series(
         device,
         width: config.width,
         height: config.height,
+        paths: config.paths,
+        radius: config.radius.unwrap_or_else(|| crate::splatting::auto_radius(scene)),
         truth_frames: config.truth_frames,
         truth_spp: config.truth_spp,
         truth_ms,
@@ -320,6 +326,8 @@ mod tests {
             device: "d".into(),
             width: 1,
             height: 1,
+            paths: 1,
+            radius: 1.0,
             truth_frames: 1,
             truth_spp: 1,
             truth_ms: 0.0,

@@ -127,8 +127,8 @@ fn draw<DB: DrawingBackend>(
         .border_style(RGBColor(200, 200, 200))
         .draw()?;
     let line = format!(
-        "{}×{}; ground truth: reference, {} jittered frames × {} spp; {}",
-        series.width, series.height, series.truth_frames, series.truth_spp, series.device
+        "{}×{}; photon batches of {} paths, first radius {:.4}; ground truth: reference, {} jittered frames × {} spp; {}",
+        series.width, series.height, series.paths, series.radius, series.truth_frames, series.truth_spp, series.device
     );
     foot.draw(&Text::new(line, (px(10.0), px(4.0)), TextStyle::from(font(11.5)).color(&grey)))?;
     root.present()?;

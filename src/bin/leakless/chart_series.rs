@@ -81,11 +81,13 @@ pub fn run(args: &ChartArgs) -> anyhow::Result<()> {
 
 fn print_table(s: &SceneSeries, budget_ms: f64) {
     println!(
-        "{} ({}x{}, ground truth {} frames x {} spp in {:.1} s; errors at exactly each time, \
-         interpolated on log-log axes between the checkpoints around it):",
+        "{} ({}x{}, photon batches of {} paths from radius {:.4}, ground truth {} frames x {} spp in {:.1} s; \
+         errors at exactly each time, interpolated on log-log axes between the checkpoints around it):",
         s.scene,
         s.width,
         s.height,
+        s.paths,
+        s.radius,
         s.truth_frames,
         s.truth_spp,
         s.truth_ms / 1e3
