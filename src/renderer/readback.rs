@@ -66,19 +66,11 @@ impl Renderer {
     }
 
     /// As [`Renderer::render`]; `progress(done, total)` is called as reference samples
-    /// accumulate. A splat frame whose node lists overflowed is rendered once more with lists
-    /// large enough (unless the capacity was fixed by the user or is at its maximum, in which
-    /// case the drops are reported in the frame's stats).
+    /// accumulate. A splat frame whose node lists overflowed restarts the image with lists
+    /// large enough (`collect`), so the frames are rendered again within the same loop, unless
+    /// the capacity was fixed by the user or is at its maximum, in which case the drops are
+    /// reported in the frame's stats.
     pub fn render_with_progress(&mut self, progress: &mut dyn FnMut(u32, u32)) -> Result<RenderedFrame> {
-        let capacity = self.list_capacity;
-        let frame = self.render_once(progress)?;
-        if self.list_capacity > capacity {
-            return self.render_once(progress);
-        }
-        Ok(frame)
-    }
-
-    fn render_once(&mut self, progress: &mut dyn FnMut(u32, u32)) -> Result<RenderedFrame> {
         let start = std::time::Instant::now();
         self.wait_idle()?;
         self.restart();
@@ -96,6 +88,11 @@ impl Renderer {
             self.set_samples_per_frame(chunk.min(total - self.accumulated));
             self.submit_frame(None, last.then_some(request))?;
             self.wait_idle()?;
+            if self.accumulated == 0 {
+                // The lists grew and the image restarted: its passes' times start again too.
+                timings = Timings::default();
+                continue;
+            }
             timings.add(&self.last.as_ref().expect("a frame completed").timings);
             progress(self.accumulated.min(total), total);
             let per_sample = t.elapsed().as_secs_f64() * 1e3 / chunk as f64;

@@ -175,4 +175,16 @@ fn list_overflow_is_counted_and_the_default_capacity_grows() {
     let s = frame.splat.unwrap();
     assert_eq!(s.list_entries_dropped, 0, "{s:?}");
     assert!(s.list_capacity > 2000 * 4 * 16, "the lists did not grow: {s:?}");
+
+    // An accumulation whose lists grow restarts within the render and is the accumulation
+    // that never ran short, bit for bit (frames of 1, 2 and 4 batches).
+    let accumulate = |list_capacity| {
+        let splat = SplatSettings { paths: 2000, radius: Some(0.3), list_capacity, ..Default::default() };
+        common::render_with("scenes/cornell-box.gltf", RenderSettings { frames: 3, ..settings(48, 36, splat, 4, 1) })
+            .unwrap()
+    };
+    let (grown, ample) = (accumulate(None), accumulate(Some(1 << 22)));
+    let s = grown.splat.as_ref().unwrap();
+    assert_eq!((grown.accumulated, grown.batches, s.list_entries_dropped), (3, 7, 0), "{s:?}");
+    assert!(grown.indirect == ample.indirect, "a restart after the lists grew changed the image");
 }
