@@ -89,13 +89,16 @@ fn atrium_single_frames_are_unbiased_at_the_default_radius_and_twice_it() {
     r.gpu().check_validation().expect("validation clean");
 }
 
-/// Where the fix has less to fix, it must cost little accuracy: 16 accumulated frames of the
+/// Where the fix has less to fix, it must cost no accuracy: 16 accumulated frames of the
 /// Cornell box and the doorway, relMSE of the indirect layer against the reference with the
-/// same 16 pixel jitters. The issue asks for no worse; we measure the Cornell box 1.6% worse
-/// (0.02798 against 0.02755 here, since accumulation divides summed flux by summed mass; 7% as
-/// a mean of per-frame ratios: the wall photons it no longer counts in corners were averaging
-/// noise away) and the doorway better, so this bounds the loss at 4% until that is won back.
-/// The two rooms' dark room stays exactly black.
+/// same 16 pixel jitters, no worse with the visible disk than with the whole disk (the issue's
+/// bound). Measured: Cornell 0.01449 against 0.01663, doorway 0.02344 against 0.02430. With
+/// the accumulation's radius starting at the single frame's, the Cornell box was 1.6% worse
+/// (0.02798 against 0.02755; 7% as a mean of per-frame ratios, which is why accumulation
+/// divides summed flux by summed mass): the wall photons the visible disk no longer counts in
+/// corners were averaging noise away, and the larger radius after the first frame
+/// (`splatting::ACCUMULATION_RADIUS_SCALE`) gives that back. The two rooms' dark room stays
+/// exactly black.
 #[test]
 fn the_visible_disk_costs_no_accuracy_elsewhere() {
     for path in ["scenes/cornell-box.gltf", "scenes/doorway.gltf", "scenes/two-rooms.gltf"] {
@@ -123,7 +126,7 @@ fn the_visible_disk_costs_no_accuracy_elsewhere() {
             "{path}: relMSE over 16 frames {:.5} with the whole disk, {:.5} with the visible disk",
             errors[0], errors[1]
         );
-        assert!(errors[1] <= 1.04 * errors[0], "{path}: {errors:?}");
+        assert!(errors[1] <= errors[0], "{path}: the visible disk is worse: {errors:?}");
     }
 }
 
