@@ -25,7 +25,7 @@ use crate::passes::tonemap::ViewLayer;
 use crate::passes::{instance_vertices, readback, ViewInputs};
 use crate::photon_lights::upload_lights;
 use crate::settings::Method;
-use crate::splatting::{self, grown_list_capacity, SplatFrame, SplatInputsOfFrame, SplatStats, SplattingPasses};
+use crate::splatting::{self, grown_batch_capacity, SplatFrame, SplatInputsOfFrame, SplatStats, SplattingPasses};
 
 /// Draws over the tonemapped image (the app's overlay): passes added to the frame's graph
 /// after the tonemap, writing `target`.
@@ -87,9 +87,17 @@ impl Renderer {
         // compare methods that share their per-frame work the same way.
         let first_batch = if progressive { self.batches } else { 0 };
         let frame_batches = if progressive && method.splats() {
-            let fits = crate::limits::max_frame_paths(&self.gpu.report().limits, self.settings.max_bounces)
+            let limits = &self.gpu.report().limits;
+            let fits = crate::limits::max_frame_paths(limits, self.settings.max_bounces)
                 / self.settings.splat.paths.max(1) as u64;
-            splatting::frame_batches(index, self.settings.max_batches).min(fits.clamp(1, u32::MAX as u64) as u32)
+            // Lists grown to what a batch needs: a frame holds no more batches than they take.
+            let lists_hold = match self.settings.splat.list_capacity {
+                None => splatting::batches_the_lists_hold(self.list_capacity, crate::limits::max_list_entries(limits)),
+                Some(_) => u32::MAX, // the user's fixed capacity: drops are reported
+            };
+            splatting::frame_batches(index, self.settings.max_batches)
+                .min(fits.clamp(1, u32::MAX as u64) as u32)
+                .min(lists_hold)
         } else if progressive && method == Method::Reference {
             splatting::frame_batches(index, self.settings.max_batches)
         } else {
@@ -370,9 +378,10 @@ impl Renderer {
         });
         if let Some(frame) = &pending.splat {
             if self.settings.splat.list_capacity.is_none() {
-                if let Some(grown) = grown_list_capacity(frame.list_capacity, &counters.lists) {
-                    let grown = grown.min(crate::limits::max_list_entries(&self.gpu.report().limits));
-                    let grown = grown.div_ceil(frame.batches.max(1));
+                let max_entries = crate::limits::max_list_entries(&self.gpu.report().limits);
+                if let Some(grown) =
+                    grown_batch_capacity(self.list_capacity, frame.batches, &counters.lists, max_entries)
+                {
                     if grown > self.list_capacity {
                         // The frame lost photons: an accumulation restarts without it.
                         self.list_capacity = grown;
