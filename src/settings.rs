@@ -25,9 +25,10 @@ pub struct RenderSettings {
     /// photon mapping, and jittered pixel positions. 1: a single frame.
     pub frames: u32,
     /// Photon batches (of `splat.paths` paths each) a frame of an accumulation traces at most:
-    /// frame k traces min(2^k, this) of them (`--max-batches`), so a still view's frames grow
-    /// and the per-frame work (view samples, hierarchy, visible disk, direct light) is shared by
-    /// more photons. 1: every frame traces `paths` paths.
+    /// frame k traces min(2^k, this) of them (`--max-batches`; fewer when the node lists cannot
+    /// hold them), so a still view's frames grow and the per-frame work (view samples,
+    /// hierarchy, visible disk, direct light) is shared by more photons. 1: every frame traces
+    /// `paths` paths.
     pub max_batches: u32,
 }
 

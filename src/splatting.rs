@@ -144,15 +144,18 @@ pub const PPM_ALPHA: f64 = 2.0 / 3.0;
 /// How much larger than the single frame's radius the shrinking sequence of an accumulation
 /// starts. Batch 0 is the single frame the app shows while the view moves, at the radius chosen
 /// for one frame; the batches after it are averaged, so their noise matters less than their
-/// bias, and a larger start trades the one for the other. Measured on the atrium, the doorway
-/// and the Cornell box at equal wall time (README, "Converging while the view is still"): 2
-/// lowers relMSE and HDR-FLIP at 1 s and 10 s in all three; 4 lets the bias take over.
+/// bias, and a larger start trades the one for the other. Measured at equal wall time (README,
+/// "Converging while the view is still"): 2 lowers relMSE at 1 s and 10 s in the atrium, the
+/// doorway and the Cornell box, and HDR-FLIP in the first two and the Cornell box at 10 s (at
+/// 1 s it stays within a run's spread); 4, measured on the atrium with the single frame at 4×
+/// too, lets the bias take over.
 pub const ACCUMULATION_RADIUS_SCALE: f64 = 2.0;
 
 /// The gather radius of photon batch `index` (0-based) of an accumulation whose single frame
-/// has `radius`: batch 0 has `radius` exactly (the single frame), and batch i ≥ 1 follows the
-/// global radius sequence of Knaus and Zwicker from `ACCUMULATION_RADIUS_SCALE × radius`,
-/// r²ᵢ = r²₀ Πⱼ₌₁..ᵢ (j + α)/(j + 1), one radius per batch of `paths` paths for every pixel.
+/// has `radius` r: batch 0 has r exactly (the single frame), and batch i ≥ 1 follows the global
+/// radius sequence of Knaus and Zwicker from s·r (s = `ACCUMULATION_RADIUS_SCALE`),
+/// r²ᵢ = (s·r)² Πⱼ₌₁..ᵢ (j + α)/(j + 1), one radius per batch of `paths` paths for every pixel
+/// (no batch has s·r itself: batch 1 is already shrunk once).
 /// It needs no per-pixel state (unlike SPPM's per-pixel radius, which needs each pixel's photon
 /// count), so each batch stays an independent estimate and the image is their plain average.
 /// A frame of several batches gives all of them its first batch's radius: indexing by batches,
@@ -390,7 +393,8 @@ mod tests {
     }
 
     /// A frame of 8 batches that wanted 17.3M entries of lavapipe's 2^24 (the 640×480 Cornell
-    /// box's fourth frame): each batch needs 2.7M with the margin, so frames hold 6 batches.
+    /// box's fourth frame, before frames were held to what the lists take): each batch needs
+    /// 2.7M with the margin, so frames hold 6 batches.
     #[test]
     fn lists_that_cannot_grow_further_hold_fewer_batches() {
         let max = 1 << 24;

@@ -224,10 +224,13 @@ fn measure_method(
     truth: &RenderedFrame,
     eps: f64,
 ) -> Result<Vec<SeriesPoint>> {
-    // Warm-up: pipelines compiled, node lists sized, before the clock starts.
+    // Warm-up: pipelines compiled, node lists sized, before the clock starts. Photon methods
+    // warm up on three accumulated frames: their second holds the accumulation's largest
+    // radius, whose lists would otherwise grow, and restart the image, on the clock.
     let spp = 1;
     let mut settings = RenderSettings { method, spp, ..base.clone() };
-    let mut renderer = Renderer::new(open()?, scene, settings.clone())?;
+    let warm_up = RenderSettings { frames: if method.splats() { 3 } else { 1 }, ..settings.clone() };
+    let mut renderer = Renderer::new(open()?, scene, warm_up)?;
     renderer.render()?;
     let flicker = if method.splats() { Some(flicker(&mut renderer, FLICKER_FRAMES)?) } else { None };
     // Frames without end: each photon frame further along the sequence with a smaller
@@ -248,7 +251,8 @@ fn measure_method(
         let wall_ms = (start.elapsed() - excluded).as_secs_f64() * 1e3;
         let measuring = Instant::now();
         // The reference's frames grow in batches of `spp` samples: its count is samples.
-        let count = if method == Method::Reference { frame.batches.saturating_mul(spp) } else { n };
+        // (The renderer's own count: a restart could never mislabel a checkpoint.)
+        let count = if method == Method::Reference { frame.batches.saturating_mul(spp) } else { frame.accumulated };
         points.push(point(method, count, wall_ms, &frame, truth, eps, flicker));
         excluded += measuring.elapsed();
         if wall_ms >= config.budget.as_secs_f64() * 1e3 {

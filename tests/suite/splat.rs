@@ -176,15 +176,25 @@ fn list_overflow_is_counted_and_the_default_capacity_grows() {
     assert_eq!(s.list_entries_dropped, 0, "{s:?}");
     assert!(s.list_capacity > 2000 * 4 * 16, "the lists did not grow: {s:?}");
 
-    // An accumulation whose lists grow restarts within the render and is the accumulation
-    // that never ran short, bit for bit (frames of 1, 2 and 4 batches).
-    let accumulate = |list_capacity| {
+    // An accumulation whose lists grow restarts within the render, silently (its progress
+    // never goes back to 0), once per growth rather than once more at the end, and is the
+    // accumulation that never ran short, bit for bit (frames of 1, 2 and 4 batches).
+    let accumulate = |list_capacity, progress: &mut Vec<(u32, u32)>| {
         let splat = SplatSettings { paths: 2000, radius: Some(0.3), list_capacity, ..Default::default() };
-        common::render_with("scenes/cornell-box.gltf", RenderSettings { frames: 3, ..settings(48, 36, splat, 4, 1) })
-            .unwrap()
+        let settings = RenderSettings { frames: 3, ..settings(48, 36, splat, 4, 1) };
+        let gpu = common::gpu_with(settings.backend.wants_ray_queries()).expect("device");
+        let mut r = Renderer::new(gpu, &common::scene("scenes/cornell-box.gltf"), settings).expect("renderer");
+        let frame = r.render_with_progress(&mut |done, total| progress.push((done, total))).expect("render");
+        r.gpu().check_validation().expect("validation clean");
+        frame
     };
-    let (grown, ample) = (accumulate(None), accumulate(Some(1 << 22)));
+    let mut progress = Vec::new();
+    let grown = accumulate(None, &mut progress);
+    let ample = accumulate(Some(1 << 22), &mut Vec::new());
     let s = grown.splat.as_ref().unwrap();
     assert_eq!((grown.accumulated, grown.batches, s.list_entries_dropped), (3, 7, 0), "{s:?}");
+    assert!(s.list_capacity > 4 * 2000 * 4 * 16, "the lists did not grow: {s:?}");
     assert!(grown.indirect == ample.indirect, "a restart after the lists grew changed the image");
+    assert!(progress.iter().all(|&(done, _)| done > 0) && progress.last() == Some(&(3, 3)), "progress {progress:?}");
+    eprintln!("an accumulation whose lists grew: progress {progress:?}");
 }

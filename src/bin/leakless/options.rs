@@ -57,9 +57,9 @@ pub struct RenderOptions {
     #[arg(long, default_value_t = 1)]
     pub frames: u32,
     /// Photon batches of --paths paths a frame of an accumulation traces at most: frame k
-    /// traces min(2^k, this), so the per-frame work is shared by more photons as the image
-    /// converges (1: every frame traces --paths paths). A reference frame grows alike, in
-    /// batches of --spp samples.
+    /// traces min(2^k, this) (fewer when the node lists cannot hold them), so the per-frame
+    /// work is shared by more photons as the image converges (1: every frame traces --paths
+    /// paths). A reference frame grows alike, in batches of --spp samples.
     #[arg(long, default_value_t = leakless::settings::DEFAULT_MAX_BATCHES)]
     pub max_batches: u32,
     /// Samples per pixel of the reference path tracer (`view`: while the view is still it

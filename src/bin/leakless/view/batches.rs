@@ -25,7 +25,9 @@ impl Running {
     /// How many batches (of photon paths, or of reference samples) a still view's frames may
     /// grow to, so that a frame stays within `STILL_FRAME_BUDGET_MS` and the app answers a key
     /// at once. A frame of B batches is taken to cost B times the last frame's time per batch
-    /// (an upper bound: the view samples' work is shared). Fitted at the start of each
+    /// (an upper bound: the view samples' work is shared), and its photon–sample pairs to grow
+    /// with the disk's area up to the accumulation's largest radius ([`Running::radius_growth`]).
+    /// Fitted at the start of each
     /// accumulation, and once more when the first measurement of the method arrives (frames do
     /// not grow before it). On a GPU a batch takes milliseconds and frames grow to the limit;
     /// on lavapipe at the default size one photon batch already fills the budget and frames
@@ -44,7 +46,7 @@ impl Running {
             self.renderer.last_report().filter(|r| settled && r.method == s.method && r.method != Method::Direct);
         let fit = match measured {
             Some(last) => {
-                let per_batch = self.frame_ms / last.frame_batches.max(1) as f64;
+                let per_batch = self.frame_ms / last.frame_batches.max(1) as f64 * self.radius_growth(last);
                 self.batches_fitted = true;
                 (STILL_FRAME_BUDGET_MS / per_batch).floor().clamp(1.0, self.batch_limit as f64) as u32
             }
@@ -59,6 +61,22 @@ impl Running {
             self.renderer.update(|s| s.max_batches = fit)?;
         }
         Ok(())
+    }
+
+    /// How much more a batch of a still view's accumulation may cost than the batch of `last`:
+    /// its photon–sample pairs grow with the gather disk's area, and the accumulation's largest
+    /// disk is its second batch's, twice the single frame's shrunk once
+    /// (`splatting::progressive_radius`). (r₁ / r)², at least 1: an upper bound, since the
+    /// passes that do not gather grow less. The frame measured is often the moving view's
+    /// (radius r₀: 3.3×) or the last of a long accumulation (smaller still).
+    fn radius_growth(&self, last: &leakless::FrameReport) -> f64 {
+        let Some(measured) = last.splat.as_ref().map(|s| s.radius as f64).filter(|r| *r > 0.0) else {
+            return 1.0; // the reference: its batches cost the same
+        };
+        let scene = self.renderer.scene();
+        let single = self.renderer.settings().splat.radius.unwrap_or_else(|| leakless::splatting::auto_radius(scene));
+        let largest = leakless::splatting::progressive_radius(single, 1) as f64;
+        (largest / measured).powi(2).max(1.0)
     }
 }
 
