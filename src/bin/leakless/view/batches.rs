@@ -25,11 +25,10 @@ impl Running {
     /// How many batches (of photon paths, or of reference samples) a still view's frames may
     /// grow to, so that a frame stays within `STILL_FRAME_BUDGET_MS` and the app answers a key
     /// at once. A frame of B batches is taken to cost B times the last frame's time per batch
-    /// (an upper bound: the view samples' work is shared), and its photon–sample pairs to grow
-    /// with the disk's area up to the accumulation's largest radius ([`Running::radius_growth`]).
-    /// Fitted at the start of each
-    /// accumulation, and once more when the first measurement of the method arrives (frames do
-    /// not grow before it). On a GPU a batch takes milliseconds and frames grow to the limit;
+    /// (an upper bound: the view samples' work is shared), with that time grown as the
+    /// photon–sample pairs grow up to the accumulation's largest radius
+    /// ([`Running::radius_growth`]). Fitted at the start of each accumulation, and once more
+    /// when the first measurement of the method arrives (frames do not grow before it). On a GPU a batch takes milliseconds and frames grow to the limit;
     /// on lavapipe at the default size one photon batch already fills the budget and frames
     /// stay at one.
     pub(super) fn fit_batches(&mut self) -> anyhow::Result<()> {
@@ -66,9 +65,10 @@ impl Running {
     /// How much more a batch of a still view's accumulation may cost than the batch of `last`:
     /// its photon–sample pairs grow with the gather disk's area, and the accumulation's largest
     /// disk is its second batch's, twice the single frame's shrunk once
-    /// (`splatting::progressive_radius`). (r₁ / r)², at least 1: an upper bound, since the
-    /// passes that do not gather grow less. The frame measured is often the moving view's
-    /// (radius r₀: 3.3×) or the last of a long accumulation (smaller still).
+    /// (`splatting::progressive_radius`). (r₁ / r)², at least 1, applied to the whole batch:
+    /// on the safe side, since the passes that do not gather do not grow. The frame measured is
+    /// often the moving view's (radius r₀: 3.3×) or the last of a long accumulation (whose
+    /// radius is smaller still).
     fn radius_growth(&self, last: &leakless::FrameReport) -> f64 {
         let Some(measured) = last.splat.as_ref().map(|s| s.radius as f64).filter(|r| *r > 0.0) else {
             return 1.0; // the reference: its batches cost the same
