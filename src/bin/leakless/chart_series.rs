@@ -93,16 +93,18 @@ fn print_table(s: &SceneSeries, budget_ms: f64) {
         s.truth_ms / 1e3
     );
     println!("{:>8} {:<10} {:>8} {:>10} {:>9} {:>8}", "time", "method", "frames", "relMSE", "HDR-FLIP", "flicker");
-    for t in [1000.0, budget_ms] {
+    // 1 s, then the budget (once when they are the same).
+    let times = if budget_ms == 1000.0 { vec![1000.0] } else { vec![1000.0, budget_ms] };
+    for t in times {
+        let time = seconds_label(t / 1e3);
         for m in [Method::Splat, Method::LeakLess, Method::Reference] {
             let Some(e) = s.at(m, t) else {
-                println!("{:>7.0}s {:<10} (the series does not bracket this time)", t / 1e3, m.name());
+                println!("{time:>8} {:<10} (the series does not bracket this time)", m.name());
                 continue;
             };
             let flicker = s.points.iter().find(|p| p.method == m).and_then(|p| p.flicker);
             println!(
-                "{:>7.0}s {:<10} {:>7}+ {:>10.5} {:>9.4} {:>8}",
-                t / 1e3,
+                "{time:>8} {:<10} {:>7}+ {:>10.5} {:>9.4} {:>8}",
                 m.name(),
                 e.frames,
                 e.relmse.unwrap_or(f64::NAN),
@@ -118,5 +120,24 @@ fn print_table(s: &SceneSeries, budget_ms: f64) {
                 ours.flip / reference.flip
             );
         }
+    }
+}
+
+/// A time in seconds as the table shows it: "1s", "10s", "0.5s" (a budget below a second
+/// printed as "0s" before).
+fn seconds_label(seconds: f64) -> String {
+    let text = format!("{seconds:.3}");
+    let text = text.trim_end_matches('0').trim_end_matches('.');
+    format!("{text}s")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::seconds_label;
+
+    #[test]
+    fn times_below_a_second_keep_their_digits() {
+        assert_eq!([seconds_label(1.0), seconds_label(10.0), seconds_label(0.5)], ["1s", "10s", "0.5s"]);
+        assert_eq!(seconds_label(0.125), "0.125s");
     }
 }
