@@ -28,9 +28,9 @@ impl Running {
     /// (an upper bound: the view samples' work is shared), with that time grown as the
     /// photon–sample pairs grow up to the accumulation's largest radius
     /// ([`Running::radius_growth`]). Fitted at the start of each accumulation, and once more
-    /// when the first measurement of the method arrives (frames do not grow before it). On a GPU a batch takes milliseconds and frames grow to the limit;
-    /// on lavapipe at the default size one photon batch already fills the budget and frames
-    /// stay at one.
+    /// when the first measurement of the method arrives (frames do not grow before it). On a
+    /// GPU a batch takes milliseconds and frames grow to the limit; on lavapipe at the default
+    /// size one photon batch already fills the budget and frames stay at one.
     pub(super) fn fit_batches(&mut self) -> anyhow::Result<()> {
         let fresh = self.renderer.accumulated() == 0;
         if !fresh && self.batches_fitted {
