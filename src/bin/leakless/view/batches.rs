@@ -45,9 +45,8 @@ impl Running {
             self.renderer.last_report().filter(|r| settled && r.method == s.method && r.method != Method::Direct);
         let fit = match measured {
             Some(last) => {
-                let per_batch = self.frame_ms / last.frame_batches.max(1) as f64 * self.radius_growth(last);
                 self.batches_fitted = true;
-                (STILL_FRAME_BUDGET_MS / per_batch).floor().clamp(1.0, self.batch_limit as f64) as u32
+                batches_within_budget(self.frame_ms, last.frame_batches, self.radius_growth(last), self.batch_limit)
             }
             None if fresh => {
                 // Refit once a frame of this method has been measured (after a switch, none has).
@@ -70,19 +69,56 @@ impl Running {
     /// often the moving view's (radius r₀: 3.3×) or the last of a long accumulation (whose
     /// radius is smaller still).
     fn radius_growth(&self, last: &leakless::FrameReport) -> f64 {
-        let Some(measured) = last.splat.as_ref().map(|s| s.radius as f64).filter(|r| *r > 0.0) else {
+        let Some(measured) = last.splat.as_ref().map(|s| s.radius) else {
             return 1.0; // the reference: its batches cost the same
         };
         let scene = self.renderer.scene();
         let single = self.renderer.settings().splat.radius.unwrap_or_else(|| leakless::splatting::auto_radius(scene));
-        let largest = leakless::splatting::progressive_radius(single, 1) as f64;
-        (largest / measured).powi(2).max(1.0)
+        pair_growth(measured, single)
     }
+}
+
+/// (r₁ / r)², at least 1: how much more a batch at the accumulation's largest radius r₁ (its
+/// second batch's, from the single frame's radius `single`) costs than one at `measured`.
+fn pair_growth(measured: f32, single: f32) -> f64 {
+    if !(measured > 0.0) {
+        return 1.0;
+    }
+    let largest = leakless::splatting::progressive_radius(single, 1) as f64;
+    (largest / measured as f64).powi(2).max(1.0)
+}
+
+/// Batches a still frame may hold: as many as fit `STILL_FRAME_BUDGET_MS` at `frame_ms` for
+/// a frame of `frame_batches`, each batch grown by `growth`; from 1 to `limit`.
+fn batches_within_budget(frame_ms: f64, frame_batches: u32, growth: f64, limit: u32) -> u32 {
+    let per_batch = frame_ms / frame_batches.max(1) as f64 * growth;
+    (STILL_FRAME_BUDGET_MS / per_batch).floor().clamp(1.0, limit as f64) as u32
 }
 
 #[cfg(test)]
 mod tests {
-    use super::interval_is_typical;
+    use super::{batches_within_budget, interval_is_typical, pair_growth};
+    use leakless::splatting::{progressive_radius, ACCUMULATION_RADIUS_SCALE, PPM_ALPHA};
+
+    #[test]
+    fn a_still_frame_holds_the_batches_that_fit_at_the_largest_radius() {
+        // Measured on the moving view's frame (the single frame's radius): the second batch's
+        // disk is 2·√((1 + α)/2) times wider, so a batch costs 4·(1 + α)/2 = 3.33× as much.
+        let moving = pair_growth(0.5, 0.5);
+        let expected = ACCUMULATION_RADIUS_SCALE.powi(2) * (1.0 + PPM_ALPHA) / 2.0;
+        assert!((moving - expected).abs() < 1e-5, "{moving} against {expected}");
+        // Measured at the largest radius itself, or later (smaller): no growth below 1.
+        assert!((pair_growth(progressive_radius(0.5, 1), 0.5) - 1.0).abs() < 1e-6);
+        assert!(pair_growth(progressive_radius(0.5, 40), 0.5) > 1.0, "later batches are smaller");
+        assert_eq!(pair_growth(0.0, 0.5), 1.0, "no radius measured");
+        // 9 ms a batch at the single frame's radius: 30 ms at the largest, 3 in 100 ms, where
+        // the unscaled time would have allowed 11.
+        assert_eq!(batches_within_budget(18.0, 2, moving, 64), 3);
+        assert_eq!(batches_within_budget(18.0, 2, 1.0, 64), 11);
+        // At least one batch, at most the limit.
+        assert_eq!(batches_within_budget(500.0, 1, moving, 64), 1);
+        assert_eq!(batches_within_budget(0.5, 1, 1.0, 8), 8);
+    }
 
     #[test]
     fn the_intervals_of_a_profiled_tick_and_the_one_after_it_do_not_measure_a_batch() {
