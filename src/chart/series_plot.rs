@@ -127,8 +127,15 @@ fn draw<DB: DrawingBackend>(
         .border_style(RGBColor(200, 200, 200))
         .draw()?;
     let line = format!(
-        "{}×{}; photon batches of {} paths, first radius {:.4}; ground truth: reference, {} jittered frames × {} spp; {}",
-        series.width, series.height, series.paths, series.radius, series.truth_frames, series.truth_spp, series.device
+        "{}×{}; batches of {} paths; radius {:.4}, shrinking from {}× it after frame 1; truth: {} jittered frames × {} spp; {}",
+        series.width,
+        series.height,
+        series.paths,
+        series.radius,
+        crate::splatting::ACCUMULATION_RADIUS_SCALE,
+        series.truth_frames,
+        series.truth_spp,
+        series.device
     );
     foot.draw(&Text::new(line, (px(10.0), px(4.0)), TextStyle::from(font(11.5)).color(&grey)))?;
     root.present()?;
