@@ -137,7 +137,8 @@ fn the_visible_disk_costs_no_accuracy_elsewhere() {
 /// mean over those pixels is within 5% of the reference's (measured +2.5% to +3.1%, seeds 1–4
 /// and 5–8), while the whole disk is darker than the reference by 6% there. What the visible
 /// disk still costs in one frame is noise: it divides fewer photons by a smaller mass (the
-/// printed relMSE; 1.10× the whole disk's over eight seeds at 10k paths, 0.90× at 160k).
+/// printed relMSE; 1.10× the whole disk's over 17 seeds at 10k paths, 0.92× at 160k). At 10k
+/// paths relMSE rewards any darkening, which the printed figures at 0.9× show for both.
 #[test]
 fn cornell_single_frames_do_not_darken_at_edges() {
     let path = "scenes/cornell-box.gltf";
@@ -180,12 +181,26 @@ fn cornell_single_frames_do_not_darken_at_edges() {
             each.sum::<f64>() / fs.len() as f64
         })
         .collect();
+    // What relMSE makes of a darker image at this photon count: each frame's indirect layer
+    // scaled by 0.9 (the whole disk's darkening at the edges acts as such a shrinkage).
+    let darker: Vec<f64> = frames
+        .iter()
+        .map(|fs| {
+            let each = fs.iter().map(|f| {
+                let scaled: Vec<[f32; 3]> = f.indirect.iter().map(|p| p.map(|c| 0.9 * c)).collect();
+                metrics::rel_mse(&scaled, &reference.indirect, None, eps).expect("pixels")
+            });
+            each.sum::<f64>() / fs.len() as f64
+        })
+        .collect();
     eprintln!(
-        "Cornell single frames, {in_band} edge pixels: mean {:+.1}% against the reference with the whole disk, {:+.1}% with the visible disk; relMSE {:.4} and {:.4}",
+        "Cornell single frames, {in_band} edge pixels: mean {:+.1}% against the reference with the whole disk, {:+.1}% with the visible disk; relMSE {:.4} and {:.4} ({:.4} and {:.4} with every pixel scaled by 0.9)",
         100.0 * bias[0],
         100.0 * bias[1],
         rel_mse[0],
-        rel_mse[1]
+        rel_mse[1],
+        darker[0],
+        darker[1]
     );
     assert!(bias[1].abs() <= 0.05, "visible disk {:+.2}% at the edges", 100.0 * bias[1]);
     assert!(bias[0] < -0.04, "the whole disk darkens the edges: {:+.2}%", 100.0 * bias[0]);
