@@ -51,6 +51,37 @@ void append(uint node, uint photon) {
     list_entries.entries[slot].next = atomicExchange(node_heads.heads[node], slot);
 }
 
+const uint CULL = 0u;     // the photon reaches no sample of the node
+const uint TAKE = 1u;     // the node's list takes the photon
+const uint DESCEND = 2u;  // the node's children decide
+
+uint classify(Node node, Photon ph, float r, vec3 toward_light) {
+    if (node.valid_samples == 0u) {
+        return CULL;
+    }
+    // Sphere against box: the squared distance from the photon to the box.
+    vec3 nearest = clamp(ph.position, node.bounds_min, node.bounds_max);
+    vec3 to_near = ph.position - nearest;
+    if (dot(to_near, to_near) >= r * r) {
+        return CULL;
+    }
+    // Every normal of the node within cone_angle of the axis: the gather's facing test
+    // dot(n, −ω_in) > 0 fails for all of them when the cone lies beyond 90°.
+    float gap = cone_gap(node, toward_light);
+    if (gap - node.cone_angle >= 0.5 * PI) {
+        return CULL;
+    }
+    if (params.trivial_accept != 0u) {
+        vec3 far = max(abs(ph.position - node.bounds_min), abs(ph.position - node.bounds_max));
+        bool enveloped = dot(far, far) < r * r;
+        bool facing = gap + node.cone_angle < 0.5 * PI;
+        if (enveloped && facing) {
+            return TAKE;
+        }
+    }
+    return node.level == 0u ? TAKE : DESCEND;
+}
+
 void main() {
     uint photon_index = gl_GlobalInvocationID.x;
     if (photon_index >= min(photon_counters.stored, params.photon_capacity)) {
@@ -59,44 +90,27 @@ void main() {
     Photon ph = photons.photons[photon_index];
     float r = params.radius;
     vec3 toward_light = -ph.direction;
+    // The stack holds nodes already found to need descending: a node is tested before it is
+    // pushed, so culled nodes cost no stack traffic.
     uint stack[SPLAT_STACK];
     uint top = 0u;
-    stack[top++] = params.root;
-    uint visited = 0u;
+    uint visited = 1u;
+    uint root = classify(nodes.nodes[params.root], ph, r, toward_light);
+    if (root == TAKE) {
+        append(params.root, photon_index);
+    } else if (root == DESCEND) {
+        stack[top++] = params.root;
+    }
     while (top > 0u) {
-        uint index = stack[--top];
-        Node node = nodes.nodes[index];
-        visited += 1u;
-        if (node.valid_samples == 0u) {
-            continue;
-        }
-        // Sphere against box: the squared distance from the photon to the box.
-        vec3 nearest = clamp(ph.position, node.bounds_min, node.bounds_max);
-        vec3 to_near = ph.position - nearest;
-        if (dot(to_near, to_near) >= r * r) {
-            continue;
-        }
-        // Every normal of the node within cone_angle of the axis: the gather's facing test
-        // dot(n, −ω_in) > 0 fails for all of them when the cone lies beyond 90°.
-        float gap = cone_gap(node, toward_light);
-        if (gap - node.cone_angle >= 0.5 * PI) {
-            continue;
-        }
-        if (params.trivial_accept != 0u) {
-            vec3 far = max(abs(ph.position - node.bounds_min), abs(ph.position - node.bounds_max));
-            bool enveloped = dot(far, far) < r * r;
-            bool facing = gap + node.cone_angle < 0.5 * PI;
-            if (enveloped && facing) {
-                append(index, photon_index);
-                continue;
+        Node node = nodes.nodes[stack[--top]];
+        for (uint c = node.first_child; c < node.first_child + node.child_count; ++c) {
+            visited += 1u;
+            uint k = classify(nodes.nodes[c], ph, r, toward_light);
+            if (k == TAKE) {
+                append(c, photon_index);
+            } else if (k == DESCEND && top < SPLAT_STACK) {
+                stack[top++] = c;
             }
-        }
-        if (node.level == 0u) {
-            append(index, photon_index);
-            continue;
-        }
-        for (uint c = 0u; c < node.child_count && top < SPLAT_STACK; ++c) {
-            stack[top++] = node.first_child + c;
         }
     }
     atomicAdd(splat_counters.nodes_visited, visited);
