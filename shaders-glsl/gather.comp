@@ -150,10 +150,14 @@ void main() {
         uint node = lv.offset + s / lv.span;
         for (uint e = node_heads.heads[node]; e != END_OF_LIST; e = list_entries.entries[e].next) {
             uint index = list_entries.entries[e].photon;
-            Photon ph = photons.photons[index];
             candidates += 1u;
-            float d = distance(x, ph.position);
-            if (d >= r || dot(n, -ph.direction) <= 0.0) {
+            // Most candidates fail on distance alone: read the rest of the photon after it.
+            float d = distance(x, photons.photons[index].position);
+            if (d >= r) {
+                continue;
+            }
+            Photon ph = photons.photons[index];
+            if (dot(n, -ph.direction) <= 0.0) {
                 continue;
             }
             if (params.visible_disk != 0u && !on_own_surface(x, ng, ph.position, ph.normal)) {
