@@ -81,7 +81,7 @@ impl Running {
 /// (r₁ / r)², at least 1: how much more a batch at the accumulation's largest radius r₁ (its
 /// second batch's, from the single frame's radius `single`) costs than one at `measured`.
 fn pair_growth(measured: f32, single: f32) -> f64 {
-    if !(measured > 0.0) {
+    if measured.is_nan() || measured <= 0.0 {
         return 1.0;
     }
     let largest = leakless::splatting::progressive_radius(single, 1) as f64;
