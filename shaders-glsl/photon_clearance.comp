@@ -18,7 +18,7 @@
 layout(local_size_x = 64) in;
 
 layout(set = 0, binding = 0, std430) readonly buffer Photons { Photon photons[]; } photons;
-layout(set = 0, binding = 1, std430) readonly buffer PhotonCounters { uint stored; uint overflowed; uint rays; uint pad0; } photon_counters;
+layout(set = 0, binding = 1, std430) readonly buffer PhotonCounters { uint stored; uint overflowed; uint rays; uint next_path; } photon_counters;
 layout(set = 0, binding = 2, std430) writeonly buffer Clearances { Clearance items[]; } clearance;
 layout(push_constant) uniform ClearanceParams {
     float max_radius;    // no segment of the gather is longer than this

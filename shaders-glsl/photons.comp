@@ -1,10 +1,11 @@
 #version 460
-// Photon tracing (docs/architecture.md §1): one thread per light path. A light is chosen in proportion to
-// its emitted power (CDF from src/photon_lights.rs), a direction (and for directional lights an
-// origin) is drawn from Owen-scrambled Sobol points, and the path bounces Lambertian-ly. The
-// first hit is direct light and is not stored (unless `store_direct`, a diagnostic); every
-// later hit appends a photon carrying the flux that arrives there, up to `max_bounces` stored
-// hits per path.
+// Photon tracing (docs/architecture.md §1): each thread traces light paths, taking the next
+// untraced one when its path ends (one path per thread on a GPU). A light is chosen in
+// proportion to its emitted power (CDF from src/photon_lights.rs), a direction (and for
+// directional lights an origin) is drawn from Owen-scrambled Sobol points, and the path bounces
+// Lambertian-ly. The first hit is direct light and is not stored (unless `store_direct`, a
+// diagnostic); every later hit appends a photon carrying the flux that arrives there, up to
+// `max_bounces` stored hits per path.
 #include "trace.glsl"
 #include "common.glsl"
 #include "random.glsl"
@@ -29,7 +30,7 @@ layout(push_constant) uniform PhotonParams {
     uint light_count;
     uint store_direct;   // 1: store the first hit too (diagnostic: emitted flux)
     uint path_offset;    // index of path 0 in the sequence: accumulated frames continue it
-    uint pad1;
+    uint threads;        // threads dispatched: paths beyond them are taken as others end
 } params;
 layout(set = 0, binding = 1, std430) readonly buffer Lights { Light lights[]; } lights;
 layout(set = 0, binding = 2, std430) readonly buffer PhotonLights { PhotonLight entries[]; } photon_lights;
@@ -38,7 +39,7 @@ layout(set = 0, binding = 4, std430) buffer PhotonCounters {
     uint stored;      // photons written (never more than capacity)
     uint overflowed;  // photons dropped because the buffer was full
     uint rays;        // closest-hit rays traced (for `bench`'s rays per second)
-    uint pad0;
+    uint next_path;   // paths taken after the first `threads` (zeroed before the pass)
 } photon_counters;
 
 // Sample groups of a path (lowdiscrepancy.glsl): emission, then one per bounce.
@@ -126,77 +127,109 @@ void store_photon(Photon p) {
     }
 }
 
-void main() {
-    uint path = gl_GlobalInvocationID.x;
-    if (path >= params.paths || params.light_count == 0u) {
-        return;
-    }
-    // Emission: dimensions 0, 1 (the (0,2)-pair) place the direction or the disk point,
-    // dimension 2 picks the light.
-    // Frames that accumulate continue one low-discrepancy sequence instead of reseeding it.
-    uint index = path + params.path_offset;
-    vec3 u = ld_sample3(index, GROUP_EMISSION, params.seed);
-    uint light_index = select_light(u.z);
-    Light light = lights.lights[light_index];
-    vec3 flux = photon_lights.entries[light_index].flux / float(params.paths);
-    vec3 origin, dir;
+// A path's state between bounces.
+struct PathState {
+    uint path;
+    uint index;        // its place in the low-discrepancy sequence
+    uint light_index;
+    vec3 flux;
+    vec3 origin;
+    vec3 dir;
+    uint h;            // bounces before the next hit
+};
+
+// Path `path`'s emission: dimensions 0, 1 (the (0,2)-pair) place the direction or the disk
+// point, dimension 2 picks the light. Frames that accumulate continue one low-discrepancy
+// sequence instead of reseeding it.
+PathState emit(uint path) {
+    PathState st;
+    st.path = path;
+    st.index = path + params.path_offset;
+    st.h = 0u;
+    vec3 u = ld_sample3(st.index, GROUP_EMISSION, params.seed);
+    st.light_index = select_light(u.z);
+    Light light = lights.lights[st.light_index];
+    st.flux = photon_lights.entries[st.light_index].flux / float(params.paths);
     if (light.kind == LIGHT_DIRECTIONAL) {
         // A disk of the bounding sphere's radius, perpendicular to the light, behind the
         // sphere: its parallel rays cover everything in the scene. (Moved back by 1.001 R:
         // any distance >= R gives the same rays; the margin keeps geometry that touches the
         // sphere's far side off t = 0.)
-        dir = normalize(light.direction);
+        st.dir = normalize(light.direction);
         vec3 t, b;
-        basis(dir, t, b);
+        basis(st.dir, t, b);
         vec2 d = params.scene_radius * concentric_disk(u.xy);
-        origin = params.scene_center - (1.001 * params.scene_radius) * dir + d.x * t + d.y * b;
+        st.origin = params.scene_center - (1.001 * params.scene_radius) * st.dir + d.x * t + d.y * b;
     } else {
-        origin = light.position;
-        dir = light.kind == LIGHT_SPOT ? sample_spot(light, u.xy) : uniform_sphere(u.xy);
+        st.origin = light.position;
+        st.dir = light.kind == LIGHT_SPOT ? sample_spot(light, u.xy) : uniform_sphere(u.xy);
     }
+    return st;
+}
 
-    // Hits h = 0, 1, ..., max_bounces (0-based; h = bounces before the hit). h = 0 is direct
-    // light, stored only with store_direct; h = 1..=max_bounces are the stored indirect hits.
-    uint last_hit = params.max_bounces;
+// One hit of the path: stores its photon and turns `st` into the next segment; false when the
+// path ends. Hits h = 0, 1, ..., max_bounces (h = bounces before the hit); h = 0 is direct
+// light, stored only with store_direct; h = 1..=max_bounces are the stored indirect hits.
+bool bounce(inout PathState st) {
+    Hit hit = traceClosest(st.origin, st.dir, 0.0, 1e30);
+    if (hit.triangle == NO_HIT) {
+        return false;
+    }
+    // Inside its triangle by a lift, not on an edge it shares with another surface (see
+    // nudge_toward): stored there, and the next bounce leaves from there.
+    vec3 y = nudge_toward(triangle_position(hit.triangle, hit.barycentrics),
+                          triangle_position(hit.triangle, vec2(1.0 / 3.0)));
+    vec3 ns = triangle_shading_normal(hit.triangle, hit.barycentrics);
+    if (dot(ns, st.dir) > 0.0) {
+        ns = -ns;  // two-sided: face the incoming photon
+    }
+    vec3 ng = triangle_geometric_normal(hit.triangle);
+    if (dot(ng, st.dir) > 0.0) {
+        ng = -ng;
+    }
+    if (st.h >= 1u || params.store_direct != 0u) {
+        store_photon(Photon(y, st.path, ng, st.h, st.dir, st.light_index, st.flux, 0u));
+    }
+    if (st.h == params.max_bounces) {
+        return false;
+    }
+    // Lambertian bounce: cosine-weighted around the facing shading normal; the cosine pdf
+    // cancels the BRDF's cos/π, leaving flux × albedo.
+    vec2 v = ld_sample2(st.index, GROUP_FIRST_BOUNCE + st.h, params.seed);
+    vec3 next = sample_cosine(ns, v.x, v.y);
+    if (dot(next, ng) <= 0.0) {
+        return false;  // below the actual surface: the shading normal lied; no light this way
+    }
+    vec3 rho = material_albedo(triangle_material(hit.triangle), triangle_uv(hit.triangle, hit.barycentrics)).rgb;
+    st.flux *= rho;
+    if (st.flux == vec3(0.0)) {
+        return false;
+    }
+    st.origin = offset_ray(y, ng);
+    st.dir = next;
+    st.h += 1u;
+    return true;
+}
+
+void main() {
+    // Each thread starts path `gl_GlobalInvocationID.x` and, when a path ends, takes the next
+    // untraced one (`params.threads` onward), so a lane does not idle while another lane of
+    // its SIMD group bounces on (photons.rs says when the threads are fewer than the paths).
+    uint path = gl_GlobalInvocationID.x;
+    if (path >= min(params.threads, params.paths) || params.light_count == 0u) {
+        return;
+    }
+    PathState st = emit(path);
     uint rays = 0u;
-    for (uint h = 0u; h <= last_hit; ++h) {
-        Hit hit = traceClosest(origin, dir, 0.0, 1e30);
+    while (true) {
         rays += 1u;
-        if (hit.triangle == NO_HIT) {
-            break;
+        if (!bounce(st)) {
+            path = params.threads + atomicAdd(photon_counters.next_path, 1u);
+            if (path >= params.paths) {
+                break;
+            }
+            st = emit(path);
         }
-        // Inside its triangle by a lift, not on an edge it shares with another surface (see
-        // nudge_toward): stored there, and the next bounce leaves from there.
-        vec3 y = nudge_toward(triangle_position(hit.triangle, hit.barycentrics),
-                              triangle_position(hit.triangle, vec2(1.0 / 3.0)));
-        vec3 ns = triangle_shading_normal(hit.triangle, hit.barycentrics);
-        if (dot(ns, dir) > 0.0) {
-            ns = -ns;  // two-sided: face the incoming photon
-        }
-        vec3 ng = triangle_geometric_normal(hit.triangle);
-        if (dot(ng, dir) > 0.0) {
-            ng = -ng;
-        }
-        if (h >= 1u || params.store_direct != 0u) {
-            store_photon(Photon(y, path, ng, h, dir, light_index, flux, 0u));
-        }
-        if (h == last_hit) {
-            break;
-        }
-        // Lambertian bounce: cosine-weighted around the facing shading normal; the cosine pdf
-        // cancels the BRDF's cos/π, leaving flux × albedo.
-        vec2 v = ld_sample2(index, GROUP_FIRST_BOUNCE + h, params.seed);
-        vec3 next = sample_cosine(ns, v.x, v.y);
-        if (dot(next, ng) <= 0.0) {
-            break;  // below the actual surface: the shading normal lied; no light this way
-        }
-        vec3 rho = material_albedo(triangle_material(hit.triangle), triangle_uv(hit.triangle, hit.barycentrics)).rgb;
-        flux *= rho;
-        if (flux == vec3(0.0)) {
-            break;
-        }
-        origin = offset_ray(y, ng);
-        dir = next;
     }
     atomicAdd(photon_counters.rays, rays);
 }

@@ -11,7 +11,7 @@
 layout(local_size_x = 64) in;
 
 layout(set = 0, binding = 0, std430) readonly buffer Photons { Photon photons[]; } photons;
-layout(set = 0, binding = 1, std430) readonly buffer PhotonCounters { uint stored; uint overflowed; uint rays; uint pad0; } photon_counters;
+layout(set = 0, binding = 1, std430) readonly buffer PhotonCounters { uint stored; uint overflowed; uint rays; uint next_path; } photon_counters;
 layout(set = 0, binding = 2, std430) readonly buffer Levels { Level levels[]; } levels;
 layout(set = 0, binding = 3, std430) readonly buffer Nodes { Node nodes[]; } nodes;
 layout(set = 0, binding = 4, std430) buffer NodeHeads { uint heads[]; } node_heads;

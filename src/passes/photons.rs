@@ -55,7 +55,8 @@ gpu_struct! {
         pub overflowed: u32,
         /// Closest-hit rays traced.
         pub rays: u32,
-        pub pad0: u32,
+        /// Paths taken by threads whose first path ended (zeroed before the pass).
+        pub next_path: u32,
     }
 }
 
@@ -83,7 +84,8 @@ gpu_struct! {
         pub light_count: u32,
         pub store_direct: u32,
         pub path_offset: u32,
-        pub pad1: u32,
+        /// Threads dispatched; paths beyond them are taken by threads whose path ended.
+        pub threads: u32,
     }
 }
 
@@ -142,15 +144,23 @@ pub const COUNTER_BUFFER_USAGE: vk::BufferUsageFlags = vk::BufferUsageFlags::fro
         | vk::BufferUsageFlags::TRANSFER_SRC.as_raw(),
 );
 
+/// Paths each thread traces on a CPU device ([`PhotonPass`]).
+const PATHS_PER_CPU_THREAD: u32 = 8;
+
 pub struct PhotonPass {
     pipeline: ComputePipeline,
+    /// Paths per thread: on a CPU device (lavapipe) a SIMD group runs until its longest path
+    /// ends, so each thread traces about this many paths, taking the next when one ends; a
+    /// GPU keeps one path per thread, since it needs every thread it can get in flight.
+    paths_per_thread: u32,
 }
 
 impl PhotonPass {
     pub fn new(gpu: &Gpu, backend: Backend) -> Result<Self> {
         let shader = backend.pick(&shaders::PHOTONS_COMP_RAYQUERY, &shaders::PHOTONS_COMP_COMPUTE);
         let pipeline = ComputePipeline::new(gpu, "photons", shader, &bindings(backend), Some(&PhotonPush::LAYOUT))?;
-        Ok(PhotonPass { pipeline })
+        let cpu = gpu.report().device_type == leakless_device::DeviceType::Cpu;
+        Ok(PhotonPass { pipeline, paths_per_thread: if cpu { PATHS_PER_CPU_THREAD } else { 1 } })
     }
 
     /// Adds two passes: "photon counters" zeroes `counters` (a transfer), then "photons"
@@ -195,7 +205,7 @@ impl PhotonPass {
             light_count: table.entries.len() as u32,
             store_direct: params.store_direct as u32,
             path_offset: params.path_offset,
-            ..Default::default()
+            threads: paths.div_ceil(self.paths_per_thread),
         };
 
         let mut clear = graph.pass("photon counters");
@@ -214,7 +224,7 @@ impl PhotonPass {
         };
         let surfaces = scene.declare(&mut pass, Access::ComputeRead);
         let trace = trace.declare(&mut pass);
-        pass.record(move |ctx| ctx.dispatch(&self.pipeline, &[&own, &surfaces, &trace], &push, [paths, 1, 1]));
+        pass.record(move |ctx| ctx.dispatch(&self.pipeline, &[&own, &surfaces, &trace], &push, [push.threads, 1, 1]));
         Ok(())
     }
 }
