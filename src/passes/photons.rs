@@ -163,6 +163,12 @@ impl PhotonPass {
         Ok(PhotonPass { pipeline, paths_per_thread: if cpu { PATHS_PER_CPU_THREAD } else { 1 } })
     }
 
+    /// Overrides the device's choice of paths per thread (at least 1): tests trace the same
+    /// paths both ways on one device.
+    pub fn set_paths_per_thread(&mut self, paths_per_thread: u32) {
+        self.paths_per_thread = paths_per_thread.max(1);
+    }
+
     /// Adds two passes: "photon counters" zeroes `counters` (a transfer), then "photons"
     /// traces `params.paths` light paths, appending at most `capacity` photons to `photons`
     /// and counting them in `counters` ([`PhotonCounters`]).
@@ -307,6 +313,11 @@ impl<'g> PhotonTracer<'g> {
             counters,
             runner,
         })
+    }
+
+    /// Paths each thread traces ([`PhotonPass::set_paths_per_thread`]).
+    pub fn set_paths_per_thread(&mut self, paths_per_thread: u32) {
+        self.pass.set_paths_per_thread(paths_per_thread);
     }
 
     /// The light table photons are emitted from.

@@ -181,6 +181,39 @@ fn same_seed_same_photons_another_seed_others() {
     gpu.check_validation().expect("validation clean");
 }
 
+/// Threads that take the next path when theirs ends (CPU devices) trace exactly the paths one
+/// thread a path (GPUs) traces: every path once, none twice, the same photons and rays, also
+/// when the threads do not divide the paths evenly.
+#[test]
+fn every_path_is_traced_once_however_many_a_thread_takes() {
+    let Some(gpu) = common::gpu() else { return };
+    let scene = common::scene("scenes/cornell-box.gltf");
+    let backend = common::backends(&gpu)[0];
+    let mut tracer = PhotonTracer::new(&gpu, &scene, backend, 40_000).unwrap();
+    let params = PhotonParams { paths: 3001, max_bounces: 8, seed: 5, store_direct: true, ..Default::default() };
+    let mut traces = Vec::new();
+    for per_thread in [1, 8, 7, 3001] {
+        tracer.set_paths_per_thread(per_thread);
+        let t = tracer.trace(&params).unwrap();
+        traces.push((per_thread, t.counters, sorted(t.photons)));
+    }
+    let (_, counters, photons) = &traces[0];
+    // No path twice: one photon per (path, bounce); paths that escape through the open front
+    // before a hit store nothing.
+    let keys: std::collections::BTreeSet<(u32, u32)> = photons.iter().map(|p| (p.path, p.bounce)).collect();
+    assert_eq!(keys.len(), photons.len(), "a path traced twice");
+    let paths: std::collections::BTreeSet<u32> = photons.iter().map(|p| p.path).collect();
+    assert!(paths.len() > 2500 && paths.iter().all(|&p| p < 3001), "{} paths stored photons", paths.len());
+    for (per_thread, c, p) in &traces {
+        assert_eq!((c.stored, c.rays), (counters.stored, counters.rays), "{per_thread} paths a thread");
+        assert!(p == photons, "{per_thread} paths a thread: other photons");
+        // Every thread's last fetch finds the paths used up: one fetch per path in all.
+        assert_eq!(c.next_path, 3001, "{per_thread} paths a thread");
+    }
+    eprintln!("{} photons from {} paths, the same at 1, 8, 7 and 3001 paths a thread", photons.len(), paths.len());
+    gpu.check_validation().expect("validation clean");
+}
+
 /// A single floor under a point light: whatever leaves the floor escapes, so there is never a
 /// second hit and nothing may be stored. With `store_direct` the first hits are there.
 #[test]
