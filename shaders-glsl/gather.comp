@@ -136,7 +136,8 @@ void main() {
         ng = sample_geometric_normal(uint(position.w) - 1u, n);
         from = offset_ray(nudge_toward(x, params.eye), ng);
     }
-    float r = params.radius;
+    vec4 disk = params.visible_disk != 0u ? imageLoad(disk_mass, xy) : vec4(1.0, params.radius, 0.0, 0.0);
+    float r = disk.y;
     i64vec3 kept = i64vec3(0);
     i64vec3 lost = i64vec3(0);
     uint candidates = 0u;
@@ -184,7 +185,7 @@ void main() {
         }
     }
     vec3 albedo_over_pi = imageLoad(gbuffer_albedo, xy).rgb / PI;
-    float mass = params.visible_disk != 0u ? imageLoad(disk_mass, xy).r : 1.0;
+    float mass = disk.x;
     // .a carries the mass on: accumulation divides summed flux by summed mass (accumulate.comp).
     imageStore(indirect_sum, xy, vec4(albedo_over_pi * vec3(kept) / (params.fixed_scale * mass), mass));
     imageStore(leaked, xy, vec4(albedo_over_pi * vec3(lost) / params.fixed_scale, 1.0));

@@ -32,7 +32,7 @@ layout(push_constant) uniform VisibleDiskParams {
     float radius;   // this frame's gather radius
     uint seed;      // this frame's seed (the rays' rotation)
     uint enabled;   // 0: every sample's mass is 1 (the whole disk)
-    uint pad0;
+    float partial_radius_exponent;  // γ > 0: a partial disk shrinks the sample's radius (below)
 } params;
 
 #define DISK_DIRECTIONS 4u
@@ -57,13 +57,12 @@ bool over_triangle(uint triangle, vec3 p) {
 }
 
 // The mass around `from` (normal `ng`, radius r) on `own`'s surface, seen from `from`.
-float visible_disk_mass(vec3 from, vec3 ng, uint own, float r, uvec2 pixel) {
+float visible_disk_mass(vec3 from, vec3 ng, uint own, float r, inout Rng rng) {
     // A probe over the sample's own (opaque) triangle is on the surface without a ray down,
     // which spares most of those rays on the large triangles walls and floors are made of.
     bool own_opaque = triangle_material(own).alpha_cutoff < 0.0;
     vec3 t, b;
     basis(ng, t, b);
-    Rng rng = rng_seed(pixel, 0xd15cu, params.seed);
     float angle_phase = rng_next(rng);
     float stretch = sqrt(1.0 + DISK_SLOPE * DISK_SLOPE);  // ray length per unit of in-plane distance
     float mass = 0.0;
@@ -91,8 +90,23 @@ float visible_disk_mass(vec3 from, vec3 ng, uint own, float r, uvec2 pixel) {
         }
         mass += seen * float(supported) / float(DISK_DEPTHS);
     }
-    return max(mass / float(DISK_DIRECTIONS), DISK_MIN_MASS);
+    return mass / float(DISK_DIRECTIONS);
 }
+
+// Partial disks in an accumulation: the sample gathers within r·max(m^γ, MIN_RADIUS_SHARE),
+// m its visible share at r, and its mass is measured again at that radius.
+//
+// Why: over a whole disk the kernel's centroid is the sample, so the estimate's bias is of
+// second order in r; over a part of it the centroid lies off the sample, inside the part, and
+// the estimate is the irradiance there: a bias of first order in r (the floor beside a wall
+// reads the floor further out, a lintel narrower than r reads along itself). Accumulating
+// averages noise away but not that, and after a few seconds it was most of the atrium's error,
+// on the lintels and piers. A smaller disk there moves the centroid in with it; its extra noise
+// stays at the edges, and the radius elsewhere is untouched. The more partial the disk, the
+// more it shrinks; the floor keeps a corner's quarter disk at half the radius (the gather's
+// fixed-point bound allows for it, gather.rs). γ ramps from 0 at the single frame, whose error
+// is its noise, to 1 as batches add up (splatting::partial_radius_exponent).
+const float MIN_RADIUS_SHARE = 0.5;
 
 void main() {
     ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
@@ -101,11 +115,18 @@ void main() {
     }
     vec4 position = imageLoad(gbuffer_position, pixel);
     float mass = 1.0;
+    float r = params.radius;
     if (params.enabled != 0u && position.w > 0.0) {
         uint triangle = uint(position.w) - 1u;
         vec3 ng = sample_geometric_normal(triangle, imageLoad(gbuffer_normal, pixel).xyz);
         vec3 from = offset_ray(nudge_toward(position.xyz, frame.camera_position.xyz), ng);
-        mass = visible_disk_mass(from, ng, triangle, params.radius, uvec2(pixel));
+        Rng rng = rng_seed(uvec2(pixel), 0xd15cu, params.seed);
+        mass = visible_disk_mass(from, ng, triangle, r, rng);
+        if (params.partial_radius_exponent > 0.0 && mass < 1.0) {
+            r *= max(pow(max(mass, 0.0), params.partial_radius_exponent), MIN_RADIUS_SHARE);
+            mass = visible_disk_mass(from, ng, triangle, r, rng);
+        }
+        mass = max(mass, DISK_MIN_MASS);
     }
-    imageStore(disk_mass, pixel, vec4(mass, 0.0, 0.0, 0.0));
+    imageStore(disk_mass, pixel, vec4(mass, r, 0.0, 0.0));
 }

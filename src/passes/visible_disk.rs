@@ -1,7 +1,9 @@
 //! Visible disk (`visible_disk.comp`): per view sample, the share of the gather kernel's mass
 //! over the part of its disk where the sample's own surface exists and can be seen from it.
 //! `leakless` divides the flux of the photons on that surface by it instead of by the whole
-//! disk, which darkened it wherever the disk runs off a face or behind an occluder.
+//! disk, which darkened it wherever the disk runs off a face or behind an occluder. In an
+//! accumulation it also shrinks the radius of samples whose disk is partial (the gather's
+//! radius rides in `.g`).
 
 use ash::vk;
 use bytemuck::{Pod, Zeroable};
@@ -25,7 +27,8 @@ gpu_struct! {
         pub seed: u32,
         /// 0: every sample's mass is 1 (the whole disk).
         pub enabled: u32,
-        pub pad0: u32,
+        /// γ: where the disk is partial, shrink the sample's radius to r·max(m^γ, ½) (0: not).
+        pub partial_radius_exponent: f32,
     }
 }
 
@@ -39,7 +42,8 @@ shader_bindings! {
     }
 }
 
-/// The per-pixel mass image of an `extent` frame (of the graph's pool; the mass is in `.r`).
+/// The per-pixel mass image of an `extent` frame (of the graph's pool): the mass in `.r`,
+/// the sample's gather radius in `.g`.
 pub fn image(graph: &mut Graph<'_>, extent: vk::Extent2D) -> Result<ImageHandle> {
     Ok(graph.image(&ImageDesc {
         name: "disk mass",
@@ -66,7 +70,8 @@ impl VisibleDiskPass {
         Ok(VisibleDiskPass { pipeline })
     }
 
-    /// Writes each sample's mass into `disk_mass` (1 everywhere when `params.enabled` is 0).
+    /// Writes each sample's mass and radius into `disk_mass` (mass 1 and the frame's radius
+    /// everywhere when `params.enabled` is 0).
     #[allow(clippy::too_many_arguments)]
     pub fn add<'r>(
         &'r self,

@@ -116,6 +116,7 @@ impl Renderer {
             splat = Some(SplatFrame {
                 radius: splatting::progressive_radius(radius, first_batch),
                 path_offset: first_batch.wrapping_mul(batch_paths),
+                first_batch,
                 eye: self.camera.position().to_array(),
                 settings,
                 max_bounces: self.settings.max_bounces,

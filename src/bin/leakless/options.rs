@@ -43,6 +43,11 @@ pub struct RenderOptions {
     /// near occluders and in corners).
     #[arg(long)]
     pub whole_disk: bool,
+    /// `leakless --frames N`: keep every sample's radius where its visible disk is partial,
+    /// instead of shrinking it in proportion to the visible mass (the accumulation before
+    /// that fix, whose edges converge more slowly).
+    #[arg(long)]
+    pub no_partial_disk_radius: bool,
     /// Node-list entries per frame (default: 16 per photon, grown as frames need);
     /// more are dropped and reported.
     #[arg(long)]
@@ -193,6 +198,7 @@ impl RenderOptions {
                 cap: self.cap,
                 prove_clear: !self.trace_every_pair,
                 visible_disk: !self.whole_disk,
+                partial_disk_radius: !self.no_partial_disk_radius,
             },
         }
     }
