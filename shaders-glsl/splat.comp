@@ -3,7 +3,9 @@
 // culled when the photon's sphere misses its bounds or its normal cone faces away from the
 // photon. With trivial accept, a node inside the sphere whose cone faces the photon takes the
 // photon onto its list and the walk stops there (the gather still evaluates it per sample);
-// otherwise the walk descends and a leaf takes the photon onto its list.
+// otherwise the walk descends and a leaf takes the photon onto its list. Each photon's
+// `photon_listed` flag says whether any list took it: only those reach the gather, so only
+// their clearance is needed (photon_clearance.comp).
 #include "common.glsl"
 #include "hierarchy.glsl"
 #include "photon.glsl"
@@ -20,8 +22,9 @@ layout(set = 0, binding = 6, std430) buffer SplatCounters {
     uint entries_used;      // list entries written (and attempted beyond capacity)
     uint entries_dropped;   // entries that did not fit: their contributions are lost
     uint nodes_visited;     // node tests made by all photons
-    uint pad0;
+    uint photons_listed;    // photons some list took
 } splat_counters;
+layout(set = 0, binding = 7, std430) writeonly buffer PhotonListed { uint listed[]; } photon_listed;
 layout(push_constant) uniform SplatParams {
     float radius;
     uint trivial_accept;
@@ -96,6 +99,7 @@ void main() {
     uint top = 0u;
     uint visited = 1u;
     uint root = classify(nodes.nodes[params.root], ph, r, toward_light);
+    bool listed = root == TAKE;
     if (root == TAKE) {
         append(params.root, photon_index);
     } else if (root == DESCEND) {
@@ -108,10 +112,15 @@ void main() {
             uint k = classify(nodes.nodes[c], ph, r, toward_light);
             if (k == TAKE) {
                 append(c, photon_index);
+                listed = true;
             } else if (k == DESCEND && top < SPLAT_STACK) {
                 stack[top++] = c;
             }
         }
     }
     atomicAdd(splat_counters.nodes_visited, visited);
+    photon_listed.listed[photon_index] = listed ? 1u : 0u;
+    if (listed) {
+        atomicAdd(splat_counters.photons_listed, 1u);
+    }
 }

@@ -12,7 +12,7 @@ use crate::gpu_scene::SceneHandles;
 use crate::passes::gather::{self, GatherCounters, GatherInputs, GatherOutputs, GatherPass};
 use crate::passes::gbuffer::GBufferHandles;
 use crate::passes::hierarchy::{HierarchyHandles, HierarchyPasses, Shape};
-use crate::passes::photon_clearance::{self, ClearancePass};
+use crate::passes::photon_clearance::{self, ClearancePass, Needed};
 use crate::passes::photons::{
     photon_buffer_size, PhotonCounters, PhotonParams, PhotonPass, COUNTER_BUFFER_USAGE, PHOTON_BUFFER_USAGE,
 };
@@ -85,6 +85,9 @@ pub struct SplatStats {
     pub list_entries_dropped: u32,
     pub list_capacity: u32,
     pub nodes_visited: u32,
+    /// Photons some node list took: the only ones the gather can reach, and the only ones
+    /// whose clearance is searched for (the others are out of view or face no sample).
+    pub photons_listed: u32,
     /// Photons the gather examined.
     pub candidate_tests: u64,
     /// Of those, within the radius and facing the sample (gathered).
@@ -267,7 +270,7 @@ pub fn add<'r>(
     let mut h = HierarchyHandles::new(graph, &shape)?;
     passes.hierarchy.add(graph, input.frame, input.gbuffer, &shape, &mut h)?;
 
-    let mut lists = NodeListHandles::new(graph, shape.node_count(), frame.list_capacity)?;
+    let mut lists = NodeListHandles::new(graph, shape.node_count(), frame.list_capacity, capacity)?;
     let splat = SplatInputs {
         photons: &photons,
         photon_counters: &photon_counters,
@@ -283,7 +286,17 @@ pub fn add<'r>(
     let mut clearance = photon_clearance::buffer(graph, capacity)?;
     if frame.settings.visibility {
         let max_radius = 1.01 * frame.radius;
-        passes.clearance.add(graph, input.trace, &photons, &photon_counters, capacity, max_radius, &mut clearance);
+        let needed = Needed::Listed(&lists.listed);
+        passes.clearance.add(
+            graph,
+            input.trace,
+            &photons,
+            &photon_counters,
+            capacity,
+            max_radius,
+            needed,
+            &mut clearance,
+        )?;
     }
     // Each sample's visible share of the kernel's disk (leakless), or 1.
     let visible_disk = frame.settings.visibility && frame.settings.visible_disk;
@@ -339,6 +352,7 @@ impl SplatStats {
             list_entries_dropped: lists.entries_dropped,
             list_capacity: frame.list_capacity,
             nodes_visited: lists.nodes_visited,
+            photons_listed: lists.photons_listed,
             candidate_tests: gather.candidates(),
             accepted: gather.accepted(),
             visibility_tests: if frame.settings.visibility { gather.accepted() } else { 0 },

@@ -19,7 +19,8 @@ gpu_struct! {
         /// No visibility segment of the gather is longer than this: the search stops there.
         pub max_radius: f32,
         pub capacity: u32,
-        pub pad0: u32,
+        /// 1: search only for the photons `photon_listed` marks (the splat's lists took them).
+        pub only_listed: u32,
         pub pad1: u32,
     }
 }
@@ -38,6 +39,7 @@ shader_bindings! {
         photons: array(Photon::LAYOUT),
         photon_counters: block(PhotonCounters::LAYOUT),
         clearance: array(Clearance::LAYOUT),
+        photon_listed: words,
     }
 }
 
@@ -49,6 +51,14 @@ pub fn buffer(graph: &mut Graph<'_>, capacity: u32) -> Result<BufferHandle> {
         usage: vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_SRC,
         location: MemoryLocation::GpuOnly,
     })?)
+}
+
+/// Which photons need a clearance.
+pub enum Needed<'a> {
+    /// Every stored photon (no splat ran: the photon tests).
+    All,
+    /// Those some node list took (`NodeListHandles::listed`): only they reach the gather.
+    Listed(&'a BufferHandle),
 }
 
 pub struct ClearancePass {
@@ -63,8 +73,9 @@ impl ClearancePass {
         Ok(ClearancePass { pipeline })
     }
 
-    /// Computes the clearance of the stored photons (up to `capacity`) into `clearance`,
-    /// searching up to `max_radius` (the longest segment the gather may trace).
+    /// Computes the clearance of the `needed` stored photons (up to `capacity`) into
+    /// `clearance`, searching up to `max_radius` (the longest segment the gather may trace);
+    /// the others get radius 0.
     #[allow(clippy::too_many_arguments)]
     pub fn add<'r>(
         &'r self,
@@ -74,16 +85,33 @@ impl ClearancePass {
         photon_counters: &BufferHandle,
         capacity: u32,
         max_radius: f32,
+        needed: Needed<'_>,
         clearance: &mut BufferHandle,
-    ) {
-        let params = ClearanceParams { max_radius, capacity, ..Default::default() };
+    ) -> Result<()> {
+        let unread;
+        let (listed, only_listed) = match needed {
+            Needed::Listed(listed) => (listed, 1),
+            Needed::All => {
+                // The binding needs a buffer; the shader does not read it.
+                unread = graph.buffer(&BufferDesc {
+                    name: "photon listed (unread)",
+                    size: 4,
+                    usage: vk::BufferUsageFlags::STORAGE_BUFFER,
+                    location: MemoryLocation::GpuOnly,
+                })?;
+                (&unread, 0)
+            }
+        };
+        let params = ClearanceParams { max_radius, capacity, only_listed, ..Default::default() };
         let mut pass = graph.pass("photon clearance");
         let own = ClearanceBindings {
             photons: pass.read(photons, Access::ComputeRead),
             photon_counters: pass.read(photon_counters, Access::ComputeRead),
             clearance: pass.write(clearance, Access::ComputeWrite),
+            photon_listed: pass.read(listed, Access::ComputeRead),
         };
         let bvh = trace.declare_bvh(&mut pass);
         pass.record(move |ctx| ctx.dispatch(&self.pipeline, &[&own, &bvh], &params, [capacity, 1, 1]));
+        Ok(())
     }
 }

@@ -17,7 +17,7 @@ use leakless_scene::Scene;
 use crate::error::{RenderError, Result};
 use crate::gpu_scene::{GpuScene, SceneBindings, SceneHandles};
 use crate::gpu_types::Light;
-use crate::passes::photon_clearance::{Clearance, ClearancePass};
+use crate::passes::photon_clearance::{Clearance, ClearancePass, Needed};
 use crate::photon_lights::{upload_lights, LightHandles, LightTable};
 use crate::shaders;
 use crate::trace::{Backend, TraceHandles, TraceScene};
@@ -377,7 +377,7 @@ impl<'g> PhotonTracer<'g> {
         self.pass.add(&mut graph, params, &scene, &trace, &lights, &mut photons, capacity, &mut counters)?;
         let mut clearance = clearance_buffer.as_ref().map(|b| graph.import_buffer(b));
         if let (Some(pass), Some(out), Some(radius)) = (&clearance_pass, &mut clearance, clearance_radius) {
-            pass.add(&mut graph, &trace, &photons, &counters, capacity, radius, out);
+            pass.add(&mut graph, &trace, &photons, &counters, capacity, radius, Needed::All, out)?;
         }
         let mut host = graph.pass("to host");
         host.read(&photons, Access::HostRead);

@@ -31,7 +31,8 @@ gpu_struct! {
         pub entries_dropped: u32,
         /// Node tests made by all photons.
         pub nodes_visited: u32,
-        pub pad0: u32,
+        /// Photons some list took: those the gather can reach, and the clearance searches for.
+        pub photons_listed: u32,
     }
 }
 
@@ -61,6 +62,7 @@ shader_bindings! {
         node_heads: words,
         list_entries: array(ListEntry::LAYOUT),
         splat_counters: block(SplatCounters::LAYOUT),
+        photon_listed: words,
     }
 }
 
@@ -69,12 +71,14 @@ pub struct NodeListHandles {
     pub heads: BufferHandle,
     pub entries: BufferHandle,
     pub counters: BufferHandle,
+    /// Per photon, 1 when some list took it (only those reach the gather), else 0.
+    pub listed: BufferHandle,
     pub capacity: u32,
 }
 
 impl NodeListHandles {
-    /// Lists for `node_count` nodes with room for `capacity` entries.
-    pub fn new(graph: &mut Graph<'_>, node_count: u32, capacity: u32) -> Result<NodeListHandles> {
+    /// Lists for `node_count` nodes with room for `capacity` entries, of `photons` photons.
+    pub fn new(graph: &mut Graph<'_>, node_count: u32, capacity: u32, photons: u32) -> Result<NodeListHandles> {
         let usage = vk::BufferUsageFlags::STORAGE_BUFFER
             | vk::BufferUsageFlags::TRANSFER_DST
             | vk::BufferUsageFlags::TRANSFER_SRC;
@@ -84,6 +88,7 @@ impl NodeListHandles {
             heads: buffer("node list heads", 4 * node_count as u64)?,
             entries: buffer("node list entries", std::mem::size_of::<ListEntry>() as u64 * capacity as u64)?,
             counters: buffer("splat counters", std::mem::size_of::<SplatCounters>() as u64)?,
+            listed: buffer("photon listed", 4 * photons.max(1) as u64)?,
             capacity,
         })
     }
@@ -143,6 +148,7 @@ impl SplatPass {
             node_heads: pass.write(&mut lists.heads, Access::ComputeReadWrite),
             list_entries: pass.write(&mut lists.entries, Access::ComputeWrite),
             splat_counters: pass.write(&mut lists.counters, Access::ComputeReadWrite),
+            photon_listed: pass.write(&mut lists.listed, Access::ComputeWrite),
         };
         let photons = input.photon_capacity;
         pass.record(move |ctx| ctx.dispatch(&self.pipeline, &[&own], &params, [photons, 1, 1]));

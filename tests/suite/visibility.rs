@@ -28,7 +28,8 @@ fn same_bits(a: &[[f32; 3]], b: &[[f32; 3]]) -> Option<usize> {
 
 /// Every leak scene and the Cornell box, both backends: the frame with proofs equals the frame
 /// that traces every pair in every layer, bit for bit; the proofs did spare rays, and the
-/// count of visibility tests and of leaks culled is the same.
+/// count of visibility tests and of leaks culled is the same. The clearance is searched only
+/// for photons some node list took, which loses no proof.
 #[test]
 fn proving_pairs_clear_changes_no_pixel() {
     let scenes = [
@@ -71,13 +72,24 @@ fn proving_pairs_clear_changes_no_pixel() {
                 p.leaks_culled == p.visibility_tests || p.proven_clear > 0,
                 "{path} {backend:?}: nothing proven clear: {p:?}"
             );
+            // Only photons some list took get a clearance (the gather reaches no other): every
+            // scene here has photons out of view, and skipping them must cost no proof (with
+            // every photon searched the counts were the same: 89-92% proven where pairs are
+            // clear, 1115-1856 rays traced).
+            assert!(p.photons_listed > 0 && p.photons_listed < p.photons_stored, "{path} {backend:?}: {p:?}");
+            assert!(
+                p.leaks_culled * 10 > p.visibility_tests || p.proven_clear * 10 >= p.visibility_tests * 8,
+                "{path} {backend:?}: fewer than 80% proven clear: {p:?}"
+            );
             eprintln!(
-                "{path} {backend:?}: {} tests, {:.1}% proven clear, {} rays traced instead of {}, {} leaks culled",
+                "{path} {backend:?}: {} tests, {:.1}% proven clear, {} rays traced instead of {}, {} leaks culled; {} of {} photons listed",
                 p.visibility_tests,
                 100.0 * p.proven_clear as f64 / p.visibility_tests.max(1) as f64,
                 p.visibility_rays,
                 t.visibility_rays,
-                p.leaks_culled
+                p.leaks_culled,
+                p.photons_listed,
+                p.photons_stored
             );
         }
     }
