@@ -25,6 +25,13 @@ fn trace(gpu: &Gpu, scene: &Scene, backend: Backend, capacity: u32, params: &Pho
     t
 }
 
+/// A tracer of the Cornell box on the device's first backend, room for 40k photons.
+fn cornell_tracer(gpu: &Gpu) -> (Backend, PhotonTracer<'_>) {
+    let scene = common::scene("scenes/cornell-box.gltf");
+    let backend = common::backends(gpu)[0];
+    (backend, PhotonTracer::new(gpu, &scene, backend, 40_000).expect("photon tracer"))
+}
+
 fn sorted(mut photons: Vec<Photon>) -> Vec<Photon> {
     canonical_order(&mut photons);
     photons
@@ -157,9 +164,7 @@ fn sphere_photons_carry_the_geometric_series() {
 #[test]
 fn same_seed_same_photons_another_seed_others() {
     let Some(gpu) = common::gpu() else { return };
-    let scene = common::scene("scenes/cornell-box.gltf");
-    let backend = common::backends(&gpu)[0];
-    let mut tracer = PhotonTracer::new(&gpu, &scene, backend, 40_000).unwrap();
+    let (backend, mut tracer) = cornell_tracer(&gpu);
     let params = PhotonParams { paths: 4096, max_bounces: 8, seed: 11, store_direct: false, ..Default::default() };
     let a = tracer.trace(&params).unwrap();
     let b = tracer.trace(&params).unwrap();
@@ -187,9 +192,7 @@ fn same_seed_same_photons_another_seed_others() {
 #[test]
 fn every_path_is_traced_once_however_many_a_thread_takes() {
     let Some(gpu) = common::gpu() else { return };
-    let scene = common::scene("scenes/cornell-box.gltf");
-    let backend = common::backends(&gpu)[0];
-    let mut tracer = PhotonTracer::new(&gpu, &scene, backend, 40_000).unwrap();
+    let (_, mut tracer) = cornell_tracer(&gpu);
     let params = PhotonParams { paths: 3001, max_bounces: 8, seed: 5, store_direct: true, ..Default::default() };
     let mut traces = Vec::new();
     for per_thread in [1, 8, 7, 3001] {
