@@ -33,6 +33,10 @@ layout(push_constant) uniform VisibleDiskParams {
     uint seed;      // this frame's seed (the rays' rotation)
     uint enabled;   // 0: every sample's mass is 1 (the whole disk)
     float partial_radius_exponent;  // γ > 0: a partial disk shrinks the sample's radius (below)
+    float min_radius_share;         // s: it shrinks to no less than s·r
+    uint pad0;
+    uint pad1;
+    uint pad2;
 } params;
 
 #define DISK_DIRECTIONS 4u
@@ -93,7 +97,7 @@ float visible_disk_mass(vec3 from, vec3 ng, uint own, float r, inout Rng rng) {
     return mass / float(DISK_DIRECTIONS);
 }
 
-// Partial disks in an accumulation: the sample gathers within r·max(m^γ, MIN_RADIUS_SHARE),
+// Partial disks in an accumulation: the sample gathers within r·max(m^γ, s),
 // m its visible share at r, and its mass is measured again at that radius.
 //
 // Why: over a whole disk the kernel's centroid is the sample, so the estimate's bias is of
@@ -103,10 +107,9 @@ float visible_disk_mass(vec3 from, vec3 ng, uint own, float r, inout Rng rng) {
 // averages noise away but not that, and after a few seconds it was most of the atrium's error,
 // on the lintels and piers. A smaller disk there moves the centroid in with it; its extra noise
 // stays at the edges, and the radius elsewhere is untouched. The more partial the disk, the
-// more it shrinks; the floor keeps a corner's quarter disk at half the radius (the gather's
-// fixed-point bound allows for it, gather.rs). γ ramps from 0 at the single frame, whose error
+// more it shrinks; the floor s (splatting::MIN_RADIUS_SHARE, ½) keeps a corner's quarter disk at
+// half the radius, and the gather's fixed-point bound allows for it (gather.rs). γ ramps from 0 at the single frame, whose error
 // is its noise, to 1 as batches add up (splatting::partial_radius_exponent).
-const float MIN_RADIUS_SHARE = 0.5;
 
 void main() {
     ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
@@ -123,7 +126,7 @@ void main() {
         Rng rng = rng_seed(uvec2(pixel), 0xd15cu, params.seed);
         mass = visible_disk_mass(from, ng, triangle, r, rng);
         if (params.partial_radius_exponent > 0.0 && mass < 1.0) {
-            r *= max(pow(max(mass, 0.0), params.partial_radius_exponent), MIN_RADIUS_SHARE);
+            r *= max(pow(max(mass, 0.0), params.partial_radius_exponent), params.min_radius_share);
             mass = visible_disk_mass(from, ng, triangle, r, rng);
         }
         mass = max(mass, DISK_MIN_MASS);

@@ -186,6 +186,11 @@ pub fn progressive_radius(radius: f32, index: u32) -> f32 {
     (radius as f64 * r2.sqrt()) as f32
 }
 
+/// The least share of the frame's radius a partial disk shrinks to (visible_disk.comp): a
+/// corner's quarter disk keeps half the radius. The gather's fixed point allows for the
+/// kernel's peak there ([`gather::fixed_scale`]).
+pub const MIN_RADIUS_SHARE: f32 = 0.5;
+
 /// Batches over which the partial-disk shrink of an accumulation ramps in.
 pub const PARTIAL_RADIUS_RAMP_BATCHES: f32 = 64.0;
 
@@ -313,6 +318,8 @@ pub fn add<'r>(
         } else {
             0.0
         },
+        min_radius_share: MIN_RADIUS_SHARE,
+        ..Default::default()
     };
     passes.visible_disk.add(graph, disk, input.frame, input.gbuffer, input.scene, input.trace, &mut disk_mass);
     let table = &input.lights.table;
@@ -320,7 +327,7 @@ pub fn add<'r>(
     let gather_input = GatherInputs {
         photons: &photons,
         radius: frame.radius,
-        fixed_scale: gather::fixed_scale(capacity, max_flux, frame.radius),
+        fixed_scale: gather::fixed_scale(capacity, max_flux, disk.min_radius_share * frame.radius),
         visibility: frame.settings.visibility,
         cap: frame.settings.cap,
         clearance: &clearance,

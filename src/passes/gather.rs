@@ -148,12 +148,12 @@ pub struct GatherOutputs<'a> {
 
 /// Units per W/m² of the gather's 64-bit fixed-point sums such that no pixel can overflow:
 /// at most `photons` contributions, each at most `max_flux` × the kernel's peak 3/(π r²) at
-/// the smallest radius a sample gathers within, r/2 (visible_disk.comp), 4× that at r: 2⁶⁰
-/// units for the bound at r keep every sum within 2⁶².
-pub fn fixed_scale(photons: u32, max_flux: f32, radius: f32) -> f32 {
-    let peak = 3.0 / (std::f64::consts::PI * (radius as f64).powi(2));
+/// `smallest_radius`, the least radius any sample gathers within (a partial disk's, see
+/// [`crate::splatting::MIN_RADIUS_SHARE`]): 2⁶² units for that bound.
+pub fn fixed_scale(photons: u32, max_flux: f32, smallest_radius: f32) -> f32 {
+    let peak = 3.0 / (std::f64::consts::PI * (smallest_radius as f64).powi(2));
     let bound = (photons.max(1) as f64) * (max_flux.max(1e-30) as f64) * peak;
-    ((1u64 << 60) as f64 / bound) as f32
+    ((1u64 << 62) as f64 / bound) as f32
 }
 
 /// The gather's counters buffer in `graph`'s pool.

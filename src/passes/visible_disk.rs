@@ -27,8 +27,13 @@ gpu_struct! {
         pub seed: u32,
         /// 0: every sample's mass is 1 (the whole disk).
         pub enabled: u32,
-        /// γ: where the disk is partial, shrink the sample's radius to r·max(m^γ, ½) (0: not).
+        /// γ: where the disk is partial, shrink the sample's radius to r·max(m^γ, s) (0: not).
         pub partial_radius_exponent: f32,
+        /// s: the least share of the radius a partial disk shrinks to.
+        pub min_radius_share: f32,
+        pub pad0: u32,
+        pub pad1: u32,
+        pub pad2: u32,
     }
 }
 
