@@ -2,11 +2,12 @@
 //! the gather with a brute-force splat over them; tools can inspect them).
 
 use leakless_device::{BufferDesc, MemoryLocation};
-use leakless_graph::Access;
+use leakless_graph::{Access, Graph};
 
 use super::Renderer;
 use crate::error::Result;
 use crate::passes::gbuffer::GBufferHandles;
+use crate::passes::hierarchy::HierarchyHandles;
 use crate::passes::photons::{photon_buffer_size, Photon, PHOTON_BUFFER_USAGE};
 use crate::passes::readback;
 
@@ -16,10 +17,42 @@ pub struct Capture {
     pub normal: Vec<[f32; 4]>,
     pub albedo: Vec<[f32; 4]>,
     pub photons: Vec<Photon>,
+    /// For methods that splat: the box (min, max) around the valid view samples that
+    /// `sample_bounds.comp` reduced on the GPU and the hierarchy was quantised to.
+    pub sample_bounds: Option<[[f32; 3]; 2]>,
+}
+
+/// The float a `sample_bounds.comp` order key stands for (the inverse of its `order_key`).
+fn from_order_key(key: u32) -> f32 {
+    f32::from_bits(if key & 0x8000_0000 != 0 { key & 0x7fff_ffff } else { !key })
+}
+
+/// Copies the first `bytes` of the pool's buffer `desc` (the last frame's) into a host-visible
+/// frame buffer named `to`.
+fn copy_to_host(g: &mut Graph<'_>, desc: &BufferDesc<'_>, bytes: u64, to: &'static str) -> Result<()> {
+    let src = g.buffer(desc)?;
+    let host = BufferDesc {
+        name: to,
+        size: bytes,
+        usage: ash::vk::BufferUsageFlags::TRANSFER_DST,
+        location: MemoryLocation::GpuToCpu,
+    };
+    let mut dst = g.frame_buffer(&host)?;
+    let mut copy = g.pass("capture copy");
+    let (from, into) = (copy.read(&src, Access::TransferRead), copy.write(&mut dst, Access::TransferWrite));
+    copy.record(move |ctx| {
+        ctx.cmd.copy_buffer(ctx.buffer(from), ctx.buffer(into), bytes);
+        Ok(())
+    });
+    let mut to_host = g.pass("capture to host");
+    to_host.read(&dst, Access::HostRead);
+    to_host.record(|_| Ok(()));
+    Ok(())
 }
 
 const CAPTURE_BUFFER: &str = "capture readback";
 const PHOTON_CAPTURE_BUFFER: &str = "photon capture readback";
+const BOUNDS_CAPTURE_BUFFER: &str = "sample bounds capture readback";
 
 impl Renderer {
     /// Reads back the G-buffer and (for methods that splat) the photons of the last frame.
@@ -36,29 +69,18 @@ impl Renderer {
         let mut g = self.runner.graph(&self.gpu)?;
         let gbuffer = GBufferHandles::new(&mut g, extent)?;
         readback::add(&mut g, CAPTURE_BUFFER, &[&gbuffer.position, &gbuffer.normal, &gbuffer.albedo])?;
+        let splats = photons.is_some();
         let mut photon_count = 0;
         if let Some((size, stored)) = photons.filter(|&(_, stored)| stored > 0) {
             photon_count = stored as usize;
             let desc =
                 BufferDesc { name: "photons", size, usage: PHOTON_BUFFER_USAGE, location: MemoryLocation::GpuOnly };
-            let src = g.buffer(&desc)?;
             let bytes = photon_count as u64 * std::mem::size_of::<Photon>() as u64;
-            let host = BufferDesc {
-                name: PHOTON_CAPTURE_BUFFER,
-                size: bytes,
-                usage: ash::vk::BufferUsageFlags::TRANSFER_DST,
-                location: MemoryLocation::GpuToCpu,
-            };
-            let mut dst = g.frame_buffer(&host)?;
-            let mut copy = g.pass("capture photons");
-            let (from, to) = (copy.read(&src, Access::TransferRead), copy.write(&mut dst, Access::TransferWrite));
-            copy.record(move |ctx| {
-                ctx.cmd.copy_buffer(ctx.buffer(from), ctx.buffer(to), bytes);
-                Ok(())
-            });
-            let mut to_host = g.pass("photons to host");
-            to_host.read(&dst, Access::HostRead);
-            to_host.record(|_| Ok(()));
+            copy_to_host(&mut g, &desc, bytes, PHOTON_CAPTURE_BUFFER)?;
+        }
+        if splats {
+            let desc = HierarchyHandles::sample_bounds_desc();
+            copy_to_host(&mut g, &desc, desc.size, BOUNDS_CAPTURE_BUFFER)?;
         }
         let submitted = g.submit(&Default::default())?;
         let done = self.runner.wait_for(&self.gpu, submitted)?;
@@ -69,11 +91,19 @@ impl Renderer {
             Some(b) if photon_count > 0 => b.read_vec(photon_count)?,
             _ => vec![],
         };
+        let sample_bounds = match pool.frame_buffer(BOUNDS_CAPTURE_BUFFER, done.slot) {
+            Some(b) if splats => {
+                let keys: Vec<u32> = b.read_vec(6)?;
+                Some([0, 3].map(|at| [0, 1, 2].map(|axis| from_order_key(keys[at + axis]))))
+            }
+            _ => None,
+        };
         Ok(Capture {
             position: texels[..n].to_vec(),
             normal: texels[n..2 * n].to_vec(),
             albedo: texels[2 * n..].to_vec(),
             photons,
+            sample_bounds,
         })
     }
 }

@@ -6,7 +6,9 @@ use crate::common;
 
 use std::f64::consts::PI;
 
+use glam::Vec3;
 use leakless::{BackendChoice, Method, RenderSettings, Renderer, SplatSettings};
+use leakless_scene::Camera;
 
 fn settings(width: u32, height: u32, splat: SplatSettings, max_bounces: u32, seed: u32) -> RenderSettings {
     RenderSettings {
@@ -102,6 +104,49 @@ fn hierarchy_gather_equals_brute_force_with_and_without_trivial_accept() {
         assert!(entries[0].0 < entries[1].0, "trivial accept listed no photon on an inner node: {entries:?}");
         assert!(entries[0].1 < entries[1].1, "trivial accept saved no node tests: {entries:?}");
     }
+}
+
+/// The box the Morton codes are quantised to is exactly the box around the valid view samples.
+/// `sample_bounds.comp` reduces each 8×8 workgroup in shared memory before its atomics. The
+/// view holds the sphere seen from outside, off its centre: its extremes lie at single pixels, the
+/// image is cut through workgroups at its edges (61×43), and the pixels beside the sphere have
+/// no surface (and a zero position outside the box), which must not count.
+#[test]
+fn sample_bounds_are_the_box_around_the_valid_samples() {
+    let Some(gpu) = common::gpu() else { return };
+    let scene = common::scene("scenes/sphere.gltf");
+    let splat = SplatSettings { paths: 500, ..Default::default() };
+    let mut renderer = Renderer::new(gpu, &scene, settings(61, 43, splat, 2, 1)).unwrap();
+    renderer.set_camera(Camera {
+        world_from_camera: glam::camera::rh::view::look_at_mat4(Vec3::new(4.0, 0.6, 0.8), Vec3::ZERO, Vec3::Y)
+            .inverse(),
+        yfov: 0.6,
+        znear: 0.01,
+        zfar: None,
+    });
+    renderer.render().unwrap();
+    let capture = renderer.capture().unwrap();
+    let valid: Vec<&[f32; 4]> = capture.position.iter().filter(|p| p[3] > 0.0).collect();
+    let without_surface = capture.position.len() - valid.len();
+    eprintln!("{} samples with a surface, {without_surface} without", valid.len());
+    assert!(!valid.is_empty() && without_surface > 0, "the view must hold both kinds of pixel");
+    let mut expected = [[f32::INFINITY; 3], [f32::NEG_INFINITY; 3]];
+    for p in &valid {
+        for axis in 0..3 {
+            expected[0][axis] = expected[0][axis].min(p[axis]);
+            expected[1][axis] = expected[1][axis].max(p[axis]);
+        }
+    }
+    // Each extreme is held by one sample: any sample the reduction missed would show.
+    for (bound, side) in expected.iter().zip(["min", "max"]) {
+        for axis in 0..3 {
+            let holders = valid.iter().filter(|p| p[axis] == bound[axis]).count();
+            eprintln!("{side} of axis {axis}: {} held by {holders} sample(s)", bound[axis]);
+        }
+    }
+    assert!((0..3).any(|axis| expected[0][axis] > 0.0 || expected[1][axis] < 0.0), "the box holds the origin");
+    assert_eq!(capture.sample_bounds, Some(expected));
+    renderer.gpu().check_validation().unwrap();
 }
 
 /// Closed sphere (R = 1, ρ = 0.5, I = 1 W/sr at the centre): the photons stored on the wall

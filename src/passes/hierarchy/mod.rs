@@ -107,18 +107,28 @@ pub struct HierarchyHandles {
     pub nodes: BufferHandle,
 }
 
+const HIERARCHY_BUFFER_USAGE: vk::BufferUsageFlags = vk::BufferUsageFlags::from_raw(
+    vk::BufferUsageFlags::STORAGE_BUFFER.as_raw()
+        | vk::BufferUsageFlags::TRANSFER_DST.as_raw()
+        | vk::BufferUsageFlags::TRANSFER_SRC.as_raw(),
+);
+
 impl HierarchyHandles {
+    /// The sample bounds buffer (min keys, then max keys, three words each), as the pool
+    /// knows it: the capture reads the last frame's through it.
+    pub fn sample_bounds_desc() -> BufferDesc<'static> {
+        BufferDesc { name: "sample bounds", size: 24, usage: HIERARCHY_BUFFER_USAGE, location: MemoryLocation::GpuOnly }
+    }
+
     pub fn new(graph: &mut Graph<'_>, shape: &Shape) -> Result<HierarchyHandles> {
         let n = shape.sample_count as u64;
-        let usage = vk::BufferUsageFlags::STORAGE_BUFFER
-            | vk::BufferUsageFlags::TRANSFER_DST
-            | vk::BufferUsageFlags::TRANSFER_SRC;
-        let mut storage =
-            |name, size| graph.buffer(&BufferDesc { name, size, usage, location: MemoryLocation::GpuOnly });
+        let mut storage = |name, size| {
+            graph.buffer(&BufferDesc { name, size, usage: HIERARCHY_BUFFER_USAGE, location: MemoryLocation::GpuOnly })
+        };
         let keys = storage("morton keys", 4 * n)?;
         let samples = storage("sorted samples", 4 * n)?;
-        let bounds = storage("sample bounds", 24)?;
         let nodes = storage("hierarchy nodes", shape.node_count() as u64 * std::mem::size_of::<Node>() as u64)?;
+        let bounds = graph.buffer(&Self::sample_bounds_desc())?;
         let levels = graph.upload(
             "hierarchy levels",
             vk::BufferUsageFlags::STORAGE_BUFFER,
