@@ -28,13 +28,16 @@ FRAME_BLOCK(0);
 layout(set = 0, binding = 1, rgba32f) uniform readonly image2D gbuffer_position;
 layout(set = 0, binding = 2, rgba32f) uniform readonly image2D gbuffer_normal;
 layout(set = 0, binding = 3, rgba32f) uniform writeonly image2D disk_mass;
+// Per triangle, its coplanar neighbour across edge k (vertices k, k + 1), or NO_NEIGHBOUR
+// (Scene::coplanar_neighbours says which triangles are linked).
+layout(set = 0, binding = 4, std430) readonly buffer CoplanarNeighbours { uint ids[]; } coplanar_neighbours;
 layout(push_constant) uniform VisibleDiskParams {
     float radius;   // this frame's gather radius
     uint seed;      // this frame's seed (the rays' rotation)
     uint enabled;   // 0: every sample's mass is 1 (the whole disk)
     float partial_radius_exponent;  // γ > 0: a partial disk shrinks the sample's radius (below)
     float min_radius_share;         // s: it shrinks to no less than s·r
-    uint pad0;
+    uint walk_faces;                // 1: over_own_face may step to a coplanar neighbour
     uint pad1;
     uint pad2;
 } params;
@@ -51,19 +54,48 @@ float biweight_mass(float s) {
     return 1.0 - u * u * u;
 }
 
-// Whether `p`, projected along the triangle's normal, lies in the triangle.
-bool over_triangle(uint triangle, vec3 p) {
+const uint NO_NEIGHBOUR = 0xffffffffu;
+
+// The edge k of the triangle (vertices k, k + 1) that `p`, projected along the triangle's
+// normal, lies beyond; 3 when it lies in the triangle (edges included).
+uint edge_beyond(uint triangle, vec3 p) {
     vec3 a = vertex_position(3u * triangle);
     vec3 b = vertex_position(3u * triangle + 1u);
     vec3 c = vertex_position(3u * triangle + 2u);
     vec3 n = cross(b - a, c - a);
-    return dot(cross(b - a, p - a), n) >= 0.0 && dot(cross(c - b, p - b), n) >= 0.0 && dot(cross(a - c, p - c), n) >= 0.0;
+    if (dot(cross(b - a, p - a), n) < 0.0) {
+        return 0u;
+    }
+    if (dot(cross(c - b, p - b), n) < 0.0) {
+        return 1u;
+    }
+    if (dot(cross(a - c, p - c), n) < 0.0) {
+        return 2u;
+    }
+    return 3u;
+}
+
+// Whether `p` lies over the flat face `own` (opaque) belongs to: over `own`, or over its
+// coplanar opaque neighbour across the edge p lies beyond (a face is often a quad, and a disk
+// on it crosses the diagonal). The surface exists there without a ray. False only means "not
+// found this way": the caller traces a ray down. One step, not a walk: in the scenes measured
+// every link is a quad's diagonal, and a loop cost more on lavapipe than the rays it saved.
+bool over_own_face(uint own, vec3 p) {
+    uint edge = edge_beyond(own, p);
+    if (edge == 3u) {
+        return true;
+    }
+    if (params.walk_faces == 0u) {
+        return false;
+    }
+    uint across = coplanar_neighbours.ids[3u * own + edge];
+    return across != NO_NEIGHBOUR && edge_beyond(across, p) == 3u;
 }
 
 // The mass around `from` (normal `ng`, radius r) on `own`'s surface, seen from `from`.
 float visible_disk_mass(vec3 from, vec3 ng, uint own, float r, inout Rng rng) {
-    // A probe over the sample's own (opaque) triangle is on the surface without a ray down,
-    // which spares most of those rays on the large triangles walls and floors are made of.
+    // A probe over the sample's own (opaque) face is on the surface without a ray down, which
+    // spares most of those rays on the large triangles walls and floors are made of.
     bool own_opaque = triangle_material(own).alpha_cutoff < 0.0;
     vec3 t, b;
     basis(ng, t, b);
@@ -83,7 +115,7 @@ float visible_disk_mass(vec3 from, vec3 ng, uint own, float r, inout Rng rng) {
             float u = seen * (float(j) + phase) / float(DISK_DEPTHS);
             float rho = r * sqrt(max(0.0, 1.0 - pow(1.0 - u, 1.0 / 3.0)));
             vec3 q = from + (rho * stretch) * dir;
-            if (own_opaque && over_triangle(own, q)) {
+            if (own_opaque && over_own_face(own, q)) {
                 supported += 1u;
                 continue;
             }

@@ -34,6 +34,9 @@ pub struct GpuScene {
     pub materials: Buffer,
     /// Every texture's texels, RGBA8 packed in one word each.
     pub texels: Buffer,
+    /// Per triangle, its coplanar neighbour across each edge (`Scene::coplanar_neighbours`),
+    /// which the visible-disk pass walks instead of tracing rays down.
+    pub coplanar_neighbours: Buffer,
     /// The BVH over `vertices` (the compute backend traverses it; every backend's clearance
     /// pass searches it) and the scene's trace scale.
     pub bvh: SceneBvh,
@@ -82,6 +85,9 @@ impl GpuScene {
             .collect();
         let materials = Buffer::with_data(gpu, "materials", storage, bytemuck::cast_slice(&materials))?;
         let texels = Buffer::with_data(gpu, "texels", storage, bytemuck::cast_slice(&texels))?;
+        let neighbours = scene.coplanar_neighbours();
+        let coplanar_neighbours =
+            Buffer::with_data(gpu, "coplanar neighbours", storage, bytemuck::cast_slice(&neighbours))?;
         let bvh = SceneBvh::build(gpu, scene)?;
         Ok(GpuScene {
             vertices,
@@ -89,6 +95,7 @@ impl GpuScene {
             triangle_materials,
             materials,
             texels,
+            coplanar_neighbours,
             bvh,
             placed_version: 0,
         })
@@ -102,6 +109,7 @@ impl GpuScene {
             triangle_materials: graph.import_buffer(&self.triangle_materials),
             materials: graph.import_buffer(&self.materials),
             texels: graph.import_buffer(&self.texels),
+            coplanar_neighbours: graph.import_buffer(&self.coplanar_neighbours),
         }
     }
 }
@@ -112,6 +120,8 @@ pub struct SceneHandles {
     pub triangle_materials: BufferHandle,
     pub materials: BufferHandle,
     pub texels: BufferHandle,
+    /// Only the visible-disk pass binds it (visible_disk.rs): it is not part of scene.glsl.
+    pub coplanar_neighbours: BufferHandle,
 }
 
 impl SceneHandles {

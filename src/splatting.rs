@@ -51,6 +51,10 @@ pub struct SplatSettings {
     /// ([`partial_radius_exponent`]; visible_disk.comp says why; off with
     /// `--no-partial-disk-radius`). Needs `visible_disk`.
     pub partial_disk_radius: bool,
+    /// Find whether the sample's face lies under a visible-disk probe by walking to a coplanar
+    /// neighbour of its triangle before tracing a ray down (`Scene::coplanar_neighbours`;
+    /// same image, fewer rays; off only to check that).
+    pub walk_faces: bool,
 }
 
 impl Default for SplatSettings {
@@ -66,6 +70,7 @@ impl Default for SplatSettings {
             prove_clear: true,
             visible_disk: true,
             partial_disk_radius: true,
+            walk_faces: true,
         }
     }
 }
@@ -319,6 +324,7 @@ pub fn add<'r>(
             0.0
         },
         min_radius_share: MIN_RADIUS_SHARE,
+        walk_faces: frame.settings.walk_faces as u32,
         ..Default::default()
     };
     passes.visible_disk.add(graph, disk, input.frame, input.gbuffer, input.scene, input.trace, &mut disk_mass);

@@ -31,7 +31,8 @@ gpu_struct! {
         pub partial_radius_exponent: f32,
         /// s: the least share of the radius a partial disk shrinks to.
         pub min_radius_share: f32,
-        pub pad0: u32,
+        /// 1: walk to a coplanar neighbour before tracing a probe's ray down.
+        pub walk_faces: u32,
         pub pad1: u32,
         pub pad2: u32,
     }
@@ -44,6 +45,7 @@ shader_bindings! {
         gbuffer_position: image,
         gbuffer_normal: image,
         disk_mass: image,
+        coplanar_neighbours: array(u32::LAYOUT),
     }
 }
 
@@ -95,6 +97,7 @@ impl VisibleDiskPass {
             gbuffer_position: pass.read(&gbuffer.position, Access::ComputeRead),
             gbuffer_normal: pass.read(&gbuffer.normal, Access::ComputeRead),
             disk_mass: pass.write(disk_mass, Access::ComputeWrite),
+            coplanar_neighbours: pass.read(&scene.coplanar_neighbours, Access::ComputeRead),
         };
         let surfaces = scene.declare(&mut pass, Access::ComputeRead);
         let trace = trace.declare(&mut pass);

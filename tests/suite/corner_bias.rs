@@ -250,3 +250,32 @@ fn accumulation_shrinks_the_radius_of_partial_disks() {
     assert!(edges[1] < 0.9 * edges[0], "the edges' error: {edges:?}");
     assert!(whole[1] < whole[0], "the image's error: {whole:?}");
 }
+
+/// The visible disk finds a probe's surface by stepping from the sample's triangle to its
+/// coplanar neighbour (`Scene::coplanar_neighbours`) before tracing a ray down: the same
+/// answer, so the same pixels, bit for bit, on both backends, in a single frame and in an
+/// accumulation's later frames (whose partial disks measure their mass a second time).
+#[test]
+fn walking_coplanar_faces_changes_no_pixel() {
+    for backend in common::choices() {
+        for path in ["scenes/cornell-box.gltf", "scenes/two-rooms.gltf", "scenes/doorway.gltf", "scenes/atrium.gltf"] {
+            let gpu = common::gpu_with(backend.wants_ray_queries()).expect("device");
+            let settings = RenderSettings { backend, ..photons(true, None, 4000, 3) };
+            let mut r = Renderer::new(gpu, &common::scene(path), settings).expect("renderer");
+            let mut frames = Vec::new();
+            for walk in [true, false] {
+                for count in [1, 3] {
+                    r.update(|s| (s.frames, s.splat.walk_faces) = (count, walk)).expect("settings");
+                    frames.push(r.render().expect("render"));
+                }
+            }
+            r.gpu().check_validation().expect("validation clean");
+            for (name, (walked, traced)) in
+                ["single frame", "third frame"].iter().zip(frames[..2].iter().zip(&frames[2..]))
+            {
+                assert!(walked.radiance == traced.radiance, "{path} {backend:?}: the {name} differs");
+                assert!(walked.indirect == traced.indirect, "{path} {backend:?}: the {name} differs");
+            }
+        }
+    }
+}

@@ -63,6 +63,7 @@
 //! data), and each failure becomes one [`SceneError`] line.
 
 mod accessor;
+mod adjacency;
 mod animation;
 mod bounds;
 mod camera;
@@ -77,6 +78,7 @@ mod uri;
 
 use std::path::Path;
 
+pub use adjacency::NO_NEIGHBOUR;
 pub use bounds::Aabb;
 pub use camera::Camera;
 pub use error::SceneError;

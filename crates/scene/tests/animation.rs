@@ -373,6 +373,40 @@ fn animated_parent_makes_its_mesh_descendants_instances() {
     }
 }
 
+/// A moving part is never a coplanar neighbour of another part: a quad that an animation moves,
+/// placed at t = 0 edge to edge with a static quad in the same plane, keeps only its own
+/// diagonal linked, as does the static one; without the animation the shared edge links them.
+#[test]
+fn coplanar_neighbours_stay_within_a_rigid_part() {
+    let links = |animated: bool| {
+        let mut d = Doc::default();
+        let meshes = d.quad_mesh();
+        let (input, output) = (d.floats(&[0.0, 1.0], "SCALAR"), d.floats(&[0.0, 0.0, 0.0, 0.0, 0.0, 1.0], "VEC3"));
+        let mut root = json!({
+            "scenes": [{"nodes": [0, 1, 2]}],
+            "nodes": [{"name": "mover", "mesh": 0}, {"name": "wall", "mesh": 0, "translation": [1.0, 0.0, 0.0]}, light_node()],
+            "meshes": meshes,
+        });
+        if animated {
+            root["animations"] =
+                json!([{"samplers": [sampler(input, output, "LINEAR")], "channels": [channel(0, 0, "translation")]}]);
+        }
+        let s = load(if animated { "coplanar_moving" } else { "coplanar_static" }, &d.finish(root));
+        assert_eq!(s.triangle_count(), 4);
+        assert_eq!(s.static_triangle_count(), if animated { 2 } else { 4 });
+        // The two quads share the edge x = 0.5 (at t = 0).
+        let on_edge = |t: usize| s.vertices[3 * t..3 * t + 3].iter().filter(|v| v.position[0] == 0.5).count();
+        assert_eq!((0..4).map(on_edge).sum::<usize>(), 6);
+        let neighbours = s.coplanar_neighbours();
+        (0..4)
+            .map(|t| neighbours[t].iter().copied().filter(|&n| n != leakless_scene::NO_NEIGHBOUR).count())
+            .collect::<Vec<_>>()
+    };
+    assert_eq!(links(true), [1, 1, 1, 1], "each triangle only its quad-mate");
+    // In walk order, the mover's triangles then the wall's; the first and last hold the edge.
+    assert_eq!(links(false), [2, 1, 1, 2], "and the shared edge when nothing moves");
+}
+
 #[test]
 fn mirroring_keys_keep_winding_and_normals_agreeing() {
     let s = load("mirror", &rig_gltf());

@@ -199,6 +199,7 @@ impl RenderOptions {
                 prove_clear: !self.trace_every_pair,
                 visible_disk: !self.whole_disk,
                 partial_disk_radius: !self.no_partial_disk_radius,
+                walk_faces: true,
             },
         }
     }
