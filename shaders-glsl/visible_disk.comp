@@ -156,10 +156,15 @@ void main() {
         vec3 ng = sample_geometric_normal(triangle, imageLoad(gbuffer_normal, pixel).xyz);
         vec3 from = offset_ray(nudge_toward(position.xyz, frame.camera_position.xyz), ng);
         Rng rng = rng_seed(uvec2(pixel), 0xd15cu, params.seed);
-        mass = visible_disk_mass(from, ng, triangle, r, rng);
-        if (params.partial_radius_exponent > 0.0 && mass < 1.0) {
-            r *= max(pow(max(mass, 0.0), params.partial_radius_exponent), params.min_radius_share);
+        // A partial disk is measured a second time at its shrunk radius. One call site in a
+        // loop, not two calls: each call inlines the whole trace twice, and on lavapipe four
+        // copies took 7.5 s to compile on first use (the app's first frame waited for it).
+        for (uint measure = 0u; measure < 2u; ++measure) {
             mass = visible_disk_mass(from, ng, triangle, r, rng);
+            if (measure == 1u || !(params.partial_radius_exponent > 0.0 && mass < 1.0)) {
+                break;
+            }
+            r *= max(pow(max(mass, 0.0), params.partial_radius_exponent), params.min_radius_share);
         }
         mass = max(mass, DISK_MIN_MASS);
     }
