@@ -102,29 +102,56 @@ float visible_disk_mass(vec3 from, vec3 ng, uint own, float r, inout Rng rng) {
     float angle_phase = rng_next(rng);
     float stretch = sqrt(1.0 + DISK_SLOPE * DISK_SLOPE);  // ray length per unit of in-plane distance
     float mass = 0.0;
-    for (uint k = 0u; k < DISK_DIRECTIONS; ++k) {
-        float phi = 2.0 * PI * (float(k) + angle_phase) / float(DISK_DIRECTIONS);
-        vec3 dir = (cos(phi) * t + sin(phi) * b + DISK_SLOPE * ng) / stretch;
-        Hit hit = traceClosest(from, dir, 0.0, r * stretch);
-        float reach = hit.triangle == NO_HIT ? r : min(hit.t / stretch, r);
-        float seen = biweight_mass(reach / r);
-        // The kernel's radial mass 1 − (1 − s²)³ is uniform in u: s = sqrt(1 − (1 − u)^(1/3)).
-        float phase = rng_next(rng);
-        uint supported = 0u;
-        for (uint j = 0u; j < DISK_DEPTHS; ++j) {
+    // One loop over the rays, not a loop of directions each with its own loop of rays down: one
+    // call site inlines the trace once (compiling faster), and a lane tracing a direction's ray
+    // and one tracing a ray down share an iteration instead of waiting for each other.
+    uint k = 0u;                     // the direction
+    uint j = DISK_DEPTHS;            // its next probe; DISK_DEPTHS: its ray comes first
+    vec3 dir = vec3(0.0);
+    float seen = 0.0;
+    float phase = 0.0;
+    uint supported = 0u;
+    while (k < DISK_DIRECTIONS) {
+        vec3 origin = from;
+        vec3 towards;
+        float length;
+        float rho = 0.0;
+        if (j == DISK_DEPTHS) {
+            float phi = 2.0 * PI * (float(k) + angle_phase) / float(DISK_DIRECTIONS);
+            dir = (cos(phi) * t + sin(phi) * b + DISK_SLOPE * ng) / stretch;
+            towards = dir;
+            length = r * stretch;
+        } else {
+            // The kernel's radial mass 1 − (1 − s²)³ is uniform in u: s = sqrt(1 − (1 − u)^(1/3)).
             float u = seen * (float(j) + phase) / float(DISK_DEPTHS);
-            float rho = r * sqrt(max(0.0, 1.0 - pow(1.0 - u, 1.0 / 3.0)));
-            vec3 q = from + (rho * stretch) * dir;
-            if (own_opaque && over_own_face(own, q)) {
-                supported += 1u;
-                continue;
-            }
-            Hit down = traceClosest(q, -ng, 0.0, 2.0 * DISK_SLOPE * rho + 4.0 * lift_size(q));
-            if (down.triangle != NO_HIT && abs(dot(triangle_geometric_normal(down.triangle), ng)) >= DISK_MIN_NORMAL_COSINE) {
-                supported += 1u;
-            }
+            rho = r * sqrt(max(0.0, 1.0 - pow(1.0 - u, 1.0 / 3.0)));
+            origin = from + (rho * stretch) * dir;
+            towards = -ng;
+            length = 2.0 * DISK_SLOPE * rho + 4.0 * lift_size(origin);
         }
-        mass += seen * float(supported) / float(DISK_DEPTHS);
+        bool on_face = j < DISK_DEPTHS && own_opaque && over_own_face(own, origin);
+        Hit hit;
+        hit.triangle = NO_HIT;
+        hit.t = length;
+        if (!on_face) {
+            hit = traceClosest(origin, towards, 0.0, length);
+        }
+        if (j == DISK_DEPTHS) {
+            float reach = hit.triangle == NO_HIT ? r : min(hit.t / stretch, r);
+            seen = biweight_mass(reach / r);
+            phase = rng_next(rng);
+            supported = 0u;
+            j = 0u;
+            continue;
+        }
+        if (on_face || (hit.triangle != NO_HIT && abs(dot(triangle_geometric_normal(hit.triangle), ng)) >= DISK_MIN_NORMAL_COSINE)) {
+            supported += 1u;
+        }
+        j += 1u;
+        if (j == DISK_DEPTHS) {
+            mass += seen * float(supported) / float(DISK_DEPTHS);
+            k += 1u;
+        }
     }
     return mass / float(DISK_DIRECTIONS);
 }
