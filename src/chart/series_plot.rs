@@ -68,7 +68,8 @@ fn draw<DB: DrawingBackend>(
     let px = |v: f64| ((v * k).round() as i32).max(1);
     let font = |v: f64| (FAMILY, (v * k).max(7.0));
     let grey = RGBColor(90, 90, 90);
-    let foot_h = (1.6 * font(12.0).1) as u32;
+    // Two lines: the settings, then the truth and the device.
+    let foot_h = (2.9 * font(12.0).1) as u32;
     let (main, foot) = root.split_vertically(h.saturating_sub(foot_h));
     let main = main.titled(&format!("{}: {} against wall time", series.scene, metric.name()), font(21.0))?;
 
@@ -126,18 +127,19 @@ fn draw<DB: DrawingBackend>(
         .background_style(WHITE.mix(0.85))
         .border_style(RGBColor(200, 200, 200))
         .draw()?;
-    let line = format!(
-        "{}×{}; batches of {} paths; radius {:.4}, shrinking from {}× it after frame 1; truth: {} jittered frames × {} spp; {}",
+    let settings = format!(
+        "{}×{}; batches of {} paths; radius {:.4}, shrinking from {}× it after frame 1; leakless's partial disks down to {}× that",
         series.width,
         series.height,
         series.paths,
         series.radius,
         crate::splatting::ACCUMULATION_RADIUS_SCALE,
-        series.truth_frames,
-        series.truth_spp,
-        series.device
+        crate::splatting::MIN_RADIUS_SHARE,
     );
-    foot.draw(&Text::new(line, (px(10.0), px(4.0)), TextStyle::from(font(11.5)).color(&grey)))?;
+    let truth = format!("truth: {} jittered frames × {} spp; {}", series.truth_frames, series.truth_spp, series.device);
+    let style = TextStyle::from(font(11.5)).color(&grey);
+    foot.draw(&Text::new(settings, (px(10.0), px(2.0)), style.clone()))?;
+    foot.draw(&Text::new(truth, (px(10.0), px(2.0) + (1.35 * font(12.0).1) as i32), style))?;
     root.present()?;
     Ok(())
 }
