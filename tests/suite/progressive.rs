@@ -199,3 +199,39 @@ fn leakless_flickers_no_more_than_splat_and_accumulation_settles() {
         r.gpu().check_validation().expect("validation clean");
     }
 }
+
+/// An accumulation's frames double their batches up to `--max-batches`, but hold no more than
+/// the node lists can take: they cannot grow past the device's largest buffer
+/// (`limits::max_list_entries`), and a frame of more batches would drop photons from them. Here
+/// a batch's lists are 512k entries (2000 paths of up to 16 bounces, 16 entries a photon);
+/// lavapipe's 128 MiB buffers hold 32 such batches, so the seventh frame holds 32, not 64, and
+/// nothing is dropped.
+#[test]
+fn frames_hold_no_more_batches_than_the_lists_take() {
+    let (paths, bounces, frames, max_batches) = (2000, 16, 7, 64);
+    let s = RenderSettings {
+        max_batches,
+        splat: SplatSettings { paths, ..Default::default() },
+        ..settings(32, 24, paths, 1.0, bounces, frames)
+    };
+    let Some(mut r) = renderer("scenes/cornell-box.gltf", s) else { return };
+    let limits = r.gpu().report().limits.clone();
+    let max_entries = leakless::limits::max_list_entries(&limits);
+    let per_batch = leakless::splatting::default_list_capacity(paths * bounces, 32 * 24).min(max_entries);
+    let lists_hold = (max_entries / per_batch).max(1);
+    let fits = (leakless::limits::max_frame_paths(&limits, bounces) / paths as u64).max(1) as u32;
+    let expected: Vec<u32> = (0..frames).map(|k| (1u32 << k).min(max_batches).min(fits).min(lists_hold)).collect();
+    eprintln!(
+        "{max_entries} list entries at most, {per_batch} a batch: the lists hold {lists_hold} batches, the photon buffer {fits}; frames of {expected:?} batches"
+    );
+    let frame = r.render().expect("render");
+    r.gpu().check_validation().expect("validation clean");
+    let stats = frame.splat.expect("a photon frame");
+    assert_eq!(frame.batches, expected.iter().sum::<u32>(), "batches accumulated");
+    assert_eq!(stats.paths, expected[frames as usize - 1] * paths, "the last frame's paths");
+    assert_eq!((stats.list_entries_dropped, stats.photons_dropped), (0, 0), "{stats:?}");
+    // On lavapipe the lists are what stops the doubling (a GPU's 4 GiB buffers hold 256).
+    if r.gpu().report().device_type == leakless_device::DeviceType::Cpu {
+        assert!(lists_hold < 64 && lists_hold < fits, "the lists hold {lists_hold} batches here");
+    }
+}
