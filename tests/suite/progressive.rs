@@ -215,7 +215,7 @@ fn frames_hold_no_more_batches_than_the_lists_take() {
         ..settings(32, 24, paths, 1.0, bounces, frames)
     };
     let Some(mut r) = renderer("scenes/cornell-box.gltf", s) else { return };
-    let limits = r.gpu().report().limits.clone();
+    let limits = r.gpu().report().limits;
     let max_entries = leakless::limits::max_list_entries(&limits);
     let per_batch = leakless::splatting::default_list_capacity(paths * bounces, 32 * 24).min(max_entries);
     let lists_hold = (max_entries / per_batch).max(1);
