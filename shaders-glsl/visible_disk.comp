@@ -15,8 +15,8 @@
 // tangent plane; a ray grazing it would find it at once). Each ray gives exactly the kernel
 // mass its direction sees up to the first surface it meets; within that, DISK_DEPTHS points
 // drawn from the kernel's radial mass check that the surface exists: over the sample's own
-// triangle (no ray needed), or else a short ray down from the point must meet a surface facing
-// like x's within DISK_SLOPE below the plane.
+// face (its triangle, or that triangle's coplanar neighbour: no ray needed), or else a short ray
+// down from the point must meet a surface facing like x's within DISK_SLOPE below the plane.
 #include "trace.glsl"
 #include "common.glsl"
 #include "disk.glsl"
@@ -115,7 +115,6 @@ float visible_disk_mass(vec3 from, vec3 ng, uint own, float r, inout Rng rng) {
         vec3 origin = from;
         vec3 towards;
         float length;
-        float rho = 0.0;
         if (j == DISK_DEPTHS) {
             float phi = 2.0 * PI * (float(k) + angle_phase) / float(DISK_DIRECTIONS);
             dir = (cos(phi) * t + sin(phi) * b + DISK_SLOPE * ng) / stretch;
@@ -124,15 +123,13 @@ float visible_disk_mass(vec3 from, vec3 ng, uint own, float r, inout Rng rng) {
         } else {
             // The kernel's radial mass 1 − (1 − s²)³ is uniform in u: s = sqrt(1 − (1 − u)^(1/3)).
             float u = seen * (float(j) + phase) / float(DISK_DEPTHS);
-            rho = r * sqrt(max(0.0, 1.0 - pow(1.0 - u, 1.0 / 3.0)));
+            float rho = r * sqrt(max(0.0, 1.0 - pow(1.0 - u, 1.0 / 3.0)));
             origin = from + (rho * stretch) * dir;
             towards = -ng;
             length = 2.0 * DISK_SLOPE * rho + 4.0 * lift_size(origin);
         }
         bool on_face = j < DISK_DEPTHS && own_opaque && over_own_face(own, origin);
-        Hit hit;
-        hit.triangle = NO_HIT;
-        hit.t = length;
+        Hit hit = Hit(length, NO_HIT, vec2(0.0));  // a probe on the face needs no ray
         if (!on_face) {
             hit = traceClosest(origin, towards, 0.0, length);
         }
