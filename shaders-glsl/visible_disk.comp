@@ -93,7 +93,8 @@ bool over_own_face(uint own, vec3 p) {
 }
 
 // The mass around `from` (normal `ng`, radius r) on `own`'s surface, seen from `from`.
-float visible_disk_mass(vec3 from, vec3 ng, uint own, float r, inout Rng rng) {
+// `rays_down` counts the rays down it traces (the disk-mass image's .b: tests compare it).
+float visible_disk_mass(vec3 from, vec3 ng, uint own, float r, inout Rng rng, inout uint rays_down) {
     // A probe over the sample's own (opaque) face is on the surface without a ray down, which
     // spares most of those rays on the large triangles walls and floors are made of.
     bool own_opaque = triangle_material(own).alpha_cutoff < 0.0;
@@ -132,6 +133,7 @@ float visible_disk_mass(vec3 from, vec3 ng, uint own, float r, inout Rng rng) {
         Hit hit = Hit(length, NO_HIT, vec2(0.0));  // a probe on the face needs no ray
         if (!on_face) {
             hit = traceClosest(origin, towards, 0.0, length);
+            rays_down += j < DISK_DEPTHS ? 1u : 0u;
         }
         if (j == DISK_DEPTHS) {
             float reach = hit.triangle == NO_HIT ? r : min(hit.t / stretch, r);
@@ -175,6 +177,7 @@ void main() {
     vec4 position = imageLoad(gbuffer_position, pixel);
     float mass = 1.0;
     float r = params.radius;
+    uint rays_down = 0u;
     if (params.enabled != 0u && position.w > 0.0) {
         uint triangle = uint(position.w) - 1u;
         vec3 ng = sample_geometric_normal(triangle, imageLoad(gbuffer_normal, pixel).xyz);
@@ -184,7 +187,7 @@ void main() {
         // loop, not two calls: each call inlines the whole trace twice, and on lavapipe four
         // copies took 7.5 s to compile on first use (the app's first frame waited for it).
         for (uint measure = 0u; measure < 2u; ++measure) {
-            mass = visible_disk_mass(from, ng, triangle, r, rng);
+            mass = visible_disk_mass(from, ng, triangle, r, rng, rays_down);
             if (measure == 1u || !(params.partial_radius_exponent > 0.0 && mass < 1.0)) {
                 break;
             }
@@ -192,5 +195,5 @@ void main() {
         }
         mass = max(mass, DISK_MIN_MASS);
     }
-    imageStore(disk_mass, pixel, vec4(mass, r, 0.0, 0.0));
+    imageStore(disk_mass, pixel, vec4(mass, r, float(rays_down), 0.0));
 }

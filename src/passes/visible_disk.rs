@@ -50,13 +50,14 @@ shader_bindings! {
 }
 
 /// The per-pixel mass image of an `extent` frame (of the graph's pool): the mass in `.r`,
-/// the sample's gather radius in `.g`.
+/// the sample's gather radius in `.g`, and in `.b` the rays down the pass traced for it (a
+/// diagnostic: `Renderer::capture` reads it back for the tests).
 pub fn image(graph: &mut Graph<'_>, extent: vk::Extent2D) -> Result<ImageHandle> {
     Ok(graph.image(&ImageDesc {
         name: "disk mass",
         extent,
         format: gbuffer::FORMAT,
-        usage: vk::ImageUsageFlags::STORAGE,
+        usage: vk::ImageUsageFlags::STORAGE | vk::ImageUsageFlags::TRANSFER_SRC,
     })?)
 }
 

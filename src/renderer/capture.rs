@@ -20,6 +20,9 @@ pub struct Capture {
     /// For methods that splat: the box (min, max) around the valid view samples that
     /// `sample_bounds.comp` reduced on the GPU and the hierarchy was quantised to.
     pub sample_bounds: Option<[[f32; 3]; 2]>,
+    /// For methods that splat, per pixel: the visible disk's mass, the sample's gather radius,
+    /// and the rays down the visible-disk pass traced (`passes::visible_disk::image`).
+    pub disk_mass: Vec<[f32; 4]>,
 }
 
 /// The float a `sample_bounds.comp` order key stands for (the inverse of its `order_key`).
@@ -53,6 +56,7 @@ fn copy_to_host(g: &mut Graph<'_>, desc: &BufferDesc<'_>, bytes: u64, to: &'stat
 const CAPTURE_BUFFER: &str = "capture readback";
 const PHOTON_CAPTURE_BUFFER: &str = "photon capture readback";
 const BOUNDS_CAPTURE_BUFFER: &str = "sample bounds capture readback";
+const DISK_CAPTURE_BUFFER: &str = "disk mass capture readback";
 
 impl Renderer {
     /// Reads back the G-buffer and (for methods that splat) the photons of the last frame.
@@ -81,6 +85,8 @@ impl Renderer {
         if splats {
             let desc = HierarchyHandles::sample_bounds_desc();
             copy_to_host(&mut g, &desc, desc.size, BOUNDS_CAPTURE_BUFFER)?;
+            let disk = crate::passes::visible_disk::image(&mut g, extent)?;
+            readback::add(&mut g, DISK_CAPTURE_BUFFER, &[&disk])?;
         }
         let submitted = g.submit(&Default::default())?;
         let done = self.runner.wait_for(&self.gpu, submitted)?;
@@ -98,12 +104,17 @@ impl Renderer {
             }
             _ => None,
         };
+        let disk_mass = match pool.frame_buffer(DISK_CAPTURE_BUFFER, done.slot) {
+            Some(b) if splats => b.read_vec(n)?,
+            _ => vec![],
+        };
         Ok(Capture {
             position: texels[..n].to_vec(),
             normal: texels[n..2 * n].to_vec(),
             albedo: texels[2 * n..].to_vec(),
             photons,
             sample_bounds,
+            disk_mass,
         })
     }
 }

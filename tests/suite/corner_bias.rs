@@ -254,7 +254,8 @@ fn accumulation_shrinks_the_radius_of_partial_disks() {
 /// The visible disk finds a probe's surface by stepping from the sample's triangle to its
 /// coplanar neighbour (`Scene::coplanar_neighbours`) before tracing a ray down: the same
 /// answer, so the same pixels, bit for bit, on both backends, in a single frame and in an
-/// accumulation's later frames (whose partial disks measure their mass a second time).
+/// accumulation's later frames (whose partial disks measure their mass a second time); and it
+/// fires: the single frame traces fewer rays down (counted per pixel in the mass image).
 #[test]
 fn walking_coplanar_faces_changes_no_pixel() {
     for backend in common::choices() {
@@ -263,13 +264,21 @@ fn walking_coplanar_faces_changes_no_pixel() {
             let settings = RenderSettings { backend, ..photons(true, None, 4000, 3) };
             let mut r = Renderer::new(gpu, &common::scene(path), settings).expect("renderer");
             let mut frames = Vec::new();
+            let mut rays_down = Vec::new();
             for walk in [true, false] {
                 for count in [1, 3] {
                     r.update(|s| (s.frames, s.splat.walk_faces) = (count, walk)).expect("settings");
                     frames.push(r.render().expect("render"));
+                    if count == 1 {
+                        let disk = r.capture().expect("capture").disk_mass;
+                        rays_down.push(disk.iter().map(|d| d[2] as u64).sum::<u64>());
+                    }
                 }
             }
             r.gpu().check_validation().expect("validation clean");
+            eprintln!("{path} {backend:?}: {} rays down with the step, {} without", rays_down[0], rays_down[1]);
+            // The step fires: it spares rays wherever a disk crosses a quad's diagonal.
+            assert!(rays_down[0] < rays_down[1], "{path} {backend:?}: {rays_down:?}");
             for (name, (walked, traced)) in
                 ["single frame", "third frame"].iter().zip(frames[..2].iter().zip(&frames[2..]))
             {
