@@ -4,8 +4,8 @@
 #ifndef LEAKLESS_HIERARCHY_GLSL
 #define LEAKLESS_HIERARCHY_GLSL
 
-// One node: bounds and normal cone of its valid samples. An empty node (no valid sample) has
-// min > max, so every sphere test fails.
+// One node: bounds, normal cone and largest gather radius of its valid samples. An empty node (no valid
+// sample) has min > max, so every sphere test fails.
 struct Node {
     vec3 bounds_min;
     uint first_child;   // first node of the level below, or the first sorted sample of a leaf
@@ -15,8 +15,9 @@ struct Node {
     float cone_angle;   // half-angle in radians; ≥ π/2 + ... means no normal-cone culling
     uint level;         // 0 = leaf
     uint valid_samples;
+    float radius_max;   // the largest gather radius of its valid samples (a sample's own:
+                        // visible_disk.comp grows or shrinks it where its disk is partial)
     uint pad0;
-    uint pad1;
 };
 
 // Where each level starts in the node array, and how many samples a node of it covers.

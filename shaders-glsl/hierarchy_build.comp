@@ -1,7 +1,9 @@
 #version 460
 // Builds one level of the view-sample hierarchy, bottom up: a leaf from its `branching`
-// sorted samples, an interior node from its `branching` children. Each node gets the bounds
-// and the normal cone of its valid samples.
+// sorted samples, an interior node from its `branching` children. Each node gets the bounds,
+// the normal cone and the largest gather radius of its valid samples (a sample's radius is the
+// frame's, grown or shrunk where its visible disk is partial: visible_disk.comp), so that the
+// splat lists a photon wherever a grown disk may reach it.
 #include "common.glsl"
 #include "hierarchy.glsl"
 
@@ -13,6 +15,8 @@ layout(set = 0, binding = 2, std430) readonly buffer SortedKeys { uint keys[]; }
 layout(set = 0, binding = 3, std430) readonly buffer SortedSamples { uint pixels[]; } sorted_samples;
 layout(set = 0, binding = 4, std430) readonly buffer Levels { Level levels[]; } levels;
 layout(set = 0, binding = 5, std430) buffer Nodes { Node nodes[]; } nodes;
+// .g: each sample's gather radius (visible_disk.comp writes it for every pixel).
+layout(set = 0, binding = 6, rgba32f) uniform readonly image2D disk_mass;
 layout(push_constant) uniform BuildParams {
     uint level;
     uint branching;
@@ -33,8 +37,8 @@ void main() {
     node.bounds_max = vec3(-HUGE);
     node.level = params.level;
     node.valid_samples = 0u;
+    node.radius_max = 0.0;
     node.pad0 = 0u;
-    node.pad1 = 0u;
     vec3 axis_sum = vec3(0.0);
     if (params.level == 0u) {
         node.first_child = i * params.branching;
@@ -48,6 +52,7 @@ void main() {
             vec3 p = imageLoad(gbuffer_position, xy).xyz;
             node.bounds_min = min(node.bounds_min, p);
             node.bounds_max = max(node.bounds_max, p);
+            node.radius_max = max(node.radius_max, imageLoad(disk_mass, xy).y);
             axis_sum += imageLoad(gbuffer_normal, xy).xyz;
             node.valid_samples += 1u;
         }
@@ -62,6 +67,7 @@ void main() {
             }
             node.bounds_min = min(node.bounds_min, child.bounds_min);
             node.bounds_max = max(node.bounds_max, child.bounds_max);
+            node.radius_max = max(node.radius_max, child.radius_max);
             axis_sum += child.cone_axis * float(child.valid_samples);
             node.valid_samples += child.valid_samples;
         }

@@ -1,7 +1,9 @@
 #version 460
 // Splat: one thread per photon walks the view-sample hierarchy from the root. A node is
 // culled when the photon's sphere misses its bounds or its normal cone faces away from the
-// photon. With trivial accept, a node inside the sphere whose cone faces the photon takes the
+// photon. The sphere's radius is the frame's largest gather radius, and where a single frame
+// grows partial disks (visible_disk.comp), the node's own largest radius once the frame's
+// has not culled it: read only then, since on lavapipe every word a node test loads costs. With trivial accept, a node inside the sphere whose cone faces the photon takes the
 // photon onto its list and the walk stops there (the gather still evaluates it per sample);
 // otherwise the walk descends and a leaf takes the photon onto its list. Each photon's
 // `photon_listed` flag says whether any list took it: only those reach the gather, so only
@@ -26,12 +28,12 @@ layout(set = 0, binding = 6, std430) buffer SplatCounters {
 } splat_counters;
 layout(set = 0, binding = 7, std430) writeonly buffer PhotonListed { uint listed[]; } photon_listed;
 layout(push_constant) uniform SplatParams {
-    float radius;
+    float radius;           // the largest radius any sample gathers within
     uint trivial_accept;
     uint root;
     uint capacity;          // entries the list buffer holds
     uint photon_capacity;   // photons the photon buffer holds
-    uint pad0;
+    uint node_radius;       // 1: samples' radii differ upward; test each node's radius_max
     uint pad1;
     uint pad2;
 } params;
@@ -58,7 +60,7 @@ const uint CULL = 0u;     // the photon reaches no sample of the node
 const uint TAKE = 1u;     // the node's list takes the photon
 const uint DESCEND = 2u;  // the node's children decide
 
-uint classify(Node node, Photon ph, float r, vec3 toward_light) {
+uint classify(uint index, Node node, Photon ph, float r, vec3 toward_light) {
     if (node.valid_samples == 0u) {
         return CULL;
     }
@@ -67,6 +69,12 @@ uint classify(Node node, Photon ph, float r, vec3 toward_light) {
     vec3 to_near = ph.position - nearest;
     if (dot(to_near, to_near) >= r * r) {
         return CULL;
+    }
+    if (params.node_radius != 0u) {
+        r = nodes.nodes[index].radius_max;
+        if (dot(to_near, to_near) >= r * r) {
+            return CULL;
+        }
     }
     // Every normal of the node within cone_angle of the axis: the gather's facing test
     // dot(n, −ω_in) > 0 fails for all of them when the cone lies beyond 90°.
@@ -98,7 +106,7 @@ void main() {
     uint stack[SPLAT_STACK];
     uint top = 0u;
     uint visited = 1u;
-    uint root = classify(nodes.nodes[params.root], ph, r, toward_light);
+    uint root = classify(params.root, nodes.nodes[params.root], ph, r, toward_light);
     bool listed = root == TAKE;
     if (root == TAKE) {
         append(params.root, photon_index);
@@ -109,7 +117,7 @@ void main() {
         Node node = nodes.nodes[stack[--top]];
         for (uint c = node.first_child; c < node.first_child + node.child_count; ++c) {
             visited += 1u;
-            uint k = classify(nodes.nodes[c], ph, r, toward_light);
+            uint k = classify(c, nodes.nodes[c], ph, r, toward_light);
             if (k == TAKE) {
                 append(c, photon_index);
                 listed = true;

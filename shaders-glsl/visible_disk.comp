@@ -35,11 +35,11 @@ layout(push_constant) uniform VisibleDiskParams {
     float radius;   // this frame's gather radius
     uint seed;      // this frame's seed (the rays' rotation)
     uint enabled;   // 0: every sample's mass is 1 (the whole disk)
-    float partial_radius_exponent;  // γ > 0: a partial disk shrinks the sample's radius (below)
+    float partial_radius_exponent;  // γ: a partial disk grows (γ < 0) or shrinks (γ > 0) the radius
     float min_radius_share;         // s: it shrinks to no less than s·r
     uint walk_faces;                // 1: over_own_face may step to a coplanar neighbour
+    float max_radius_share;         // g: it grows to no more than g·r
     uint pad1;
-    uint pad2;
 } params;
 
 #define DISK_DIRECTIONS 4u
@@ -155,19 +155,39 @@ float visible_disk_mass(vec3 from, vec3 ng, uint own, float r, inout Rng rng, in
     return mass / float(DISK_DIRECTIONS);
 }
 
-// Partial disks in an accumulation: the sample gathers within r·max(m^γ, s),
-// m its visible share at r, and its mass is measured again at that radius.
+// Partial disks: the sample gathers within r·clamp(m^γ, s, g), m its visible share at r, and
+// its mass is measured again at that radius.
 //
-// Why: over a whole disk the kernel's centroid is the sample, so the estimate's bias is of
-// second order in r; over a part of it the centroid lies off the sample, inside the part, and
-// the estimate is the irradiance there: a bias of first order in r (the floor beside a wall
-// reads the floor further out, a lintel narrower than r reads along itself). Accumulating
-// averages noise away but not that, and after a few seconds it was most of the atrium's error,
-// on the lintels and piers. A smaller disk there moves the centroid in with it; its extra noise
-// stays at the edges, and the radius elsewhere is untouched. The more partial the disk, the
-// more it shrinks; the floor s (splatting::MIN_RADIUS_SHARE, ½) keeps a corner's quarter disk at
-// half the radius, and the gather's fixed-point bound allows for it (gather.rs). γ ramps from 0 at the single frame, whose error
-// is its noise, to 1 as batches add up (splatting::partial_radius_exponent).
+// Why grow in a single frame (γ = −1, up to g = 1.5): a partial disk holds fewer photons, and
+// dividing fewer by a smaller mass made one frame noisier at the edges than the whole disk, which
+// darkens there instead (relMSE 11% worse in the Cornell box at 10k paths, 5% in the doorway).
+// A disk grown as the share shrinks holds about as many photons as a whole one. Its centroid
+// moves off the sample (a bias of first order in r, below), which a single frame's noise hides;
+// the cap keeps the atrium at twice the default radius, where bias dominates, near the
+// reference.
+//
+// Why shrink in an accumulation (γ > 0): over a whole disk the kernel's centroid is the sample,
+// so the estimate's bias is of second order in r; over a part of it the centroid lies off the
+// sample, inside the part, and the estimate is the irradiance there: a bias of first order in r
+// (the floor beside a wall reads the floor further out, a lintel narrower than r reads along
+// itself). Accumulating averages noise away but not that, and after a few seconds it was most of
+// the atrium's error, on the lintels and piers. A smaller disk there moves the centroid in with
+// it; its extra noise stays at the edges, and the radius elsewhere is untouched. The more partial
+// the disk, the more it shrinks; the floor s (splatting::MIN_RADIUS_SHARE, ½) keeps a corner's
+// quarter disk at half the radius, and the gather's fixed-point bound allows for it (gather.rs).
+// γ ramps from 0 after the single frame to 1 as batches add up (splatting::partial_radius_exponent).
+//
+// The hierarchy takes each sample's radius from .g (hierarchy_build.comp), so the splat lists a
+// photon wherever a grown disk may reach it.
+
+// The share of the radius a disk of visible share `m` gathers within.
+float radius_share(float m) {
+    float gamma = params.partial_radius_exponent;
+    // m = 0 (no probe found the surface): the smallest disk when shrinking, the largest when
+    // growing (pow(0, γ < 0) is undefined).
+    float share = m > 0.0 ? pow(m, gamma) : (gamma > 0.0 ? 0.0 : params.max_radius_share);
+    return clamp(share, params.min_radius_share, params.max_radius_share);
+}
 
 void main() {
     ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
@@ -183,15 +203,15 @@ void main() {
         vec3 ng = sample_geometric_normal(triangle, imageLoad(gbuffer_normal, pixel).xyz);
         vec3 from = offset_ray(nudge_toward(position.xyz, frame.camera_position.xyz), ng);
         Rng rng = rng_seed(uvec2(pixel), 0xd15cu, params.seed);
-        // A partial disk is measured a second time at its shrunk radius. One call site in a
+        // A partial disk is measured a second time at its new radius. One call site in a
         // loop, not two calls: each call inlines the whole trace twice, and on lavapipe four
         // copies took 7.5 s to compile on first use (the app's first frame waited for it).
         for (uint measure = 0u; measure < 2u; ++measure) {
             mass = visible_disk_mass(from, ng, triangle, r, rng, rays_down);
-            if (measure == 1u || !(params.partial_radius_exponent > 0.0 && mass < 1.0)) {
+            if (measure == 1u || !(params.partial_radius_exponent != 0.0 && mass < 1.0)) {
                 break;
             }
-            r *= max(pow(max(mass, 0.0), params.partial_radius_exponent), params.min_radius_share);
+            r *= radius_share(max(mass, 0.0));
         }
         mass = max(mass, DISK_MIN_MASS);
     }

@@ -46,15 +46,19 @@ pub struct SplatSettings {
     /// seen, counting only photons on its own surface (`leakless`; off with `--whole-disk`,
     /// the estimator before the corner fix). Needs `visibility`.
     pub visible_disk: bool,
-    /// In an accumulation, gather within r·max(m^γ, ½) where the visible disk holds a share
-    /// m < 1 of the kernel's mass, γ ramping from 0 at the single frame to 1
-    /// ([`partial_radius_exponent`]; visible_disk.comp says why; off with
+    /// Gather within r·clamp(m^γ, ½, 1.5) where the visible disk holds a share m < 1 of the
+    /// kernel's mass: γ = −1 (grow) in a single frame, then ramping from 0 to 1 (shrink) as
+    /// batches accumulate ([`partial_radius_exponent`]; visible_disk.comp says why; off with
     /// `--no-partial-disk-radius`). Needs `visible_disk`.
     pub partial_disk_radius: bool,
     /// Find whether the sample's face lies under a visible-disk probe by walking to a coplanar
     /// neighbour of its triangle before tracing a ray down (`Scene::coplanar_neighbours`;
     /// same image, fewer rays; off only to check that).
     pub walk_faces: bool,
+    /// Cull each hierarchy node with its own samples' largest gather radius, not the frame's
+    /// largest, where a single frame grows partial disks (same image, fewer list entries; off
+    /// only to check that).
+    pub node_radius: bool,
 }
 
 impl Default for SplatSettings {
@@ -71,6 +75,7 @@ impl Default for SplatSettings {
             visible_disk: true,
             partial_disk_radius: true,
             walk_faces: true,
+            node_radius: true,
         }
     }
 }
@@ -196,18 +201,46 @@ pub fn progressive_radius(radius: f32, index: u32) -> f32 {
 /// kernel's peak there ([`gather::fixed_scale`]).
 pub const MIN_RADIUS_SHARE: f32 = 0.5;
 
+/// The largest share of the frame's radius a partial disk grows to in a single frame
+/// (visible_disk.comp). Measured on the atrium's single frames at twice the default radius,
+/// where bias dominates: −1.0% in the mean with 1.5, −4.5% with 2 (the corner-bias target is
+/// 5%).
+pub const MAX_RADIUS_SHARE: f32 = 1.5;
+
+/// The exponent γ of a single frame's partial disks: r·min(m^γ, g) with γ = −1 grows a disk
+/// of share m until it holds about a whole disk's photons (a half disk to 1.5r rather than
+/// √2·r: a partial disk's share falls as it grows). Single frames at 10k paths, 96×72, seeds
+/// 1–16, relMSE of the indirect layer against the whole disk's: Cornell box 1.11× with γ = 0,
+/// 0.99× with −1; doorway 1.05× and 0.97×. γ = −0.5 left the Cornell box 2% worse.
+pub const SINGLE_FRAME_RADIUS_EXPONENT: f32 = -1.0;
+
 /// Batches over which the partial-disk shrink of an accumulation ramps in.
 pub const PARTIAL_RADIUS_RAMP_BATCHES: f32 = 64.0;
 
-/// The exponent γ of the partial-disk shrink (r·max(m^γ, ½), visible_disk.comp) for a frame
-/// whose first batch is `first_batch`: 0 for batch 0, the single frame, whose error is its noise;
-/// growing linearly to 1 at `PARTIAL_RADIUS_RAMP_BATCHES`. A partial disk's bias is of first
-/// order in r, its noise grows as the disk shrinks, and only the noise falls as batches add up,
-/// so the best shrink deepens with the photons traced. Measured with the whole shrink from
-/// batch 1: the Cornell box's 16 one-batch frames got 12% worse in relMSE (0.01449 → 0.01621)
-/// while 239 atrium batches got 19% better at the edges.
+/// The exponent γ of the partial-disk radius (r·clamp(m^γ, ½, g), visible_disk.comp) for a
+/// frame whose first batch is `first_batch`: `SINGLE_FRAME_RADIUS_EXPONENT` (grow) for batch 0,
+/// the single frame, whose error is its noise; then from 1/64 at batch 1 (whose radius is
+/// already near twice the single frame's) linearly to 1 (shrink) at
+/// `PARTIAL_RADIUS_RAMP_BATCHES`. A partial disk's bias is of first order in r, its noise grows
+/// as the disk shrinks, and only the noise falls as batches add up, so the best shrink deepens
+/// with the photons traced. Measured with the whole shrink from batch 1: the Cornell box's 16
+/// one-batch frames got 12% worse in relMSE (0.01449 → 0.01621) while 239 atrium batches got
+/// 19% better at the edges.
 pub fn partial_radius_exponent(first_batch: u32) -> f32 {
+    if first_batch == 0 {
+        return SINGLE_FRAME_RADIUS_EXPONENT;
+    }
     (first_batch as f32 / PARTIAL_RADIUS_RAMP_BATCHES).min(1.0)
+}
+
+/// The largest radius any sample of a frame at `radius` gathers within: grown partial disks
+/// reach `MAX_RADIUS_SHARE`·r in a single frame (`first_batch` 0) when `partial` is on.
+pub fn largest_gather_radius(radius: f32, first_batch: u32, partial: bool) -> f32 {
+    if partial && partial_radius_exponent(first_batch) < 0.0 {
+        MAX_RADIUS_SHARE * radius
+    } else {
+        radius
+    }
 }
 
 /// Photon batches frame `index` (0-based) of an accumulation traces: 1, 2, 4, … up to
@@ -279,25 +312,43 @@ pub fn add<'r>(
 
     let extent = input.gbuffer.position.extent();
     let shape = Shape::new(extent.width * extent.height, frame.settings.branching)?;
+    // Each sample's visible share of the kernel's disk (leakless), or 1, and its gather radius,
+    // which the hierarchy's nodes bound.
+    let visible_disk = frame.settings.visibility && frame.settings.visible_disk;
+    let partial = visible_disk && frame.settings.partial_disk_radius;
+    let mut disk_mass = visible_disk::image(graph, extent)?;
+    let disk = VisibleDiskParams {
+        radius: frame.radius,
+        seed: frame.seed ^ frame.path_offset.wrapping_mul(0x9e37_79b9),
+        enabled: visible_disk as u32,
+        partial_radius_exponent: if partial { partial_radius_exponent(frame.first_batch) } else { 0.0 },
+        min_radius_share: MIN_RADIUS_SHARE,
+        max_radius_share: MAX_RADIUS_SHARE,
+        walk_faces: frame.settings.walk_faces as u32,
+        ..Default::default()
+    };
+    passes.visible_disk.add(graph, disk, input.frame, input.gbuffer, input.scene, input.trace, &mut disk_mass);
+    let largest_radius = largest_gather_radius(frame.radius, frame.first_batch, partial);
     let mut h = HierarchyHandles::new(graph, &shape)?;
-    passes.hierarchy.add(graph, input.frame, input.gbuffer, &shape, &mut h)?;
+    passes.hierarchy.add(graph, input.frame, input.gbuffer, &disk_mass, &shape, &mut h)?;
 
     let mut lists = NodeListHandles::new(graph, shape.node_count(), frame.list_capacity, capacity)?;
     let splat = SplatInputs {
         photons: &photons,
         photon_counters: &photon_counters,
         photon_capacity: capacity,
-        radius: frame.radius,
+        radius: largest_radius,
+        node_radius: frame.settings.node_radius && largest_radius > frame.radius,
         trivial_accept: frame.settings.trivial_accept,
     };
     passes.splat.add(graph, &shape, splat, &h, &mut lists);
 
     // The photons' clearance, for the gather to prove segments clear (visibility only). The
-    // search stops a little beyond the radius: a segment is no longer than the radius plus
+    // search stops a little beyond the largest radius: a segment is no longer than that plus
     // both ends' tiny lifts, and one that is gets traced, so the bound only limits the work.
     let mut clearance = photon_clearance::buffer(graph, capacity)?;
     if frame.settings.visibility {
-        let max_radius = 1.01 * frame.radius;
+        let max_radius = 1.01 * largest_radius;
         let needed = Needed::Listed(&lists.listed);
         passes.clearance.add(
             graph,
@@ -310,24 +361,6 @@ pub fn add<'r>(
             &mut clearance,
         )?;
     }
-    // Each sample's visible share of the kernel's disk (leakless), or 1.
-    let visible_disk = frame.settings.visibility && frame.settings.visible_disk;
-    let mut disk_mass = visible_disk::image(graph, extent)?;
-    let disk = VisibleDiskParams {
-        radius: frame.radius,
-        seed: frame.seed ^ frame.path_offset.wrapping_mul(0x9e37_79b9),
-        enabled: visible_disk as u32,
-        // Not in a single frame (batch 0), whose error is its noise, not the edges' bias.
-        partial_radius_exponent: if visible_disk && frame.settings.partial_disk_radius {
-            partial_radius_exponent(frame.first_batch)
-        } else {
-            0.0
-        },
-        min_radius_share: MIN_RADIUS_SHARE,
-        walk_faces: frame.settings.walk_faces as u32,
-        ..Default::default()
-    };
-    passes.visible_disk.add(graph, disk, input.frame, input.gbuffer, input.scene, input.trace, &mut disk_mass);
     let table = &input.lights.table;
     let max_flux = table.entries.iter().flat_map(|e| e.flux).fold(0.0f32, f32::max) / frame.settings.paths as f32;
     let gather_input = GatherInputs {

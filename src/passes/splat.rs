@@ -40,6 +40,7 @@ gpu_struct! {
     /// The `SplatParams` push constants of splat.comp.
     #[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
     pub struct SplatParams {
+        /// The largest radius any sample gathers within.
         pub radius: f32,
         pub trivial_accept: u32,
         pub root: u32,
@@ -47,7 +48,8 @@ gpu_struct! {
         pub capacity: u32,
         /// Photons the photon buffer holds.
         pub photon_capacity: u32,
-        pub pad0: u32,
+        /// 1: some samples gather beyond the frame's radius; test each node's own largest.
+        pub node_radius: u32,
         pub pad1: u32,
         pub pad2: u32,
     }
@@ -99,7 +101,11 @@ pub struct SplatInputs<'a> {
     pub photons: &'a BufferHandle,
     pub photon_counters: &'a BufferHandle,
     pub photon_capacity: u32,
+    /// The largest radius any sample gathers within.
     pub radius: f32,
+    /// Whether samples' radii exceed the frame's (grown partial disks): the nodes' own
+    /// largest radius then culls more (the hierarchy's `radius_max`).
+    pub node_radius: bool,
     pub trivial_accept: bool,
 }
 
@@ -124,6 +130,7 @@ impl SplatPass {
     ) {
         let params = SplatParams {
             radius: input.radius,
+            node_radius: input.node_radius as u32,
             trivial_accept: input.trivial_accept as u32,
             root: shape.root(),
             capacity: lists.capacity,

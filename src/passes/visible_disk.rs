@@ -1,9 +1,9 @@
 //! Visible disk (`visible_disk.comp`): per view sample, the share of the gather kernel's mass
 //! over the part of its disk where the sample's own surface exists and can be seen from it.
 //! `leakless` divides the flux of the photons on that surface by it instead of by the whole
-//! disk, which darkened it wherever the disk runs off a face or behind an occluder. In an
-//! accumulation it also shrinks the radius of samples whose disk is partial (the gather's
-//! radius rides in `.g`).
+//! disk, which darkened it wherever the disk runs off a face or behind an occluder. It also
+//! sets the radius of samples whose disk is partial: grown in a single frame, shrunk as an
+//! accumulation goes on (the gather's and the hierarchy's radius rides in `.g`).
 
 use ash::vk;
 use bytemuck::{Pod, Zeroable};
@@ -27,14 +27,16 @@ gpu_struct! {
         pub seed: u32,
         /// 0: every sample's mass is 1 (the whole disk).
         pub enabled: u32,
-        /// γ: where the disk is partial, shrink the sample's radius to r·max(m^γ, s) (0: not).
+        /// γ: where the disk is partial, the sample's radius becomes r·clamp(m^γ, s, g): grown
+        /// for γ < 0, shrunk for γ > 0, kept for 0.
         pub partial_radius_exponent: f32,
         /// s: the least share of the radius a partial disk shrinks to.
         pub min_radius_share: f32,
         /// 1: walk to a coplanar neighbour before tracing a probe's ray down.
         pub walk_faces: u32,
+        /// g: the largest share of the radius a partial disk grows to.
+        pub max_radius_share: f32,
         pub pad1: u32,
-        pub pad2: u32,
     }
 }
 

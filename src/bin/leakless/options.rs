@@ -43,9 +43,9 @@ pub struct RenderOptions {
     /// near occluders and in corners).
     #[arg(long)]
     pub whole_disk: bool,
-    /// `leakless --frames N`: keep every sample's radius where its visible disk is partial,
-    /// instead of shrinking it in proportion to the visible mass (the accumulation before
-    /// that fix, whose edges converge more slowly).
+    /// `leakless`: keep every sample's radius where its visible disk is partial, instead of
+    /// growing it in a single frame (noisier edges) and shrinking it as frames accumulate
+    /// (edges that converge more slowly).
     #[arg(long)]
     pub no_partial_disk_radius: bool,
     /// Node-list entries per frame (default: 16 per photon, grown as frames need);
@@ -200,6 +200,7 @@ impl RenderOptions {
                 visible_disk: !self.whole_disk,
                 partial_disk_radius: !self.no_partial_disk_radius,
                 walk_faces: true,
+                node_radius: true,
             },
         }
     }

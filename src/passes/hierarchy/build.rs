@@ -1,9 +1,9 @@
 //! Hierarchy build: one dispatch per level, bottom up, each node from its samples or children
-//! (`hierarchy_build.comp`).
+//! (`hierarchy_build.comp`), with the range of its samples' gather radii.
 
 use bytemuck::{Pod, Zeroable};
 use leakless_device::{gpu_struct, ComputePipeline, Gpu, GpuStruct};
-use leakless_graph::{shader_bindings, Access, Graph};
+use leakless_graph::{shader_bindings, Access, Graph, ImageHandle};
 
 use super::{HierarchyHandles, Level, Node, Shape};
 use crate::error::Result;
@@ -29,6 +29,7 @@ shader_bindings! {
         sorted_samples: words,
         levels: array(Level::LAYOUT),
         nodes: array(Node::LAYOUT),
+        disk_mass: image,
     }
 }
 
@@ -44,7 +45,14 @@ impl BuildPass {
         Ok(BuildPass { pipeline })
     }
 
-    pub fn add<'r>(&'r self, graph: &mut Graph<'r>, shape: &Shape, gbuffer: &GBufferHandles, h: &mut HierarchyHandles) {
+    pub fn add<'r>(
+        &'r self,
+        graph: &mut Graph<'r>,
+        shape: &Shape,
+        gbuffer: &GBufferHandles,
+        disk_mass: &ImageHandle,
+        h: &mut HierarchyHandles,
+    ) {
         let image_width = gbuffer.position.extent().width;
         for (index, info) in shape.levels.iter().enumerate() {
             let params = BuildParams {
@@ -61,6 +69,7 @@ impl BuildPass {
                 sorted_samples: pass.read(&h.samples, Access::ComputeRead),
                 levels: pass.read(&h.levels, Access::ComputeRead),
                 nodes: pass.write(&mut h.nodes, Access::ComputeReadWrite),
+                disk_mass: pass.read(disk_mass, Access::ComputeRead),
             };
             let count = info.count;
             pass.record(move |ctx| ctx.dispatch(&self.pipeline, &[&own], &params, [count, 1, 1]));

@@ -11,7 +11,7 @@ pub mod sample_bounds;
 use ash::vk;
 use bytemuck::{Pod, Zeroable};
 use leakless_device::{gpu_struct, BufferDesc, Gpu, MemoryLocation};
-use leakless_graph::{BufferHandle, Graph};
+use leakless_graph::{BufferHandle, Graph, ImageHandle};
 
 use crate::error::{RenderError, Result};
 use crate::passes::gbuffer::GBufferHandles;
@@ -32,8 +32,10 @@ gpu_struct! {
         pub cone_angle: f32,
         pub level: u32,
         pub valid_samples: u32,
+        /// The largest gather radius of its valid samples (each sample's own:
+        /// visible_disk.comp grows or shrinks it where the sample's disk is partial).
+        pub radius_max: f32,
         pub pad0: u32,
-        pub pad1: u32,
     }
 }
 
@@ -156,19 +158,21 @@ impl HierarchyPasses {
         })
     }
 
-    /// Adds the passes that rebuild the hierarchy of `shape` from the G-buffer.
+    /// Adds the passes that rebuild the hierarchy of `shape` from the G-buffer and each
+    /// sample's gather radius (`disk_mass`'s `.g`, visible_disk.rs).
     pub fn add<'r>(
         &'r self,
         graph: &mut Graph<'r>,
         frame: &BufferHandle,
         gbuffer: &GBufferHandles,
+        disk_mass: &ImageHandle,
         shape: &Shape,
         h: &mut HierarchyHandles,
     ) -> Result<()> {
         self.sample_bounds.add(graph, frame, gbuffer, &mut h.bounds);
         self.morton.add(graph, frame, gbuffer, &h.bounds, &mut h.keys, &mut h.samples);
         self.sort.add(graph, shape.sample_count, 30, &mut h.keys, &mut h.samples)?;
-        self.build.add(graph, shape, gbuffer, h);
+        self.build.add(graph, shape, gbuffer, disk_mass, h);
         Ok(())
     }
 }
