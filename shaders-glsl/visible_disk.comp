@@ -175,7 +175,7 @@ float visible_disk_mass(vec3 from, vec3 ng, uint own, float r, inout Rng rng, in
 // it; its extra noise stays at the edges, and the radius elsewhere is untouched. The more partial
 // the disk, the more it shrinks; the floor s (splatting::MIN_RADIUS_SHARE, ½) keeps a corner's
 // quarter disk at half the radius, and the gather's fixed-point bound allows for it (gather.rs).
-// γ ramps from 0 after the single frame to 1 as batches add up (splatting::partial_radius_exponent).
+// γ ramps from 1/64 at batch 1 to 1 as batches add up (splatting::partial_radius_exponent).
 //
 // The hierarchy takes each sample's radius from .g (hierarchy_build.comp), so the splat lists a
 // photon wherever a grown disk may reach it.

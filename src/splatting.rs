@@ -47,7 +47,7 @@ pub struct SplatSettings {
     /// the estimator before the corner fix). Needs `visibility`.
     pub visible_disk: bool,
     /// Gather within r·clamp(m^γ, ½, 1.5) where the visible disk holds a share m < 1 of the
-    /// kernel's mass: γ = −1 (grow) in a single frame, then ramping from 0 to 1 (shrink) as
+    /// kernel's mass: γ = −1 (grow) in a single frame, then ramping from 1/64 to 1 (shrink) as
     /// batches accumulate ([`partial_radius_exponent`]; visible_disk.comp says why; off with
     /// `--no-partial-disk-radius`). Needs `visible_disk`.
     pub partial_disk_radius: bool,
@@ -460,7 +460,8 @@ mod tests {
         assert_eq!(frame_batches(3, 0), 1, "at least one batch");
     }
 
-    /// The single frame keeps its radius; the accumulation's sequence starts from twice it and
+    /// The single frame keeps the frame's radius (its partial disks grow from it, per sample);
+    /// the accumulation's sequence starts from twice it and
     /// shrinks by Knaus and Zwicker's ratio, so r² falls as i^(α − 1) (its bias vanishes).
     #[test]
     fn the_accumulation_radius_starts_from_twice_the_single_frames_and_shrinks() {

@@ -312,7 +312,9 @@ fn nodes_list_what_grown_disks_gather() {
             frames.push(r.render().expect("render"));
         }
         r.gpu().check_validation().expect("validation clean");
-        let entries: Vec<u32> = frames.iter().map(|f| f.splat.as_ref().expect("splat stats").list_entries).collect();
+        let stats: Vec<_> = frames.iter().map(|f| f.splat.clone().expect("splat stats")).collect();
+        assert!(stats.iter().all(|s| s.list_entries_dropped == 0), "{path}: list entries dropped");
+        let entries: Vec<u32> = stats.iter().map(|s| s.list_entries).collect();
         eprintln!("{path}: {} list entries culling by each node's radius, {} by the frame's", entries[0], entries[1]);
         assert!(frames[0].indirect == frames[1].indirect, "{path}: the nodes' radii changed pixels");
         assert!(entries[0] < entries[1], "{path}: the nodes' radii culled nothing: {entries:?}");
