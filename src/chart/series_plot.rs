@@ -68,8 +68,8 @@ fn draw<DB: DrawingBackend>(
     let px = |v: f64| ((v * k).round() as i32).max(1);
     let font = |v: f64| (FAMILY, (v * k).max(7.0));
     let grey = RGBColor(90, 90, 90);
-    // Two lines: the settings, then the truth and the device.
-    let foot_h = (2.9 * font(12.0).1) as u32;
+    // Three lines: the settings, leakless's partial disks, then the truth and the device.
+    let foot_h = (4.25 * font(12.0).1) as u32;
     let (main, foot) = root.split_vertically(h.saturating_sub(foot_h));
     let main = main.titled(&format!("{}: {} against wall time", series.scene, metric.name()), font(21.0))?;
 
@@ -128,18 +128,24 @@ fn draw<DB: DrawingBackend>(
         .border_style(RGBColor(200, 200, 200))
         .draw()?;
     let settings = format!(
-        "{}×{}; batches of {} paths; radius {:.4}, shrinking from {}× it after frame 1; leakless's partial disks down to {}× that",
+        "{}×{}; batches of {} paths; radius {:.4}, shrinking from {}× it after frame 1",
         series.width,
         series.height,
         series.paths,
         series.radius,
         crate::splatting::ACCUMULATION_RADIUS_SCALE,
+    );
+    let partial = format!(
+        "leakless's partial disks: grown up to {}× the radius in frame 1, shrunk down to {}× it after",
+        crate::splatting::MAX_RADIUS_SHARE,
         crate::splatting::MIN_RADIUS_SHARE,
     );
     let truth = format!("truth: {} jittered frames × {} spp; {}", series.truth_frames, series.truth_spp, series.device);
     let style = TextStyle::from(font(11.5)).color(&grey);
-    foot.draw(&Text::new(settings, (px(10.0), px(2.0)), style.clone()))?;
-    foot.draw(&Text::new(truth, (px(10.0), px(2.0) + (1.35 * font(12.0).1) as i32), style))?;
+    let line = (1.35 * font(12.0).1) as i32;
+    for (k, text) in [settings, partial, truth].into_iter().enumerate() {
+        foot.draw(&Text::new(text, (px(10.0), px(2.0) + k as i32 * line), style.clone()))?;
+    }
     root.present()?;
     Ok(())
 }
