@@ -257,10 +257,12 @@ fn single_frames_are_no_noisier_than_the_whole_disk() {
 /// frames does not remove; batches after the first shrink such a sample's radius to r·max(m,
 /// ½) (visible_disk.comp). 32 accumulated atrium frames (239 batches, about 10 s at 160×120)
 /// against the path-traced reference at the same pixel jitters: over the pixels the shrink
-/// changes, the indirect layer's relMSE must fall by a tenth (measured: 0.00488 → 0.00410,
-/// 0.84×, 0.00394 before the single frame grew its partial disks; at 8 frames, where noise still
-/// dominates, only 0.96×), and the whole image's must fall too (0.00349 → 0.00309). The same switch grows the first frame's partial disks (a single
-/// frame, `single_frames_are_no_noisier_than_the_whole_disk`).
+/// changes, the indirect layer's relMSE must fall by a twentieth (measured: 0.00407 → 0.00380,
+/// 0.93×), and the whole image's must fall too (0.00307 → 0.00293). It fell by a sixth
+/// (0.00488 → 0.00410) while the mass counted surfaces below the tangent plane whose photons
+/// the visibility test drops (visible_disk.comp): the shrink made up for part of that. The same
+/// switch grows the first frame's partial disks (a single frame,
+/// `single_frames_are_no_noisier_than_the_whole_disk`).
 #[test]
 fn accumulation_shrinks_the_radius_of_partial_disks() {
     let path = "scenes/atrium.gltf";
@@ -293,7 +295,7 @@ fn accumulation_shrinks_the_radius_of_partial_disks() {
         "atrium, {frames} frames, {in_band} pixels with a partial disk: relMSE there {:.5} with the radius fixed, {:.5} shrunk; over the image {:.5} and {:.5}",
         edges[0], edges[1], whole[0], whole[1]
     );
-    assert!(edges[1] < 0.9 * edges[0], "the edges' error: {edges:?}");
+    assert!(edges[1] < 0.95 * edges[0], "the edges' error: {edges:?}");
     assert!(whole[1] < whole[0], "the image's error: {whole:?}");
 }
 
