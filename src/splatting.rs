@@ -203,8 +203,8 @@ pub const MIN_RADIUS_SHARE: f32 = 0.5;
 
 /// The largest share of the frame's radius a partial disk grows to in a single frame
 /// (visible_disk.comp). Measured on the atrium's single frames at twice the default radius,
-/// where bias dominates: −1.0% in the mean with 1.5, −4.5% with 2 (the corner-bias target is
-/// 5%).
+/// where bias dominates: −1.0% in the mean with 1.5, −4.5% with 2 (−0.4% with 1.5 since the
+/// visible disk's probes stop at the tangent plane; the corner-bias target is 5%).
 pub const MAX_RADIUS_SHARE: f32 = 1.5;
 
 /// The exponent γ of a single frame's partial disks: r·min(m^γ, g) with γ = −1 grows a disk
