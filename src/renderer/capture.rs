@@ -65,10 +65,13 @@ impl Renderer {
         let n = (self.settings.width * self.settings.height) as usize;
         let extent = self.extent();
         // The pool's resources of the last frame, asked for with the same descriptions.
-        let photons = self.settings.photon_settings().map(|s| {
-            let capacity = s.paths.saturating_mul(self.settings.max_bounces.max(1));
-            let stored = self.last.as_ref().and_then(|r| r.splat.as_ref()).map_or(0, |s| s.photons_stored);
-            (photon_buffer_size(capacity), stored)
+        // The photon buffer holds the last frame's paths, every batch of them: an accumulation's
+        // frames grow to several batches, and asking for one batch's size would name another
+        // buffer than the one the photons are in.
+        let photons = self.settings.photon_settings().map(|_| {
+            let last = self.last.as_ref().and_then(|r| r.splat.as_ref());
+            let capacity = last.map_or(0, |s| s.paths).saturating_mul(self.settings.max_bounces.max(1));
+            (photon_buffer_size(capacity), last.map_or(0, |s| s.photons_stored))
         });
         let mut g = self.runner.graph(&self.gpu)?;
         let gbuffer = GBufferHandles::new(&mut g, extent)?;

@@ -106,6 +106,30 @@ fn hierarchy_gather_equals_brute_force_with_and_without_trivial_accept() {
     }
 }
 
+/// `capture` reads the photons of the last frame, every batch of them: an accumulation's third
+/// frame traces 4 batches into a buffer 4 times one batch's size. It used to ask the pool for
+/// one batch's size, which named another buffer, and copied past its end (a validation error).
+#[test]
+fn capture_reads_every_batch_of_an_accumulating_frame() {
+    let Some(gpu) = common::gpu() else { return };
+    let scene = common::scene("scenes/cornell-box.gltf");
+    let batch = 2000;
+    let splat = SplatSettings { paths: batch, ..Default::default() };
+    // One stored photon per path at most, so 4 batches store more than one batch's buffer holds.
+    let settings = RenderSettings { frames: 3, max_batches: 4, ..settings(32, 24, splat, 1, 1) };
+    let mut renderer = Renderer::new(gpu, &scene, settings).unwrap();
+    let frame = renderer.render().unwrap();
+    let capture = renderer.capture().unwrap();
+    renderer.gpu().check_validation().unwrap();
+    let stats = frame.splat.clone().unwrap();
+    assert_eq!(stats.paths, 4 * batch, "the last frame traces 4 batches");
+    assert!(stats.photons_stored > batch, "{} photons stored", stats.photons_stored);
+    assert_eq!(capture.photons.len(), stats.photons_stored as usize);
+    let last_path = capture.photons.iter().map(|p| p.path).max().unwrap();
+    assert!((3 * batch..4 * batch).contains(&last_path), "the fourth batch's photons: last path {last_path}");
+    assert!(capture.photons.iter().all(|p| p.position.iter().all(|c| c.is_finite())), "photons read back");
+}
+
 /// The box the Morton codes are quantised to is exactly the box around the valid view samples.
 /// `sample_bounds.comp` reduces each 8×8 workgroup in shared memory before its atomics. The
 /// view holds the sphere seen from outside, off its centre: its extremes lie at single pixels, the
