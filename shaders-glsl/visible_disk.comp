@@ -16,11 +16,14 @@
 // mass its direction sees up to the first surface it meets; within that, DISK_DEPTHS points
 // drawn from the kernel's radial mass check that the surface exists: over the sample's own
 // face (its triangle, or that triangle's coplanar neighbour: no ray needed), or else a short ray
-// down from the point must meet a surface facing like x's no deeper than the tangent plane.
+// down from the point must meet a surface facing like x's no deeper than a few lifts below the
+// tangent plane.
 //
-// Why not deeper: a surface below the plane beyond an edge of x's face (the gallery's beam, 3 cm
-// behind the face of the pier it meets) is hidden from x by the solid under x's face, so the
-// gather's visibility test drops every photon on it. Counting its mass divided the photons that
+// Why not deeper: the gather's visibility segment from x to a photon on a surface below the plane
+// beyond an edge of x's face (the gallery's beam, 3 cm behind the face of the pier it meets) dips
+// through x's face or the solid under it, so the test drops every photon there. The same holds on
+// a convex curved surface, whose chords pass through the solid: there the mass now shrinks towards
+// the sample's own facet, as the photons its segments reach do. Counting its mass divided the photons that
 // remain by too much: the piers' inner faces came out 14% dark after 32 atrium frames (1%
 // above the reference when the probe stops at the plane).
 #include "trace.glsl"
@@ -133,8 +136,8 @@ float visible_disk_mass(vec3 from, vec3 ng, uint own, float r, inout Rng rng, in
             float rho = r * sqrt(max(0.0, 1.0 - pow(1.0 - u, 1.0 / 3.0)));
             origin = from + (rho * stretch) * dir;
             towards = -ng;
-            // From DISK_SLOPE·rho above the plane down to it, and a few lifts below (the
-            // gather's segments leave lifted points, so it sees that far under the plane).
+            // From DISK_SLOPE·rho above the plane down to it, and a few lifts below: a tolerance
+            // for rounding on coplanar faces and for `from`'s own lift off the plane.
             length = DISK_SLOPE * rho + 4.0 * lift_size(origin);
         }
         bool on_face = j < DISK_DEPTHS && own_opaque && over_own_face(own, origin);
