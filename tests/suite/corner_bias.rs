@@ -257,8 +257,9 @@ fn single_frames_are_no_noisier_than_the_whole_disk() {
 /// frames does not remove; batches after the first shrink such a sample's radius to r·max(m,
 /// ½) (visible_disk.comp). 32 accumulated atrium frames (239 batches, about 10 s at 160×120)
 /// against the path-traced reference at the same pixel jitters: over the pixels the shrink
-/// changes, the indirect layer's relMSE must fall by a twentieth (measured: 0.00407 → 0.00380,
-/// 0.93×), and the whole image's must fall too (0.00307 → 0.00293). It fell by a sixth
+/// changes, the indirect layer's relMSE must fall by 2% (measured: 0.00407 → 0.00380, 0.93×;
+/// seeds 2–4 give 0.88×, 0.88× and 0.96×, so a tighter bound would be a coin toss on another
+/// device), and the whole image's must fall too (0.00307 → 0.00293). It fell by a sixth
 /// (0.00488 → 0.00410) while the mass counted surfaces below the tangent plane whose photons
 /// the visibility test drops (visible_disk.comp): the shrink made up for part of that. The same
 /// switch grows the first frame's partial disks (a single frame,
@@ -295,7 +296,7 @@ fn accumulation_shrinks_the_radius_of_partial_disks() {
         "atrium, {frames} frames, {in_band} pixels with a partial disk: relMSE there {:.5} with the radius fixed, {:.5} shrunk; over the image {:.5} and {:.5}",
         edges[0], edges[1], whole[0], whole[1]
     );
-    assert!(edges[1] < 0.95 * edges[0], "the edges' error: {edges:?}");
+    assert!(edges[1] < 0.98 * edges[0], "the edges' error: {edges:?}");
     assert!(whole[1] < whole[0], "the image's error: {whole:?}");
 }
 
@@ -307,8 +308,9 @@ fn accumulation_shrinks_the_radius_of_partial_disks() {
 /// the piers' faces counted the beam's face in their mass and came out 14% dark after 32 frames
 /// near the beam (160×120, four seeds); with the probes stopping at the plane, 1.01×. 32
 /// accumulated frames at 64×48 against the reference at the same jitters, over the pixels on
-/// those faces above 2.8 m: their mean must be within 5% of the reference's (measured: 45
-/// pixels, 1.022×; 0.930× with the probes reaching below the plane).
+/// those faces above 2.8 m (45): their mean must be no more than 4% darker than the reference's
+/// (measured: 1.022×; 0.930× with the probes reaching below the plane), and no more than 8%
+/// brighter (seeds 2–4 give 1.016×, 1.015× and 1.043×).
 #[test]
 fn pier_faces_count_no_beam_behind_them() {
     let path = "scenes/atrium.gltf";
@@ -336,7 +338,7 @@ fn pier_faces_count_no_beam_behind_them() {
         |layer: &[[f32; 3]]| pixels.iter().map(|&i| pixel_luminance(&layer[i])).sum::<f64>() / pixels.len() as f64;
     let ratio = mean(&frame.indirect) / mean(&reference.indirect);
     eprintln!("atrium, {frames} frames, {} pixels on the piers' inner faces: {ratio:.3}x the reference", pixels.len());
-    assert!((ratio - 1.0).abs() < 0.05, "the piers' faces: {ratio:.3}x the reference");
+    assert!(ratio > 0.96 && ratio < 1.08, "the piers' faces: {ratio:.3}x the reference");
 }
 
 /// A single frame's grown disks reach beyond the frame's radius, and the splat must list every
