@@ -20,12 +20,13 @@
 // tangent plane.
 //
 // Why not deeper: the gather's visibility segment from x to a photon on a surface below the plane
-// beyond an edge of x's face (the gallery's beam, 3 cm behind the face of the pier it meets) dips
-// through x's face or the solid under it, so the test drops every photon there. The same holds on
-// a convex curved surface, whose chords pass through the solid: there the mass now shrinks towards
-// the sample's own facet, as the photons its segments reach do. Counting its mass divided the photons that
-// remain by too much: the piers' inner faces came out 14% dark after 32 atrium frames (1%
-// above the reference when the probe stops at the plane).
+// beyond an edge of x's face dips through x's face or the solid under it, so the test drops every
+// photon there, and counting that surface's mass divided the photons that remain by too much.
+// The atrium's beam, 3 cm behind the face of the pier it meets, made the piers' inner faces 14%
+// dark after 32 frames (1% above the reference with the probe stopping at the plane). On a
+// convex curved mesh the chords to the neighbouring facets pass through the solid alike: its
+// mass now shrinks towards the sample's own facet, as the photons its segments reach do (a
+// tessellated ball went from 0.29× to 0.96× the reference, corner_bias.rs).
 #include "trace.glsl"
 #include "common.glsl"
 #include "disk.glsl"
