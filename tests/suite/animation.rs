@@ -23,11 +23,6 @@ fn render_at(r: &mut Renderer, t: f32) -> RenderedFrame {
     frame
 }
 
-fn extra(scene: &Scene, key: &str) -> f32 {
-    let extras: serde_json::Value = serde_json::from_str(scene.extras.as_deref().expect("extras")).expect("json");
-    extras[key].as_f64().unwrap_or_else(|| panic!("extras.{key}")) as f32
-}
-
 fn lit(layer: &[[f32; 3]]) -> usize {
     layer.iter().filter(|p| p.iter().any(|&c| c > 0.0)).count()
 }
@@ -38,7 +33,7 @@ fn lit(layer: &[[f32; 3]]) -> usize {
 #[test]
 fn the_closed_door_seals_room_b_exactly() {
     let scene = common::scene("scenes/door.gltf");
-    let (open, closed) = (extra(&scene, "open_time"), extra(&scene, "closed_time"));
+    let (open, closed) = (common::extra(&scene, "open_time"), common::extra(&scene, "closed_time"));
     for backend in common::choices() {
         let mut ours = renderer(&scene, settings(Method::LeakLess, backend));
         let open_frame = render_at(&mut ours, open);
@@ -65,7 +60,7 @@ fn the_closed_door_seals_room_b_exactly() {
 fn the_open_door_matches_the_reference() {
     let scene = common::scene("scenes/door.gltf");
     let Some(&backend) = common::choices().first() else { return };
-    let (open, closed) = (extra(&scene, "open_time"), extra(&scene, "closed_time"));
+    let (open, closed) = (common::extra(&scene, "open_time"), common::extra(&scene, "closed_time"));
     let mut reference = renderer(
         &scene,
         RenderSettings { method: Method::Reference, spp: 2048, ..settings(Method::Reference, backend) },
@@ -93,7 +88,7 @@ fn the_open_door_matches_the_reference() {
 #[test]
 fn a_played_scene_equals_the_scene_frozen_at_that_time() {
     let scene = common::scene("scenes/door.gltf");
-    let closed = extra(&scene, "closed_time");
+    let closed = common::extra(&scene, "closed_time");
     let mut by_backend = Vec::new();
     for backend in common::choices() {
         let mut played = renderer(&scene, settings(Method::LeakLess, backend));

@@ -35,11 +35,6 @@ fn reference(path: &str, (width, height): (u32, u32), spp: u32) -> Option<Render
     )
 }
 
-/// A scene's `extras` (tools/gen-scenes writes what the tests measure against there).
-fn scene_extras(scene: &leakless::Scene) -> serde_json::Value {
-    serde_json::from_str(scene.extras.as_deref().expect("the scene has extras")).expect("extras are JSON")
-}
-
 /// Mean luminance of a layer.
 fn luminance(layer: &[[f32; 3]]) -> f64 {
     let [r, g, b] = common::mean(layer);
@@ -322,8 +317,7 @@ fn pier_faces_count_no_beam_behind_them() {
     let frames = 32;
     let Some(reference) = common::jittered_reference(path, (WIDTH, HEIGHT), 64, frames, 7) else { return };
     let scene = common::scene(path);
-    let extras = scene_extras(&scene);
-    let number = |key: &str| extras[key].as_f64().unwrap_or_else(|| panic!("extras.{key}")) as f32;
+    let number = |key: &str| common::extra(&scene, key);
     let (pier_z, beam_z, beam_bottom) =
         (number("pier_inner_face_z"), number("beam_inner_face_z"), number("beam_bottom_y"));
     assert!(beam_z > pier_z, "the beam lies behind the piers' faces (they face −z)");
@@ -370,9 +364,8 @@ fn a_tessellated_ball_is_not_darkened() {
     let frames = 32;
     let Some(reference) = common::jittered_reference(path, (WIDTH, HEIGHT), 64, frames, 7) else { return };
     let scene = common::scene(path);
-    let extras = scene_extras(&scene);
-    let centre: Vec<f32> = serde_json::from_value(extras["ball_centre"].clone()).expect("ball_centre");
-    let radius = extras["ball_radius"].as_f64().expect("ball_radius") as f32;
+    let centre: Vec<f32> = serde_json::from_value(common::extras(&scene)["ball_centre"].clone()).expect("ball_centre");
+    let radius = common::extra(&scene, "ball_radius");
     let gpu = common::gpu_with(false).expect("device");
     let settings = RenderSettings { max_batches: 8, ..photons(true, None, 10_000, frames) };
     let mut r = Renderer::new(gpu, &scene, settings).expect("renderer");

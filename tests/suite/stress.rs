@@ -24,10 +24,6 @@ fn scenes() -> Vec<(String, Scene)> {
         .collect()
 }
 
-fn extras(scene: &Scene) -> serde_json::Value {
-    scene.extras.as_deref().map(|e| serde_json::from_str(e).expect("extras are JSON")).unwrap_or_default()
-}
-
 fn settings(backend: BackendChoice, method: Method) -> RenderSettings {
     RenderSettings {
         width: 48,
@@ -114,7 +110,7 @@ fn check_backend(backend: BackendChoice) {
     }
     let mut failures = Vec::new();
     for (name, scene) in scenes() {
-        let expected = extras(&scene)["expected"].clone();
+        let expected = common::extras(&scene)["expected"].clone();
         let gpu = common::gpu_with(backend.wants_ray_queries()).expect("device");
         let mut r = Renderer::new(gpu, &scene, settings(backend, Method::Direct)).expect("renderer");
         for method in METHODS {

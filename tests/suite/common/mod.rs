@@ -14,6 +14,17 @@ pub fn scene(path: &str) -> Scene {
     Scene::load(&root().join(path)).unwrap_or_else(|e| panic!("loading {path}: {e}"))
 }
 
+/// A scene's glTF `extras` (tools/gen-scenes writes there what tests measure against); an
+/// empty value when it has none.
+pub fn extras(scene: &Scene) -> serde_json::Value {
+    scene.extras.as_deref().map(|e| serde_json::from_str(e).expect("extras are JSON")).unwrap_or_default()
+}
+
+/// The number `key` of a scene's extras.
+pub fn extra(scene: &Scene, key: &str) -> f32 {
+    extras(scene)[key].as_f64().unwrap_or_else(|| panic!("extras.{key}")) as f32
+}
+
 /// Opens the Vulkan device with validation (unless LEAKLESS_VALIDATION=0) and ray tracing.
 /// With no device, the test is skipped loudly, or fails when LEAKLESS_REQUIRE_DEVICE=1 (CI).
 pub fn gpu() -> Option<Gpu> {
