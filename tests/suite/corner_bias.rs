@@ -300,50 +300,51 @@ fn accumulation_shrinks_the_radius_of_partial_disks() {
     assert!(whole[1] < whole[0], "the image's error: {whole:?}");
 }
 
+/// 32 accumulated `leakless` frames of `path` at 64×48 (batches growing to 8, as the app's and
+/// the series' do), and over the pixels whose view sample (position, normal) `picks`: how many,
+/// and their indirect layer's mean luminance over the path-traced reference's at the same jitters.
+fn accumulated_ratio_over(path: &str, picks: impl Fn(&[f32; 4], &[f32; 4]) -> bool) -> Option<(usize, f64)> {
+    let frames = 32;
+    let reference = common::jittered_reference(path, (WIDTH, HEIGHT), 64, frames, 7)?;
+    let gpu = common::gpu_with(false).expect("device");
+    let settings = RenderSettings { max_batches: 8, ..photons(true, None, 10_000, frames) };
+    let mut r = Renderer::new(gpu, &common::scene(path), settings).expect("renderer");
+    let frame = r.render().expect("render");
+    let capture = r.capture().expect("capture");
+    r.gpu().check_validation().expect("validation clean");
+    let pixels: Vec<usize> = (0..capture.position.len())
+        .filter(|&i| capture.position[i][3] > 0.0 && picks(&capture.position[i], &capture.normal[i]))
+        .collect();
+    let mean =
+        |layer: &[[f32; 3]]| pixels.iter().map(|&i| pixel_luminance(&layer[i])).sum::<f64>() / pixels.len() as f64;
+    Some((pixels.len(), mean(&frame.indirect) / mean(&reference.indirect)))
+}
+
 /// The visible disk counts a probe's surface only down to the sample's tangent plane (and a few
 /// lifts below it): the gather's visibility segment to a photon on a surface below the plane,
 /// beyond an edge of the sample's face, dips through that face, so the test drops every photon
 /// there. The atrium's piers stand 3 cm proud of the beam they carry (the scene's extras give
 /// both faces' planes and the beam's bottom). While the probes reached 10° below the plane,
 /// the piers' faces counted the beam's face in their mass and came out 14% dark after 32 frames
-/// near the beam (160×120, four seeds); with the probes stopping at the plane, 1.01×. 32
-/// accumulated frames at 64×48 against the reference at the same jitters, over the pixels on
-/// those faces from 15 cm below the beam up (45): their mean must be no more than 4% darker than the reference's
-/// (measured: 1.022×; 0.930× with the probes reaching below the plane), and no more than 8%
-/// brighter (seeds 2–4 give 1.016×, 1.015× and 1.043×).
+/// near the beam (160×120, four seeds); with the probes stopping at the plane, 1.01×. Over the
+/// pixels on those faces from 15 cm below the beam up (45, [`accumulated_ratio_over`]), the
+/// mean must be no more than 4% darker than the reference's (measured: 1.022×; 0.930× with the
+/// probes reaching below the plane), and no more than 8% brighter (seeds 2–4 give 1.016×,
+/// 1.015× and 1.043×).
 #[test]
 fn pier_faces_count_no_beam_behind_them() {
     let path = "scenes/atrium.gltf";
-    let frames = 32;
-    let Some(reference) = common::jittered_reference(path, (WIDTH, HEIGHT), 64, frames, 7) else { return };
     let scene = common::scene(path);
     let number = |key: &str| common::extra(&scene, key);
     let (pier_z, beam_z, beam_bottom) =
         (number("pier_inner_face_z"), number("beam_inner_face_z"), number("beam_bottom_y"));
     assert!(beam_z > pier_z, "the beam lies behind the piers' faces (they face −z)");
-    let gpu = common::gpu_with(false).expect("device");
-    let settings = RenderSettings { max_batches: 8, ..photons(true, None, 10_000, frames) };
-    let mut r = Renderer::new(gpu, &scene, settings).expect("renderer");
-    let frame = r.render().expect("render");
-    let capture = r.capture().expect("capture");
-    r.gpu().check_validation().expect("validation clean");
     // Their upper part, where the beam lies within the samples' radius.
-    let on_pier_face = |(p, n): (&[f32; 4], &[f32; 4])| {
-        p[3] > 0.0 && (p[2] - pier_z).abs() < 0.005 && n[2] < -0.99 && p[1] > beam_bottom - 0.15
-    };
-    let pixels: Vec<usize> = capture
-        .position
-        .iter()
-        .zip(&capture.normal)
-        .enumerate()
-        .filter(|(_, pn)| on_pier_face(*pn))
-        .map(|(i, _)| i)
-        .collect();
-    assert!(pixels.len() > 30, "{} pixels on the piers' inner faces", pixels.len());
-    let mean =
-        |layer: &[[f32; 3]]| pixels.iter().map(|&i| pixel_luminance(&layer[i])).sum::<f64>() / pixels.len() as f64;
-    let ratio = mean(&frame.indirect) / mean(&reference.indirect);
-    eprintln!("atrium, {frames} frames, {} pixels on the piers' inner faces: {ratio:.3}x the reference", pixels.len());
+    let on_pier_face =
+        |p: &[f32; 4], n: &[f32; 4]| (p[2] - pier_z).abs() < 0.005 && n[2] < -0.99 && p[1] > beam_bottom - 0.15;
+    let Some((pixels, ratio)) = accumulated_ratio_over(path, on_pier_face) else { return };
+    eprintln!("atrium, 32 frames, {pixels} pixels on the piers' inner faces: {ratio:.3}x the reference");
+    assert!(pixels > 30, "{pixels} pixels on the piers' inner faces");
     assert!(ratio > 0.96 && ratio < 1.08, "the piers' faces: {ratio:.3}x the reference");
 }
 
@@ -352,36 +353,25 @@ fn pier_faces_count_no_beam_behind_them() {
 /// a photon on a neighbouring facet dips through the ball (a chord), so only the sample's own
 /// facet gives photons; while the visible disk's probes reached 10° below the tangent plane,
 /// its mass counted the neighbouring facets too, and the ball came out at a third of the
-/// reference. 32 accumulated frames at 64×48 against the reference at the same jitters, over the
-/// ball's pixels (174): their mean must be within 10% of the reference's (measured: 0.957×,
-/// seeds 2 and 3 0.942× and 0.947×; 0.290× with the probes reaching below the plane). It stays
-/// below 1 because a facet's share of the disk can fall under the mass floor of 0.2
-/// (visible_disk.comp): a single frame, whose partial disks grow, is at about half the
-/// reference on the ball (README, *The visible disk's probes stop at the tangent plane*).
+/// reference. Over the ball's pixels (174, [`accumulated_ratio_over`]) the mean must be within
+/// 10% of the reference's (measured: 0.957×, seeds 2 and 3 0.942× and 0.947×; 0.290× with the
+/// probes reaching below the plane). It stays below 1 because a facet's share of the disk can
+/// fall under the mass floor of 0.2 (visible_disk.comp): a single frame, whose partial disks
+/// grow, is at about half the reference on the ball (README, *The visible disk's probes stop at
+/// the tangent plane*).
 #[test]
 fn a_tessellated_ball_is_not_darkened() {
     let path = "tests/scenes/convex-ball.gltf";
-    let frames = 32;
-    let Some(reference) = common::jittered_reference(path, (WIDTH, HEIGHT), 64, frames, 7) else { return };
     let scene = common::scene(path);
     let centre: Vec<f32> = serde_json::from_value(common::extras(&scene)["ball_centre"].clone()).expect("ball_centre");
     let radius = common::extra(&scene, "ball_radius");
-    let gpu = common::gpu_with(false).expect("device");
-    let settings = RenderSettings { max_batches: 8, ..photons(true, None, 10_000, frames) };
-    let mut r = Renderer::new(gpu, &scene, settings).expect("renderer");
-    let frame = r.render().expect("render");
-    let capture = r.capture().expect("capture");
-    r.gpu().check_validation().expect("validation clean");
-    let on_ball = |p: &[f32; 4]| {
+    let on_ball = |p: &[f32; 4], _: &[f32; 4]| {
         let d = glam::Vec3::new(p[0] - centre[0], p[1] - centre[1], p[2] - centre[2]).length();
-        p[3] > 0.0 && (d - radius).abs() < 0.01 * radius
+        (d - radius).abs() < 0.01 * radius
     };
-    let pixels: Vec<usize> = capture.position.iter().enumerate().filter(|(_, p)| on_ball(p)).map(|(i, _)| i).collect();
-    assert!(pixels.len() > 100, "{} pixels on the ball", pixels.len());
-    let mean =
-        |layer: &[[f32; 3]]| pixels.iter().map(|&i| pixel_luminance(&layer[i])).sum::<f64>() / pixels.len() as f64;
-    let ratio = mean(&frame.indirect) / mean(&reference.indirect);
-    eprintln!("convex ball, {frames} frames, {} pixels on the ball: {ratio:.3}x the reference", pixels.len());
+    let Some((pixels, ratio)) = accumulated_ratio_over(path, on_ball) else { return };
+    eprintln!("convex ball, 32 frames, {pixels} pixels on the ball: {ratio:.3}x the reference");
+    assert!(pixels > 100, "{pixels} pixels on the ball");
     assert!((ratio - 1.0).abs() < 0.1, "the ball: {ratio:.3}x the reference");
 }
 
