@@ -130,14 +130,23 @@ void main() {
     vec4 position = imageLoad(gbuffer_position, xy);
     vec3 x = position.xyz;
     vec3 n = imageLoad(gbuffer_normal, xy).xyz;
-    vec3 from = x;
-    vec3 ng = n;
-    if (params.visibility != 0u) {
-        ng = sample_geometric_normal(uint(position.w) - 1u, n);
-        from = offset_ray(nudge_toward(x, params.eye), ng);
-    }
     vec4 disk = params.visible_disk != 0u ? imageLoad(disk_mass, xy) : vec4(1.0, params.radius, 0.0, 0.0);
     float r = disk.y;
+    vec3 from = x;
+    vec3 ng = n;
+    float curvature = 0.0;
+    if (params.visibility != 0u) {
+        uint triangle = uint(position.w) - 1u;
+        ng = sample_geometric_normal(triangle, n);
+        from = offset_ray(nudge_toward(x, params.eye), ng);
+        if (params.visible_disk != 0u) {
+            // On a convex curved mesh a straight segment to a photon on a neighbouring facet is
+            // a chord through the solid: lifted by κr², twice the surface's sag at the radius,
+            // it passes over the facets between (disk.glsl). κ = 0 on flat faces: no change.
+            curvature = convex_curvature(triangle, ng);
+            from += min(curvature * r * r, r) * ng;
+        }
+    }
     i64vec3 kept = i64vec3(0);
     i64vec3 lost = i64vec3(0);
     uint candidates = 0u;
@@ -161,7 +170,7 @@ void main() {
             if (dot(n, -ph.direction) <= 0.0) {
                 continue;
             }
-            if (params.visible_disk != 0u && !on_own_surface(x, ng, ph.position, ph.normal)) {
+            if (params.visible_disk != 0u && !on_own_surface(x, ng, curvature, ph.position, ph.normal)) {
                 continue;
             }
             if (params.cap != 0u && accepted == params.cap) {
