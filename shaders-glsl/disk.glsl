@@ -5,6 +5,7 @@
 
 const float DISK_SLOPE = 0.1763;            // tan 10°: the band around the tangent plane
 const float DISK_MIN_NORMAL_COSINE = 0.5;   // 60°
+const float SMOOTH_EDGE_COSINE = 0.866;     // 30°: convex_curvature
 
 // The sample's geometric normal, turned to the side its shading normal `n` faces.
 vec3 sample_geometric_normal(uint triangle, vec3 n) {
@@ -28,7 +29,10 @@ float convex_curvature(uint triangle, vec3 ng) {
         vec3 bend = vertex_normal(b) - vertex_normal(a);
         float side = dot(vertex_normal(a) + vertex_normal(b), ng) < 0.0 ? -1.0 : 1.0;
         float length2 = dot(edge, edge);
-        if (length2 > 0.0) {
+        // Normals more than 30° apart along one edge are a crease smoothed over (a box exported
+        // with averaged corner normals), not a curve: read as one, its flat faces would count
+        // a step below them, whose photons the segments cannot reach (visible_disk.comp).
+        if (length2 > 0.0 && dot(vertex_normal(a), vertex_normal(b)) >= SMOOTH_EDGE_COSINE) {
             curvature = max(curvature, side * dot(bend, edge) / length2);
         }
     }
@@ -37,15 +41,15 @@ float convex_curvature(uint triangle, vec3 ng) {
 
 // How far below the tangent plane the sample's own surface may lie at distance d when it is
 // convex with curvature κ > 0: the polygon's edges drop at the angle between neighbouring facets
-// (DISK_SLOPE allows 10°), and the osculating sphere sags κd²/2, taken twice, which also covers
-// the sphere's exact sag R(1/cos θ − 1) up to θ ≈ 60° (beyond it the normal test drops the
-// photons anyway). 0 on flat and concave surfaces, where a surface below the plane is another
-// one (a step) whose photons the gather's segments cannot reach. The visible disk's probes
-// look this far down and the gather counts photons this far down, lifting its segments by
-// κr² so that they pass over the facets between: the one counts the area whose photons the
-// other can see (visible_disk.comp says why they must agree).
+// (DISK_SLOPE allows 10°), and a sphere lies κd²/2 below it at chord d, taken twice for the
+// facets inside it and for curvatures that vary, but no more than R/2, the depth where the
+// normal test's 60° ends on a sphere. 0 on flat and concave surfaces, where a surface below the
+// plane is another one (a step) whose photons the gather's segments cannot reach. The visible
+// disk's probes look this far down and the gather counts photons this far down, lifting its
+// segments (gather.comp) so that they pass over the facets between: the one counts the area
+// whose photons the other can see (visible_disk.comp says why they must agree).
 float convex_drop(float curvature, float d) {
-    return curvature > 0.0 ? DISK_SLOPE * d + curvature * d * d : 0.0;
+    return curvature > 0.0 ? DISK_SLOPE * d + min(curvature * d * d, 0.5 / curvature) : 0.0;
 }
 
 // Whether a photon at `p` with normal `pn` lies on the surface of the sample at `x`: facing

@@ -140,11 +140,16 @@ void main() {
         ng = sample_geometric_normal(triangle, n);
         from = offset_ray(nudge_toward(x, params.eye), ng);
         if (params.visible_disk != 0u) {
-            // On a convex curved mesh a straight segment to a photon on a neighbouring facet is
-            // a chord through the solid: lifted by κr², twice the surface's sag at the radius,
-            // it passes over the facets between (disk.glsl). κ = 0 on flat faces: no change.
             curvature = convex_curvature(triangle, ng);
-            from += min(curvature * r * r, r) * ng;
+            // On a convex curved mesh a straight segment to a photon on a neighbouring facet is
+            // a chord through the solid. Lifted by κr² it passes over the facets between: a
+            // sphere point at angle θ is seen from outside its face from R(1/cos θ − 1) above
+            // the sample, and κr² = 2R(1 − cos θ) at chord r covers that up to θ = 60°, beyond
+            // which the normal test drops the photons anyway. visible_disk.comp traced the lift
+            // (.a) and stopped it short of anything in front of the surface. 0 on flat faces.
+            if (disk.w > 0.0) {
+                from += disk.w * ng;
+            }
         }
     }
     i64vec3 kept = i64vec3(0);

@@ -17,7 +17,7 @@
 // drawn from the kernel's radial mass check that the surface exists: over the sample's own
 // face (its triangle, or that triangle's coplanar neighbour: no ray needed), or else a short ray
 // down from the point must meet a surface facing like x's no deeper than a few lifts below the
-// tangent plane.
+// tangent plane (on a convex curved mesh as deep as it drops, below).
 //
 // Why not deeper: the gather's visibility segment from x to a photon on a surface below the plane
 // beyond an edge of x's face dips through x's face or the solid under it, so the test drops every
@@ -25,9 +25,11 @@
 // The atrium's beam, 3 cm behind the face of the pier it meets, made the piers' inner faces 14%
 // dark after 32 frames (1% above the reference with the probe stopping at the plane). A convex
 // curved mesh is the exception: below the plane lies the sample's own surface, and the gather
-// lifts its segments over the facets between (κr², disk.glsl), so the probes follow it down as
-// far as it drops (convex_drop; 0 on flat faces). A tessellated ball: 0.51× → 0.92× the
-// reference in single frames, 0.943× → 0.997× after 32 (corner_bias.rs).
+// lifts its segments over the facets between (gather.comp), so the probes follow it down as far
+// as it drops (convex_drop; 0 on flat faces), and this pass traces that lift (the image's .a).
+// A tessellated ball: 0.51× → 0.92× the reference in single frames, 0.943× → 0.997× after 32
+// (corner_bias.rs). The probes see from x and the segments from the lifted point, so near an
+// occluder lower than the lift the two disagree a little.
 #include "trace.glsl"
 #include "common.glsl"
 #include "disk.glsl"
@@ -105,7 +107,11 @@ bool over_own_face(uint own, vec3 p) {
 
 // The mass around `from` (normal `ng`, radius r) on `own`'s surface, seen from `from`.
 // `rays_down` counts the rays down it traces (the disk-mass image's .b: tests compare it).
-float visible_disk_mass(vec3 from, vec3 ng, float curvature, uint own, float r, inout Rng rng, inout uint rays_down) {
+// On a convex curved surface (curvature > 0) it also traces the gather's lift: `lift` is how
+// far the gather may move `from` along ng, κr² (at most r) or half the way to whatever stands
+// in front of the surface closer than that. An untraced lift could carry the segments' start
+// through a wall beside a ball, into the next room, and let that room's light in.
+float visible_disk_mass(vec3 from, vec3 ng, float curvature, uint own, float r, inout Rng rng, inout uint rays_down, out float lift) {
     // A probe over the sample's own (opaque) face is on the surface without a ray down, which
     // spares most of those rays on the large triangles walls and floors are made of.
     bool own_opaque = triangle_material(own).alpha_cutoff < 0.0;
@@ -123,11 +129,23 @@ float visible_disk_mass(vec3 from, vec3 ng, float curvature, uint own, float r, 
     float seen = 0.0;
     float phase = 0.0;
     uint supported = 0u;
-    while (k < DISK_DIRECTIONS) {
+    float wanted = curvature > 0.0 ? min(curvature * r * r, r) : 0.0;
+    lift = 0.0;
+    bool lifting = false;  // the last ray: the lift's
+    while (true) {
+        if (k == DISK_DIRECTIONS) {
+            if (lifting || !(wanted > 0.0)) {
+                break;
+            }
+            lifting = true;
+        }
         vec3 origin = from;
         vec3 towards;
         float length;
-        if (j == DISK_DEPTHS) {
+        if (lifting) {
+            towards = ng;
+            length = wanted;
+        } else if (j == DISK_DEPTHS) {
             float phi = 2.0 * PI * (float(k) + angle_phase) / float(DISK_DIRECTIONS);
             dir = (cos(phi) * t + sin(phi) * b + DISK_SLOPE * ng) / stretch;
             towards = dir;
@@ -142,13 +160,17 @@ float visible_disk_mass(vec3 from, vec3 ng, float curvature, uint own, float r, 
             // for rounding on coplanar faces and for `from`'s own lift off the plane. A convex
             // curved surface is followed down as far as it drops (convex_drop): the gather lifts
             // its segments to see photons there.
-            length = DISK_SLOPE * rho + convex_drop(curvature, rho) + 4.0 * lift_size(origin);
+            length = DISK_SLOPE * rho + 4.0 * lift_size(origin) + convex_drop(curvature, rho);
         }
-        bool on_face = j < DISK_DEPTHS && own_opaque && over_own_face(own, origin);
+        bool on_face = !lifting && j < DISK_DEPTHS && own_opaque && over_own_face(own, origin);
         Hit hit = Hit(length, NO_HIT, vec2(0.0));  // a probe on the face needs no ray
         if (!on_face) {
             hit = traceClosest(origin, towards, 0.0, length);
             rays_down += j < DISK_DEPTHS ? 1u : 0u;
+        }
+        if (lifting) {
+            lift = hit.triangle == NO_HIT ? wanted : 0.5 * hit.t;
+            break;
         }
         if (j == DISK_DEPTHS) {
             float reach = hit.triangle == NO_HIT ? r : min(hit.t / stretch, r);
@@ -213,6 +235,7 @@ void main() {
     float mass = 1.0;
     float r = params.radius;
     uint rays_down = 0u;
+    float lift = 0.0;
     if (params.enabled != 0u && position.w > 0.0) {
         uint triangle = uint(position.w) - 1u;
         vec3 ng = sample_geometric_normal(triangle, imageLoad(gbuffer_normal, pixel).xyz);
@@ -223,7 +246,7 @@ void main() {
         // loop, not two calls: each call inlines the whole trace twice, and on lavapipe four
         // copies took 7.5 s to compile on first use (the app's first frame waited for it).
         for (uint measure = 0u; measure < 2u; ++measure) {
-            mass = visible_disk_mass(from, ng, curvature, triangle, r, rng, rays_down);
+            mass = visible_disk_mass(from, ng, curvature, triangle, r, rng, rays_down, lift);
             if (measure == 1u || !(params.partial_radius_exponent != 0.0 && mass < 1.0)) {
                 break;
             }
@@ -231,5 +254,6 @@ void main() {
         }
         mass = max(mass, DISK_MIN_MASS);
     }
-    imageStore(disk_mass, pixel, vec4(mass, r, float(rays_down), 0.0));
+    // .a: the gather's lift at the final radius (the last measure's).
+    imageStore(disk_mass, pixel, vec4(mass, r, float(rays_down), lift));
 }
