@@ -3,7 +3,8 @@
 //! `leakless` divides the flux of the photons on that surface by it instead of by the whole
 //! disk, which darkened it wherever the disk runs off a face or behind an occluder. It also
 //! sets the radius of samples whose disk is partial: grown in a single frame, shrunk as an
-//! accumulation goes on (the gather's and the hierarchy's radius rides in `.g`).
+//! accumulation goes on (the gather's and the hierarchy's radius rides in `.g`), and traces
+//! the lift the gather gives a convex curved mesh's segments (`.a`).
 
 use ash::vk;
 use bytemuck::{Pod, Zeroable};
@@ -52,8 +53,10 @@ shader_bindings! {
 }
 
 /// The per-pixel mass image of an `extent` frame (of the graph's pool): the mass in `.r`,
-/// the sample's gather radius in `.g`, and in `.b` the rays down the pass traced for it (a
-/// diagnostic: `Renderer::capture` reads it back for the tests).
+/// the sample's gather radius in `.g`, in `.b` the rays down the pass traced for it (a
+/// diagnostic: `Renderer::capture` reads it back for the tests), and in `.a` how far the
+/// gather lifts the sample's visibility segments on a convex curved mesh (traced, so it
+/// stops short of anything in front; 0 elsewhere).
 pub fn image(graph: &mut Graph<'_>, extent: vk::Extent2D) -> Result<ImageHandle> {
     Ok(graph.image(&ImageDesc {
         name: "disk mass",

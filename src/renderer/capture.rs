@@ -21,7 +21,8 @@ pub struct Capture {
     /// `sample_bounds.comp` reduced on the GPU and the hierarchy was quantised to.
     pub sample_bounds: Option<[[f32; 3]; 2]>,
     /// For methods that splat, per pixel: the visible disk's mass, the sample's gather radius,
-    /// and the rays down the visible-disk pass traced (`passes::visible_disk::image`).
+    /// the rays down the visible-disk pass traced, and the gather's lift on curved meshes
+    /// (`passes::visible_disk::image`).
     pub disk_mass: Vec<[f32; 4]>,
 }
 
