@@ -5,6 +5,7 @@
 
 use leakless_device::{BufferDesc, MemoryLocation};
 use leakless_graph::{BufferHandle, Graph};
+use leakless_scene::Aabb;
 use serde::Serialize;
 
 use crate::error::{RenderError, Result};
@@ -13,6 +14,8 @@ use crate::passes::gather::{self, GatherCounters, GatherInputs, GatherOutputs, G
 use crate::passes::gbuffer::GBufferHandles;
 use crate::passes::hierarchy::{HierarchyHandles, HierarchyPasses, Shape};
 use crate::passes::photon_clearance::{self, ClearancePass, Needed};
+use crate::passes::photon_dispatch::PhotonDispatchPass;
+use crate::passes::photon_order::{PhotonOrderPass, ORDERED_PHOTONS};
 use crate::passes::photons::{
     photon_buffer_size, PhotonCounters, PhotonParams, PhotonPass, COUNTER_BUFFER_USAGE, PHOTON_BUFFER_USAGE,
 };
@@ -59,6 +62,10 @@ pub struct SplatSettings {
     /// largest, where a single frame grows partial disks (same image, fewer list entries; off
     /// only to check that).
     pub node_radius: bool,
+    /// Copy the photons in the order of a grid's cells before the splat, so that neighbouring
+    /// threads walk the same nodes (photon_order.rs; same image, faster; off only to check
+    /// that).
+    pub order_photons: bool,
 }
 
 impl Default for SplatSettings {
@@ -76,6 +83,7 @@ impl Default for SplatSettings {
             partial_disk_radius: true,
             walk_faces: true,
             node_radius: true,
+            order_photons: true,
         }
     }
 }
@@ -125,6 +133,8 @@ pub struct SplattingPasses<'a> {
     pub photons: &'a PhotonPass,
     pub clearance: &'a ClearancePass,
     pub hierarchy: &'a HierarchyPasses,
+    pub dispatch: &'a PhotonDispatchPass,
+    pub order: &'a PhotonOrderPass,
     pub splat: &'a SplatPass,
     pub visible_disk: &'a VisibleDiskPass,
     pub gather: &'a GatherPass,
@@ -150,6 +160,8 @@ pub struct SplatFrame {
     pub list_capacity: u32,
     /// Photon batches in `settings.paths` (the frames of an accumulation grow).
     pub batches: u32,
+    /// The scene's bounds, over which the photons are ordered.
+    pub bounds: Aabb,
 }
 
 /// The gather radius when `--radius` is not given: 5% of the scene's bounding radius.
@@ -310,6 +322,14 @@ pub fn add<'r>(
         &mut photon_counters,
     )?;
 
+    let dispatch = passes.dispatch.add(graph, &photon_counters, capacity)?;
+    if frame.settings.order_photons {
+        let desc = photon_buffer(ORDERED_PHOTONS, photon_buffer_size(capacity), PHOTON_BUFFER_USAGE);
+        let mut ordered = graph.buffer(&desc)?;
+        passes.order.add(graph, &photons, &photon_counters, &dispatch, &frame.bounds, &mut ordered)?;
+        photons = ordered;
+    }
+
     let extent = input.gbuffer.position.extent();
     let shape = Shape::new(extent.width * extent.height, frame.settings.branching)?;
     // Each sample's visible share of the kernel's disk (leakless), or 1, and its gather radius,
@@ -336,7 +356,7 @@ pub fn add<'r>(
     let splat = SplatInputs {
         photons: &photons,
         photon_counters: &photon_counters,
-        photon_capacity: capacity,
+        dispatch: &dispatch,
         radius: largest_radius,
         node_radius: frame.settings.node_radius && largest_radius > frame.radius,
         trivial_accept: frame.settings.trivial_accept,
@@ -355,7 +375,7 @@ pub fn add<'r>(
             input.trace,
             &photons,
             &photon_counters,
-            capacity,
+            &dispatch,
             max_radius,
             needed,
             &mut clearance,

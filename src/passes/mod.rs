@@ -12,6 +12,8 @@ pub mod hierarchy;
 pub mod instance_vertices;
 pub mod luminance;
 pub mod photon_clearance;
+pub mod photon_dispatch;
+pub mod photon_order;
 pub mod photons;
 pub mod raycast;
 pub mod readback;

@@ -8,6 +8,7 @@ use leakless_device::{gpu_struct, BufferDesc, ComputePipeline, Gpu, GpuStruct, M
 use leakless_graph::{shader_bindings, Access, BufferHandle, Graph};
 
 use crate::error::Result;
+use crate::passes::photon_dispatch::{check_workgroup, PhotonDispatch};
 use crate::passes::photons::{Photon, PhotonCounters};
 use crate::shaders;
 use crate::trace::{ComputeTrace, TraceHandles};
@@ -70,10 +71,11 @@ impl ClearancePass {
         let decls = [ClearanceBindings::DECLS, ComputeTrace::DECLS].concat();
         let shader = &shaders::PHOTON_CLEARANCE_COMP;
         let pipeline = ComputePipeline::new(gpu, "photon clearance", shader, &decls, Some(&ClearanceParams::LAYOUT))?;
+        check_workgroup(&pipeline, "photon clearance")?;
         Ok(ClearancePass { pipeline })
     }
 
-    /// Computes the clearance of the `needed` stored photons (up to `capacity`) into
+    /// Computes the clearance of the `needed` stored photons (up to the dispatch's capacity) into
     /// `clearance`, searching up to `max_radius` (the longest segment the gather may trace);
     /// the others get radius 0.
     #[allow(clippy::too_many_arguments)]
@@ -83,7 +85,7 @@ impl ClearancePass {
         trace: &TraceHandles,
         photons: &BufferHandle,
         photon_counters: &BufferHandle,
-        capacity: u32,
+        dispatch: &PhotonDispatch,
         max_radius: f32,
         needed: Needed<'_>,
         clearance: &mut BufferHandle,
@@ -102,7 +104,7 @@ impl ClearancePass {
                 (&unread, 0)
             }
         };
-        let params = ClearanceParams { max_radius, capacity, only_listed, ..Default::default() };
+        let params = ClearanceParams { max_radius, capacity: dispatch.capacity, only_listed, ..Default::default() };
         let mut pass = graph.pass("photon clearance");
         let own = ClearanceBindings {
             photons: pass.read(photons, Access::ComputeRead),
@@ -111,7 +113,8 @@ impl ClearancePass {
             photon_listed: pass.read(listed, Access::ComputeRead),
         };
         let bvh = trace.declare_bvh(&mut pass);
-        pass.record(move |ctx| ctx.dispatch(&self.pipeline, &[&own, &bvh], &params, [capacity, 1, 1]));
+        let (args, threads) = (dispatch.declare(&mut pass), dispatch.most_threads());
+        pass.record(move |ctx| ctx.dispatch_indirect(&self.pipeline, &[&own, &bvh], &params, args, threads));
         Ok(())
     }
 }

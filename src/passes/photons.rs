@@ -18,6 +18,7 @@ use crate::error::{RenderError, Result};
 use crate::gpu_scene::{GpuScene, SceneBindings, SceneHandles};
 use crate::gpu_types::Light;
 use crate::passes::photon_clearance::{Clearance, ClearancePass, Needed};
+use crate::passes::photon_dispatch::PhotonDispatchPass;
 use crate::photon_lights::{upload_lights, LightHandles, LightTable};
 use crate::shaders;
 use crate::trace::{Backend, TraceHandles, TraceScene};
@@ -352,7 +353,7 @@ impl<'g> PhotonTracer<'g> {
         let words = (capacity + GUARD_PHOTONS) as usize * std::mem::size_of::<Photon>() / 4;
         self.photons.write(0, bytemuck::cast_slice(&vec![GUARD_WORD; words]))?;
         let clearance_pass = match clearance_radius {
-            Some(_) => Some(ClearancePass::new(self.gpu)?),
+            Some(_) => Some((ClearancePass::new(self.gpu)?, PhotonDispatchPass::new(self.gpu)?)),
             None => None,
         };
         let clearance_buffer = match clearance_radius {
@@ -376,8 +377,9 @@ impl<'g> PhotonTracer<'g> {
         // The pass writes up to the capacity, never into the guard after it.
         self.pass.add(&mut graph, params, &scene, &trace, &lights, &mut photons, capacity, &mut counters)?;
         let mut clearance = clearance_buffer.as_ref().map(|b| graph.import_buffer(b));
-        if let (Some(pass), Some(out), Some(radius)) = (&clearance_pass, &mut clearance, clearance_radius) {
-            pass.add(&mut graph, &trace, &photons, &counters, capacity, radius, Needed::All, out)?;
+        if let (Some((pass, dispatch)), Some(out), Some(radius)) = (&clearance_pass, &mut clearance, clearance_radius) {
+            let dispatch = dispatch.add(&mut graph, &counters, capacity)?;
+            pass.add(&mut graph, &trace, &photons, &counters, &dispatch, radius, Needed::All, out)?;
         }
         let mut host = graph.pass("to host");
         host.read(&photons, Access::HostRead);

@@ -26,7 +26,8 @@
 
 use ash::vk;
 use bytemuck::{Pod, Zeroable};
-use leakless_device::{gpu_struct, BufferDesc, ComputePipeline, Gpu, GpuStruct, MemoryLocation};
+use leakless_device::shader::ShaderInfo;
+use leakless_device::{gpu_struct, BindingDecl, BufferDesc, ComputePipeline, Gpu, GpuStruct, MemoryLocation};
 use leakless_graph::{shader_bindings, Access, BufferHandle, Graph};
 
 use crate::error::{RenderError, Result};
@@ -132,30 +133,55 @@ fn key_limit(key_bits: u32) -> u32 {
     }
 }
 
+/// One pipeline of the sort, its workgroup size checked against [`WORKGROUP_SIZE`].
+fn sort_pipeline(gpu: &Gpu, name: &str, shader: &ShaderInfo, decls: &[BindingDecl]) -> Result<ComputePipeline> {
+    let pipeline = ComputePipeline::new(gpu, name, shader, decls, Some(&SortParams::LAYOUT))?;
+    if pipeline.workgroup_size() != [WORKGROUP_SIZE, 1, 1] {
+        return Err(RenderError::Settings(format!(
+            "{name} has workgroup size {:?}; sort.rs expects [{WORKGROUP_SIZE}, 1, 1]",
+            pipeline.workgroup_size()
+        )));
+    }
+    Ok(pipeline)
+}
+
+/// An exclusive prefix sum of u32 counts, in place, by one workgroup (`sort_scan.comp`): the
+/// sort's step 2, and on its own the start of every photon cell (photon_order.rs).
+pub struct ScanPass {
+    pipeline: ComputePipeline,
+}
+
+impl ScanPass {
+    pub fn new(gpu: &Gpu) -> Result<Self> {
+        Ok(ScanPass { pipeline: sort_pipeline(gpu, "sort scan", &shaders::SORT_SCAN_COMP, ScanBindings::DECLS)? })
+    }
+
+    /// Adds a pass named `name` that turns the first `words` counts of `counts` (a multiple
+    /// of 16, the scan's unit) into exclusive prefix sums.
+    pub fn add<'r>(&'r self, graph: &mut Graph<'r>, name: &str, words: u32, counts: &mut BufferHandle) {
+        debug_assert_eq!(words % RADIX, 0, "the scan walks 16 counts per sort workgroup");
+        let params = SortParams { group_count: words / RADIX, ..Default::default() };
+        let mut pass = graph.pass(name);
+        let own = ScanBindings { histograms: pass.write(counts, Access::ComputeReadWrite) };
+        pass.record(move |ctx| ctx.dispatch(&self.pipeline, &[&own], &params, [WORKGROUP_SIZE, 1, 1]));
+    }
+}
+
 pub struct SortPass {
     histogram: ComputePipeline,
-    scan: ComputePipeline,
+    scan: ScanPass,
     scatter: ComputePipeline,
     copy: ComputePipeline,
 }
 
 impl SortPass {
     pub fn new(gpu: &Gpu) -> Result<Self> {
-        let push = Some(&SortParams::LAYOUT);
-        let pipeline = |name, shader, decls| ComputePipeline::new(gpu, name, shader, decls, push);
-        let histogram = pipeline("sort histogram", &shaders::SORT_HISTOGRAM_COMP, HistogramBindings::DECLS)?;
-        let scan = pipeline("sort scan", &shaders::SORT_SCAN_COMP, ScanBindings::DECLS)?;
-        let scatter = pipeline("sort scatter", &shaders::SORT_SCATTER_COMP, ScatterBindings::DECLS)?;
-        let copy = pipeline("sort copy", &shaders::SORT_COPY_COMP, CopyBindings::DECLS)?;
-        for p in [&histogram, &scan, &scatter, &copy] {
-            if p.workgroup_size() != [WORKGROUP_SIZE, 1, 1] {
-                return Err(RenderError::Settings(format!(
-                    "sort shaders have workgroup size {:?}; sort.rs expects [{WORKGROUP_SIZE}, 1, 1]",
-                    p.workgroup_size()
-                )));
-            }
-        }
-        Ok(SortPass { histogram, scan, scatter, copy })
+        Ok(SortPass {
+            histogram: sort_pipeline(gpu, "sort histogram", &shaders::SORT_HISTOGRAM_COMP, HistogramBindings::DECLS)?,
+            scan: ScanPass::new(gpu)?,
+            scatter: sort_pipeline(gpu, "sort scatter", &shaders::SORT_SCATTER_COMP, ScatterBindings::DECLS)?,
+            copy: sort_pipeline(gpu, "sort copy", &shaders::SORT_COPY_COMP, CopyBindings::DECLS)?,
+        })
     }
 
     /// Sorts the first `len` (key, value) pairs of `keys` / `values` by key, stably, and leaves
@@ -255,9 +281,7 @@ impl<'r> DigitPass<'r> {
         };
         pass.record(move |ctx| ctx.dispatch(&sort.histogram, &[&own], &params, threads));
 
-        let mut pass = graph.pass(&format!("sort scan {digit}"));
-        let own = ScanBindings { histograms: pass.write(histograms, Access::ComputeReadWrite) };
-        pass.record(move |ctx| ctx.dispatch(&sort.scan, &[&own], &params, [WORKGROUP_SIZE, 1, 1]));
+        sort.scan.add(graph, &format!("sort scan {digit}"), RADIX * params.group_count, histograms);
 
         let mut pass = graph.pass(&format!("sort scatter {digit}"));
         let own = ScatterBindings {

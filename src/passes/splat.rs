@@ -9,6 +9,7 @@ use leakless_graph::{shader_bindings, Access, BufferHandle, Graph};
 
 use crate::error::Result;
 use crate::passes::hierarchy::{HierarchyHandles, Level, Node, Shape};
+use crate::passes::photon_dispatch::{check_workgroup, PhotonDispatch};
 use crate::passes::photons::{Photon, PhotonCounters};
 use crate::shaders;
 
@@ -100,7 +101,8 @@ impl NodeListHandles {
 pub struct SplatInputs<'a> {
     pub photons: &'a BufferHandle,
     pub photon_counters: &'a BufferHandle,
-    pub photon_capacity: u32,
+    /// One thread per stored photon.
+    pub dispatch: &'a PhotonDispatch,
     /// The largest radius any sample gathers within.
     pub radius: f32,
     /// Whether samples' radii exceed the frame's (grown partial disks): the nodes' own
@@ -117,6 +119,7 @@ impl SplatPass {
     pub fn new(gpu: &Gpu) -> Result<Self> {
         let pipeline =
             ComputePipeline::new(gpu, "splat", &shaders::SPLAT_COMP, SplatBindings::DECLS, Some(&SplatParams::LAYOUT))?;
+        check_workgroup(&pipeline, "splat")?;
         Ok(SplatPass { pipeline })
     }
 
@@ -134,7 +137,7 @@ impl SplatPass {
             trivial_accept: input.trivial_accept as u32,
             root: shape.root(),
             capacity: lists.capacity,
-            photon_capacity: input.photon_capacity,
+            photon_capacity: input.dispatch.capacity,
             ..Default::default()
         };
         let mut clear = graph.pass("splat clear");
@@ -157,7 +160,7 @@ impl SplatPass {
             splat_counters: pass.write(&mut lists.counters, Access::ComputeReadWrite),
             photon_listed: pass.write(&mut lists.listed, Access::ComputeWrite),
         };
-        let photons = input.photon_capacity;
-        pass.record(move |ctx| ctx.dispatch(&self.pipeline, &[&own], &params, [photons, 1, 1]));
+        let (args, threads) = (input.dispatch.declare(&mut pass), input.dispatch.most_threads());
+        pass.record(move |ctx| ctx.dispatch_indirect(&self.pipeline, &[&own], &params, args, threads));
     }
 }

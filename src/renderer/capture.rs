@@ -8,6 +8,7 @@ use super::Renderer;
 use crate::error::Result;
 use crate::passes::gbuffer::GBufferHandles;
 use crate::passes::hierarchy::HierarchyHandles;
+use crate::passes::photon_order::ORDERED_PHOTONS;
 use crate::passes::photons::{photon_buffer_size, Photon, PHOTON_BUFFER_USAGE};
 use crate::passes::readback;
 
@@ -17,6 +18,9 @@ pub struct Capture {
     pub normal: Vec<[f32; 4]>,
     pub albedo: Vec<[f32; 4]>,
     pub photons: Vec<Photon>,
+    /// The same photons in the order the splat and the gather read them, grouped by cell
+    /// (`passes::photon_order`); empty when `order_photons` is off.
+    pub ordered_photons: Vec<Photon>,
     /// For methods that splat: the box (min, max) around the valid view samples that
     /// `sample_bounds.comp` reduced on the GPU and the hierarchy was quantised to.
     pub sample_bounds: Option<[[f32; 3]; 2]>,
@@ -56,6 +60,7 @@ fn copy_to_host(g: &mut Graph<'_>, desc: &BufferDesc<'_>, bytes: u64, to: &'stat
 
 const CAPTURE_BUFFER: &str = "capture readback";
 const PHOTON_CAPTURE_BUFFER: &str = "photon capture readback";
+const ORDERED_PHOTON_CAPTURE_BUFFER: &str = "ordered photon capture readback";
 const BOUNDS_CAPTURE_BUFFER: &str = "sample bounds capture readback";
 const DISK_CAPTURE_BUFFER: &str = "disk mass capture readback";
 
@@ -85,6 +90,14 @@ impl Renderer {
                 BufferDesc { name: "photons", size, usage: PHOTON_BUFFER_USAGE, location: MemoryLocation::GpuOnly };
             let bytes = photon_count as u64 * std::mem::size_of::<Photon>() as u64;
             copy_to_host(&mut g, &desc, bytes, PHOTON_CAPTURE_BUFFER)?;
+            if self.settings.splat.order_photons {
+                copy_to_host(
+                    &mut g,
+                    &BufferDesc { name: ORDERED_PHOTONS, ..desc },
+                    bytes,
+                    ORDERED_PHOTON_CAPTURE_BUFFER,
+                )?;
+            }
         }
         if splats {
             let desc = HierarchyHandles::sample_bounds_desc();
@@ -99,6 +112,10 @@ impl Renderer {
             pool.frame_buffer(CAPTURE_BUFFER, done.slot).expect("copied above").read_vec(3 * n)?;
         let photons = match pool.frame_buffer(PHOTON_CAPTURE_BUFFER, done.slot) {
             Some(b) if photon_count > 0 => b.read_vec(photon_count)?,
+            _ => vec![],
+        };
+        let ordered_photons = match pool.frame_buffer(ORDERED_PHOTON_CAPTURE_BUFFER, done.slot) {
+            Some(b) if photon_count > 0 && self.settings.splat.order_photons => b.read_vec(photon_count)?,
             _ => vec![],
         };
         let sample_bounds = match pool.frame_buffer(BOUNDS_CAPTURE_BUFFER, done.slot) {
@@ -117,6 +134,7 @@ impl Renderer {
             normal: texels[n..2 * n].to_vec(),
             albedo: texels[2 * n..].to_vec(),
             photons,
+            ordered_photons,
             sample_bounds,
             disk_mass,
         })

@@ -129,6 +129,7 @@ impl Renderer {
                         as u32,
                 },
                 batches: frame_batches,
+                bounds: self.scene.bounds(),
             });
         }
         // A reference frame of an accumulation is a whole image of `spp` samples per batch.
@@ -205,6 +206,8 @@ impl Renderer {
                 photons: &tracing.photons,
                 clearance: &passes.clearance,
                 hierarchy: &passes.hierarchy,
+                dispatch: &passes.dispatch,
+                order: &passes.order,
                 splat: &passes.splat,
                 visible_disk: &tracing.visible_disk,
                 gather: &tracing.gather,

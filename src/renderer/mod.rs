@@ -39,6 +39,8 @@ use crate::passes::hang::HangPass;
 use crate::passes::hierarchy::HierarchyPasses;
 use crate::passes::luminance::{LuminancePass, LuminanceStats};
 use crate::passes::photon_clearance::ClearancePass;
+use crate::passes::photon_dispatch::PhotonDispatchPass;
+use crate::passes::photon_order::PhotonOrderPass;
 use crate::passes::photons::PhotonPass;
 use crate::passes::reference::ReferencePass;
 use crate::passes::splat::SplatPass;
@@ -57,6 +59,8 @@ struct Passes {
     gbuffer: GBufferPass,
     clearance: ClearancePass,
     hierarchy: HierarchyPasses,
+    dispatch: PhotonDispatchPass,
+    order: PhotonOrderPass,
     splat: SplatPass,
     compose: ComposePass,
     accumulate: AccumulatePass,
@@ -171,6 +175,8 @@ impl Renderer {
             gbuffer: GBufferPass::new(&gpu)?,
             clearance: ClearancePass::new(&gpu)?,
             hierarchy: HierarchyPasses::new(&gpu)?,
+            dispatch: PhotonDispatchPass::new(&gpu)?,
+            order: PhotonOrderPass::new(&gpu)?,
             splat: SplatPass::new(&gpu)?,
             compose: ComposePass::new(&gpu)?,
             accumulate: AccumulatePass::new(&gpu)?,

@@ -267,3 +267,67 @@ fn list_overflow_is_counted_and_the_default_capacity_grows() {
     assert!(progress.iter().all(|&(done, _)| done > 0) && progress.last() == Some(&(3, 3)), "progress {progress:?}");
     eprintln!("an accumulation whose lists grew: progress {progress:?}");
 }
+
+/// Ordering the photons by grid cell before the splat (passes/photon_order.rs) changes which
+/// thread walks which photon, never a pixel: a single frame and an accumulation's third frame
+/// are bit-identical with and without it, in every layer, after the same node tests. And it
+/// orders: the copy holds the same photons, each cell's in one run, where the trace's order
+/// changes cell at almost every photon.
+#[test]
+fn ordering_photons_changes_no_pixel() {
+    use leakless::passes::photon_order::cell;
+    use leakless::passes::photons::Photon;
+    for path in ["scenes/cornell-box.gltf", "scenes/doorway.gltf", "scenes/atrium.gltf"] {
+        let scene = common::scene(path);
+        let gpu = common::gpu_with(false).expect("device");
+        let splat = SplatSettings { paths: 4000, ..Default::default() };
+        let base = RenderSettings { method: Method::LeakLess, ..settings(64, 48, splat, 8, 1) };
+        let mut r = Renderer::new(gpu, &scene, base).expect("renderer");
+        let mut frames = Vec::new();
+        let mut capture = None;
+        for order in [true, false] {
+            for count in [1, 3] {
+                r.update(|s| (s.frames, s.splat.order_photons) = (count, order)).expect("settings");
+                frames.push(r.render().expect("render"));
+                if order && count == 1 {
+                    capture = Some(r.capture().expect("capture"));
+                }
+            }
+        }
+        r.gpu().check_validation().expect("validation clean");
+        for (name, (ordered, unordered)) in
+            ["single frame", "third frame"].iter().zip(frames[..2].iter().zip(&frames[2..]))
+        {
+            assert!(ordered.radiance == unordered.radiance, "{path}: the {name}'s image differs");
+            assert!(ordered.indirect == unordered.indirect, "{path}: the {name}'s indirect layer differs");
+            assert!(ordered.leaked == unordered.leaked, "{path}: the {name}'s leaked layer differs");
+            let (a, b) = (ordered.splat.as_ref().expect("stats"), unordered.splat.as_ref().expect("stats"));
+            assert_eq!((a.nodes_visited, a.list_entries), (b.nodes_visited, b.list_entries), "{path}: the {name}");
+        }
+
+        let capture = capture.expect("captured");
+        let bytes = |photons: &[Photon]| {
+            let mut all: Vec<Vec<u8>> = photons.iter().map(|p| bytemuck::bytes_of(p).to_vec()).collect();
+            all.sort();
+            all
+        };
+        assert!(capture.photons.len() > 1000, "{path}: {} photons", capture.photons.len());
+        assert!(bytes(&capture.ordered_photons) == bytes(&capture.photons), "{path}: not the same photons");
+        let bounds = scene.bounds();
+        let cells = |photons: &[Photon]| photons.iter().map(|p| cell(p.position, &bounds)).collect::<Vec<_>>();
+        let runs = |cells: &[u32]| 1 + cells.windows(2).filter(|w| w[0] != w[1]).count();
+        let mut distinct = cells(&capture.photons);
+        distinct.sort_unstable();
+        distinct.dedup();
+        let (ordered, traced) = (runs(&cells(&capture.ordered_photons)), runs(&cells(&capture.photons)));
+        eprintln!(
+            "{path}: {} photons in {} cells: {ordered} runs of one cell ordered, {traced} as traced",
+            capture.photons.len(),
+            distinct.len()
+        );
+        // A photon on a cell's boundary may fall on the other side on the device.
+        let bound = distinct.len() + capture.photons.len() / 100;
+        assert!(ordered <= bound, "{path}: {ordered} runs");
+        assert!(traced > bound, "{path}: the trace's order passes the bound as well ({traced} runs)");
+    }
+}

@@ -28,6 +28,8 @@ pub enum Access {
     AccelerationStructureBuildWrite,
     /// A compute shader traversing an acceleration structure with ray queries.
     RayQueryRead,
+    /// The workgroup counts of an indirect dispatch.
+    IndirectCommandRead,
     /// Handed to the presentation engine.
     Present,
 }
@@ -99,6 +101,7 @@ impl Access {
                 true,
             ),
             Access::RayQueryRead => (S::COMPUTE_SHADER, A::ACCELERATION_STRUCTURE_READ_KHR, L::UNDEFINED, false),
+            Access::IndirectCommandRead => (S::DRAW_INDIRECT, A::INDIRECT_COMMAND_READ, L::UNDEFINED, false),
             Access::Present => (S::NONE, A::NONE, L::PRESENT_SRC_KHR, false),
         };
         AccessInfo { stage, access, layout, writes }

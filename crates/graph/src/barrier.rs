@@ -199,6 +199,18 @@ mod tests {
     }
 
     #[test]
+    fn an_indirect_dispatch_waits_for_the_shader_that_wrote_its_arguments() {
+        let mut b = ResourceState::buffer(false);
+        b.access(Access::ComputeWrite);
+        let t = b.access(Access::IndirectCommandRead).expect("the command must be visible to the indirect read");
+        assert_eq!((t.src_stage, t.src_access), (S::COMPUTE_SHADER, A::SHADER_STORAGE_WRITE));
+        assert_eq!((t.dst_stage, t.dst_access), (S::DRAW_INDIRECT, A::INDIRECT_COMMAND_READ));
+        assert_eq!(b.access(Access::IndirectCommandRead), None, "a second indirect read is covered");
+        let t = b.access(Access::ComputeWrite).expect("the next write waits for the indirect reads");
+        assert!(t.src_stage.contains(S::DRAW_INDIRECT));
+    }
+
+    #[test]
     fn write_after_reads_waits_for_every_reader_without_access_masks() {
         let mut b = ResourceState::buffer(false);
         b.access(Access::TransferWrite);

@@ -77,6 +77,22 @@ impl<'a> PassContext<'_, '_, 'a> {
         self.cmd.dispatch(pipeline, &bound, bytemuck::bytes_of(push), threads)
     }
 
+    /// Dispatches `pipeline` with the workgroup counts in `args` at `offset`, never more than
+    /// `most_threads` need (see [`Cmd::dispatch_indirect`]); the pass declares `args` with
+    /// [`Access::IndirectCommandRead`](leakless_device::sync::Access::IndirectCommandRead).
+    pub fn dispatch_indirect<P: bytemuck::NoUninit>(
+        &mut self,
+        pipeline: &ComputePipeline,
+        groups: &[&dyn Bindings],
+        push: &P,
+        (args, offset): (Buf, u64),
+        most_threads: [u32; 3],
+    ) -> Result<()> {
+        let bound = self.bound(groups);
+        let args = self.buffer(args);
+        self.cmd.dispatch_indirect(pipeline, &bound, bytemuck::bytes_of(push), args, offset, most_threads)
+    }
+
     /// Draws (see [`Cmd::draw`]) with the bindings of `groups`.
     #[allow(clippy::too_many_arguments)]
     pub fn draw<P: bytemuck::NoUninit>(

@@ -240,5 +240,48 @@ fn splat(path: PathBuf, (w, h): (u32, u32), paths: u32) -> anyhow::Result<()> {
         })
         .expect("four rows");
     println!("fastest hierarchy + splat + gather: B = {}", best.stats().branching);
+    photon_order(&open, &scene, (w, h), paths)
+}
+
+/// `leakless` on an accumulation's full frame (8 batches), with the photons ordered by cell
+/// before the splat and in the order the trace stored them: the same image (tests/suite/splat.rs),
+/// and what the order saves in the passes that walk a structure per photon.
+fn photon_order(
+    open: &dyn Fn() -> leakless::Result<leakless::Gpu>,
+    scene: &Scene,
+    (width, height): (u32, u32),
+    paths: u32,
+) -> anyhow::Result<()> {
+    use leakless::{Method, RenderSettings, SplatSettings};
+    println!("\nphoton order: leakless, {} paths (an accumulating frame's 8 batches), best of 3", 8 * paths);
+    println!(
+        "{:<10} {:>9} {:>9} {:>12} {:>9} {:>9} {:>9}",
+        "photons", "order ms", "splat ms", "clearance ms", "gather ms", "frame ms", "entries"
+    );
+    let mut rows = Vec::new();
+    for (label, order_photons) in [("ordered", true), ("as traced", false)] {
+        let splat = SplatSettings { paths: 8 * paths, order_photons, ..Default::default() };
+        let settings = RenderSettings { width, height, method: Method::LeakLess, splat, ..Default::default() };
+        let r = leakless::bench::Measured::best_of(open, scene, label, &settings, 3)?;
+        println!(
+            "{:<10} {:>9.1} {:>9.1} {:>12.1} {:>9.1} {:>9.1} {:>9}",
+            label,
+            r.ms(&["photon cell", "photon order"]),
+            r.splat_ms(),
+            r.pass_ms("photon clearance"),
+            r.gather_ms(),
+            r.frame_ms(),
+            r.stats().list_entries
+        );
+        rows.push(r);
+    }
+    let x = |f: fn(&leakless::bench::Measured) -> f64| f(&rows[1]) / f(&rows[0]).max(1e-9);
+    println!(
+        "ordered is faster by x{:.2} in the splat, x{:.2} in the clearance, x{:.2} in the gather, x{:.2} over the frame",
+        x(|r| r.splat_ms()),
+        x(|r| r.pass_ms("photon clearance")),
+        x(|r| r.gather_ms()),
+        x(|r| r.frame_ms())
+    );
     Ok(())
 }

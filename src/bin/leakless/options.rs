@@ -201,6 +201,7 @@ impl RenderOptions {
                 partial_disk_radius: !self.no_partial_disk_radius,
                 walk_faces: true,
                 node_radius: true,
+                order_photons: true,
             },
         }
     }

@@ -1,0 +1,118 @@
+//! The workgroup count of every pass that runs one thread per stored photon (photon cells and
+//! order, splat, clearance), written on the device from the photon counters
+//! (`photon_dispatch.comp`) and read by indirect dispatches. The photon buffer has room for
+//! `paths × max_bounces` photons, so a dispatch over that capacity ran about eight threads
+//! per photon in the atrium, seven of them only to return: 12% of an accumulating frame's
+//! time on lavapipe, where every workgroup costs its launch.
+
+use ash::vk;
+use bytemuck::{Pod, Zeroable};
+use leakless_device::{gpu_struct, BufferDesc, ComputePipeline, Gpu, GpuStruct, MemoryLocation};
+use leakless_graph::{shader_bindings, Access, Buf, BufferHandle, Graph, PassBuilder};
+
+use crate::error::{RenderError, Result};
+use crate::passes::photons::PhotonCounters;
+use crate::shaders;
+
+/// Threads per workgroup of every per-photon pass, checked by [`check_workgroup`].
+pub const PHOTON_WORKGROUP: u32 = 64;
+
+gpu_struct! {
+    /// The `PhotonDispatchParams` push constants of photon_dispatch.comp.
+    #[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
+    pub struct PhotonDispatchParams {
+        pub capacity: u32,
+        pub group_size: u32,
+        pub pad0: u32,
+        pub pad1: u32,
+    }
+}
+
+gpu_struct! {
+    /// `VkDispatchIndirectCommand`, the `PhotonDispatch` block of photon_dispatch.comp.
+    #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Pod, Zeroable)]
+    pub struct DispatchCommand {
+        pub x: u32,
+        pub y: u32,
+        pub z: u32,
+    }
+}
+
+shader_bindings! {
+    pub struct PhotonDispatchBindings {
+        photon_counters: block(PhotonCounters::LAYOUT),
+        photon_dispatch: block(DispatchCommand::LAYOUT),
+    }
+}
+
+/// A frame's per-photon dispatch: the command's buffer, and the capacity that bounds it.
+pub struct PhotonDispatch {
+    pub args: BufferHandle,
+    pub capacity: u32,
+}
+
+impl PhotonDispatch {
+    /// Declares the pass's indirect read of the command; pass the result to
+    /// `dispatch_indirect` with [`PhotonDispatch::most_threads`].
+    pub fn declare(&self, pass: &mut PassBuilder<'_, '_>) -> (Buf, u64) {
+        (pass.read(&self.args, Access::IndirectCommandRead), 0)
+    }
+
+    /// The threads the command asks for at most: one per photon the buffer holds.
+    pub fn most_threads(&self) -> [u32; 3] {
+        [self.capacity, 1, 1]
+    }
+}
+
+/// Fails when a per-photon pipeline's workgroup is not [`PHOTON_WORKGROUP`] threads: the
+/// command would then cover too few or too many photons.
+pub fn check_workgroup(pipeline: &ComputePipeline, name: &str) -> Result<()> {
+    if pipeline.workgroup_size() != [PHOTON_WORKGROUP, 1, 1] {
+        return Err(RenderError::Settings(format!(
+            "{name} has workgroup size {:?}; per-photon passes need [{PHOTON_WORKGROUP}, 1, 1] (photon_dispatch.rs)",
+            pipeline.workgroup_size()
+        )));
+    }
+    Ok(())
+}
+
+pub struct PhotonDispatchPass {
+    pipeline: ComputePipeline,
+}
+
+impl PhotonDispatchPass {
+    pub fn new(gpu: &Gpu) -> Result<Self> {
+        let pipeline = ComputePipeline::new(
+            gpu,
+            "photon dispatch",
+            &shaders::PHOTON_DISPATCH_COMP,
+            PhotonDispatchBindings::DECLS,
+            Some(&PhotonDispatchParams::LAYOUT),
+        )?;
+        Ok(PhotonDispatchPass { pipeline })
+    }
+
+    /// Adds the pass that turns `photon_counters` (of a buffer of `capacity` photons) into the
+    /// per-photon passes' dispatch.
+    pub fn add<'r>(
+        &'r self,
+        graph: &mut Graph<'r>,
+        photon_counters: &BufferHandle,
+        capacity: u32,
+    ) -> Result<PhotonDispatch> {
+        let mut args = graph.buffer(&BufferDesc {
+            name: "photon dispatch",
+            size: std::mem::size_of::<DispatchCommand>() as u64,
+            usage: vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::INDIRECT_BUFFER,
+            location: MemoryLocation::GpuOnly,
+        })?;
+        let params = PhotonDispatchParams { capacity, group_size: PHOTON_WORKGROUP, ..Default::default() };
+        let mut pass = graph.pass("photon dispatch");
+        let own = PhotonDispatchBindings {
+            photon_counters: pass.read(photon_counters, Access::ComputeRead),
+            photon_dispatch: pass.write(&mut args, Access::ComputeWrite),
+        };
+        pass.record(move |ctx| ctx.dispatch(&self.pipeline, &[&own], &params, [1, 1, 1]));
+        Ok(PhotonDispatch { args, capacity })
+    }
+}

@@ -1,0 +1,145 @@
+//! Photon order: a counting sort of the frame's photons by the cell of a 32³ grid over the
+//! scene's bounds, cells in Morton order (`photon_cells.comp`, the sort's scan,
+//! `photon_order.comp`).
+//!
+//! Photons are stored in the order their paths' atomics reach the buffer, so the 8 lanes of
+//! one of lavapipe's SIMD groups (a GPU's 32 of a subgroup) hold photons from all over the
+//! scene. The splat walks the view-sample hierarchy per photon and the clearance the BVH: a
+//! group costs its longest walk, and its lanes load different nodes. Ordered by cell, a
+//! group's photons lie together, take the same branches and culls, and those that no sample
+//! sees (out of view, facing away) share groups that end at once. The photons are copied,
+//! not indexed, so the gather's reads of a node list's photons fall close together too.
+//! The splat, clearance and gather read only the ordered copy; every image is bit-identical to
+//! the unordered one (the gather's sums do not depend on order), which `tests/suite/` checks.
+
+use ash::vk;
+use bytemuck::{Pod, Zeroable};
+use leakless_device::{gpu_struct, BufferDesc, ComputePipeline, Gpu, GpuStruct, MemoryLocation};
+use leakless_graph::{shader_bindings, Access, BufferHandle, Graph};
+use leakless_scene::Aabb;
+
+use crate::error::Result;
+use crate::passes::photon_dispatch::{check_workgroup, PhotonDispatch};
+use crate::passes::photons::{Photon, PhotonCounters};
+use crate::passes::sort::ScanPass;
+use crate::shaders;
+
+/// Bits per axis of a cell index (`PHOTON_CELL_BITS` in photon_cell.glsl): 32 cells a side.
+/// At the default gather radius (5% of the scene's bounding radius) a cell is about 1.2 radii
+/// wide, so a SIMD group's photons reach mostly the same nodes; finer cells order little more.
+pub const CELL_BITS: u32 = 5;
+/// Cells of the grid: 32,768 counts, which the scan walks in 8 tiles.
+pub const CELLS: u32 = 1 << (3 * CELL_BITS);
+/// The pool's name of the ordered copy (the capture reads it back by it).
+pub const ORDERED_PHOTONS: &str = "ordered photons";
+
+/// The cell of a position, as `photon_cell` in photon_cell.glsl computes it (for tests: the
+/// device's division may round a position on a cell's boundary to the other side).
+pub fn cell(p: [f32; 3], bounds: &Aabb) -> u32 {
+    let side = 1u32 << CELL_BITS;
+    let t = ((glam::Vec3::from(p) - bounds.min) / (bounds.max - bounds.min).max(glam::Vec3::splat(1e-30)))
+        .clamp(glam::Vec3::ZERO, glam::Vec3::ONE);
+    let c = (t * side as f32).to_array().map(|x| (x as u32).min(side - 1));
+    let spread = |v: u32| (0..CELL_BITS).fold(0, |acc, i| acc | ((v >> i) & 1) << (3 * i));
+    (spread(c[0]) << 2) | (spread(c[1]) << 1) | spread(c[2])
+}
+
+gpu_struct! {
+    /// The `PhotonOrderParams` push constants of photon_cell.glsl.
+    #[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
+    pub struct PhotonOrderParams {
+        pub bounds_min: [f32; 3],
+        /// Photons the buffers hold.
+        pub capacity: u32,
+        pub bounds_max: [f32; 3],
+        pub pad0: u32,
+    }
+}
+
+shader_bindings! {
+    pub struct CellBindings {
+        photons: array(Photon::LAYOUT),
+        photon_counters: block(PhotonCounters::LAYOUT),
+        cell_counts: words,
+    }
+}
+
+shader_bindings! {
+    pub struct OrderBindings {
+        photons: array(Photon::LAYOUT),
+        photon_counters: block(PhotonCounters::LAYOUT),
+        cell_starts: words,
+        ordered_photons: array(Photon::LAYOUT),
+    }
+}
+
+pub struct PhotonOrderPass {
+    cells: ComputePipeline,
+    scan: ScanPass,
+    order: ComputePipeline,
+}
+
+impl PhotonOrderPass {
+    pub fn new(gpu: &Gpu) -> Result<Self> {
+        let push = Some(&PhotonOrderParams::LAYOUT);
+        let cells = ComputePipeline::new(gpu, "photon cells", &shaders::PHOTON_CELLS_COMP, CellBindings::DECLS, push)?;
+        let order = ComputePipeline::new(gpu, "photon order", &shaders::PHOTON_ORDER_COMP, OrderBindings::DECLS, push)?;
+        check_workgroup(&cells, "photon cells")?;
+        check_workgroup(&order, "photon order")?;
+        Ok(PhotonOrderPass { cells, scan: ScanPass::new(gpu)?, order })
+    }
+
+    /// Copies the stored photons of `photons` (at most the dispatch's capacity) into `ordered`,
+    /// grouped by cell of a grid over `bounds`, and cells in Morton order.
+    pub fn add<'r>(
+        &'r self,
+        graph: &mut Graph<'r>,
+        photons: &BufferHandle,
+        photon_counters: &BufferHandle,
+        dispatch: &PhotonDispatch,
+        bounds: &Aabb,
+        ordered: &mut BufferHandle,
+    ) -> Result<()> {
+        let params = PhotonOrderParams {
+            bounds_min: bounds.min.to_array(),
+            capacity: dispatch.capacity,
+            bounds_max: bounds.max.to_array(),
+            pad0: 0,
+        };
+        let mut counts = graph.buffer(&BufferDesc {
+            name: "photon cell counts",
+            size: 4 * CELLS as u64,
+            usage: vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_DST,
+            location: MemoryLocation::GpuOnly,
+        })?;
+        let mut clear = graph.pass("photon cells clear");
+        let cleared = clear.write(&mut counts, Access::TransferWrite);
+        clear.record(move |ctx| {
+            let counts = ctx.buffer(cleared);
+            ctx.cmd.fill_buffer(counts, 0, counts.size(), 0);
+            Ok(())
+        });
+
+        let mut pass = graph.pass("photon cells");
+        let own = CellBindings {
+            photons: pass.read(photons, Access::ComputeRead),
+            photon_counters: pass.read(photon_counters, Access::ComputeRead),
+            cell_counts: pass.write(&mut counts, Access::ComputeReadWrite),
+        };
+        let (args, threads) = (dispatch.declare(&mut pass), dispatch.most_threads());
+        pass.record(move |ctx| ctx.dispatch_indirect(&self.cells, &[&own], &params, args, threads));
+
+        self.scan.add(graph, "photon cell starts", CELLS, &mut counts);
+
+        let mut pass = graph.pass("photon order");
+        let own = OrderBindings {
+            photons: pass.read(photons, Access::ComputeRead),
+            photon_counters: pass.read(photon_counters, Access::ComputeRead),
+            cell_starts: pass.write(&mut counts, Access::ComputeReadWrite),
+            ordered_photons: pass.write(ordered, Access::ComputeWrite),
+        };
+        let (args, threads) = (dispatch.declare(&mut pass), dispatch.most_threads());
+        pass.record(move |ctx| ctx.dispatch_indirect(&self.order, &[&own], &params, args, threads));
+        Ok(())
+    }
+}
