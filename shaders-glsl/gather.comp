@@ -85,33 +85,61 @@ layout(set = 0, binding = 15, rgba32f) uniform readonly image2D disk_mass;
         }                                             \
     }
 
-// Whether the segment from the lifted sample `from` to the photon is free of geometry;
-// `proven` when that needed no ray.
-//
-// The segment ends straight above the photon, at half its lift: on the photon's side of its
-// own surface (a segment arriving from behind a zero-thickness wall still crosses it), and
-// on the photon's side of everything else too. Ending it short of the photon along the
-// segment instead would carry the end across a wall standing within that distance of the
-// photon (a photon at the foot of a sealed partition, seen from the other room).
-bool photon_visible(vec3 from, Photon ph, Clearance photon_clearance, inout uint occluder, out bool proven) {
-    vec3 lifted = photon_clearance.lifted;  // offset_ray(ph.position, ph.normal)
+// Visibility segments run from the lifted sample `from` to a point straight above the photon,
+// at half its lift: on the photon's side of its own surface (a segment arriving from behind a
+// zero-thickness wall still crosses it), and on the photon's side of everything else too.
+// Ending it short of the photon along the segment instead would carry the end across a wall
+// standing within that distance of the photon (a photon at the foot of a sealed partition,
+// seen from the other room).
+vec3 segment_end(Photon ph, Clearance photon_clearance) {
+    return mix(ph.position, photon_clearance.lifted, 0.5);  // lifted = offset_ray(position, normal)
+}
+
+// Whether the photon's clearance proves the segment clear without a ray: both ends in the
+// clear ball (around `lifted`, which the end is half a lift from) and at least 2τ above the
+// photon's surface, so the segment meets nothing (see the top).
+bool proven_clear(vec3 from, Photon ph, Clearance photon_clearance) {
+    vec3 lifted = photon_clearance.lifted;
     float lift = dot(lifted - ph.position, ph.normal);
-    vec3 to = mix(ph.position, lifted, 0.5);
-    vec3 d = to - from;
-    float dist2 = dot(d, d);
-    // Both ends in the clear ball (around `lifted`, which `to` is half a lift from) and at
-    // least 2τ above the photon's surface: the segment meets nothing (see the top).
     vec3 from_lifted = lifted - from;
-    proven = params.prove_clear != 0u && dot(from_lifted, from_lifted) < photon_clearance.radius * photon_clearance.radius
+    return params.prove_clear != 0u && dot(from_lifted, from_lifted) < photon_clearance.radius * photon_clearance.radius
         && 0.5 * lift < photon_clearance.radius && dot(from - ph.position, ph.normal) > 0.5 * lift;
-    if (proven) {
-        return true;
-    }
-    float dist = sqrt(dist2);
+}
+
+// Whether a ray along the segment meets nothing.
+bool segment_clear(vec3 from, Photon ph, Clearance photon_clearance, inout uint occluder) {
+    vec3 d = segment_end(ph, photon_clearance) - from;
+    float dist = sqrt(dot(d, d));
     if (!(dist > 0.0)) {
         return true;
     }
     return !traceOccludedCached(from, d / dist, 0.0, dist, occluder);
+}
+
+i64vec3 contribution_of(Photon ph, float d, float r) {
+    return i64vec3(ph.flux * (biweight(d, r) * params.fixed_scale));
+}
+
+// Segments the clearance cannot prove wait in a queue and are traced together once it is full
+// and after the walk. Traced where they arise, a SIMD group's lanes (the samples of one leaf,
+// walking the same lists) waited for whichever lane had a ray at that photon: with a tenth of
+// the segments unproven, more than half the steps of an 8-lane group traced a ray for one or
+// two lanes. Queued, the lanes trace their own segments side by side.
+#define RAY_QUEUE 64u
+
+void trace_queued(uint queue[RAY_QUEUE], uint count, vec3 x, vec3 from, float r, inout i64vec3 kept,
+                  inout i64vec3 lost, inout uint occluded, inout uint occluder) {
+    for (uint i = 0u; i < count; ++i) {
+        uint index = queue[i];
+        Photon ph = photons.photons[index];
+        i64vec3 contribution = contribution_of(ph, distance(x, ph.position), r);
+        if (segment_clear(from, ph, clearance.items[index], occluder)) {
+            kept += contribution;
+        } else {
+            occluded += 1u;
+            lost += contribution;
+        }
+    }
 }
 
 void main() {
@@ -159,12 +187,28 @@ void main() {
     uint occluded = 0u;
     uint proven = 0u;
     uint occluder = NO_HIT;  // the surface that blocked this sample's last blocked segment
+    uint queue[RAY_QUEUE];   // photons whose segments wait for a ray
+    uint queued = 0u;
     bool capped = false;
-    for (uint l = 0u; l < params.level_count && !capped; ++l) {
-        Level lv = levels.levels[l];
-        uint node = lv.offset + s / lv.span;
-        for (uint e = node_heads.heads[node]; e != END_OF_LIST; e = list_entries.entries[e].next) {
+    // The lists of the leaf and its ancestors, walked as one sequence of (level, entry) that
+    // stops whenever the queue is full, so the traversal has a single call site (inlined twice,
+    // it made the pass slower than tracing where segments arise).
+    uint level = 0u;
+    uint e = END_OF_LIST;
+    bool walked = false;
+    while (true) {
+        while (queued < RAY_QUEUE) {
+            if (e == END_OF_LIST) {
+                if (level == params.level_count || capped) {
+                    walked = true;
+                    break;
+                }
+                Level lv = levels.levels[level++];
+                e = node_heads.heads[lv.offset + s / lv.span];
+                continue;
+            }
             uint index = list_entries.entries[e].photon;
+            e = list_entries.entries[e].next;
             candidates += 1u;
             // Most candidates fail on distance alone: read the rest of the photon after it.
             float d = distance(x, photons.photons[index].position);
@@ -180,22 +224,21 @@ void main() {
             }
             if (params.cap != 0u && accepted == params.cap) {
                 capped = true;
-                break;
+                e = END_OF_LIST;
+                continue;
             }
             accepted += 1u;
-            i64vec3 contribution = i64vec3(ph.flux * (biweight(d, r) * params.fixed_scale));
-            bool clear = true;
-            if (params.visibility != 0u) {
-                bool without_ray;
-                clear = photon_visible(from, ph, clearance.items[index], occluder, without_ray);
-                proven += without_ray ? 1u : 0u;
+            if (params.visibility != 0u && !proven_clear(from, ph, clearance.items[index])) {
+                queue[queued++] = index;
+                continue;
             }
-            if (clear) {
-                kept += contribution;
-            } else {
-                occluded += 1u;
-                lost += contribution;
-            }
+            proven += params.visibility != 0u ? 1u : 0u;
+            kept += contribution_of(ph, d, r);
+        }
+        trace_queued(queue, queued, x, from, r, kept, lost, occluded, occluder);
+        queued = 0u;
+        if (walked) {
+            break;
         }
     }
     vec3 albedo_over_pi = imageLoad(gbuffer_albedo, xy).rgb / PI;
