@@ -31,10 +31,17 @@ layout(push_constant) uniform PhotonParams {
     uint store_direct;   // 1: store the first hit too (diagnostic: emitted flux)
     uint path_offset;    // index of path 0 in the sequence: accumulated frames continue it
     uint threads;        // threads dispatched: paths beyond them are taken as others end
+    uint ordered;        // 1: take paths in `path_order`; 0: in index order (the same photons)
+    uint pad0;
+    uint pad1;
+    uint pad2;
 } params;
 layout(set = 0, binding = 1, std430) readonly buffer Lights { Light lights[]; } lights;
 layout(set = 0, binding = 2, std430) readonly buffer PhotonLights { PhotonLight entries[]; } photon_lights;
 layout(set = 0, binding = 3, std430) writeonly buffer Photons { Photon photons[]; } photons;
+// The order threads take paths in: grouped by emission cell (emission_order.rs), so the lanes
+// of a SIMD group start from neighbouring points of the light.
+layout(set = 0, binding = 5, std430) readonly buffer PathOrder { uint paths[]; } path_order;
 layout(set = 0, binding = 4, std430) buffer PhotonCounters {
     uint stored;      // photons written (never more than capacity)
     uint overflowed;  // photons dropped because the buffer was full
@@ -215,20 +222,20 @@ void main() {
     // Each thread starts path `gl_GlobalInvocationID.x` and, when a path ends, takes the next
     // untraced one (`params.threads` onward), so a lane does not idle while another lane of
     // its SIMD group bounces on (photons.rs says when the threads are fewer than the paths).
-    uint path = gl_GlobalInvocationID.x;
-    if (path >= min(params.threads, params.paths) || params.light_count == 0u) {
+    uint taken = gl_GlobalInvocationID.x;
+    if (taken >= min(params.threads, params.paths) || params.light_count == 0u) {
         return;
     }
-    PathState st = emit(path);
+    PathState st = emit(params.ordered != 0u ? path_order.paths[taken] : taken);
     uint rays = 0u;
     while (true) {
         rays += 1u;
         if (!bounce(st)) {
-            path = params.threads + atomicAdd(photon_counters.next_path, 1u);
-            if (path >= params.paths) {
+            taken = params.threads + atomicAdd(photon_counters.next_path, 1u);
+            if (taken >= params.paths) {
                 break;
             }
-            st = emit(path);
+            st = emit(params.ordered != 0u ? path_order.paths[taken] : taken);
         }
     }
     atomicAdd(photon_counters.rays, rays);

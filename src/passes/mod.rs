@@ -5,6 +5,7 @@
 pub mod accumulate;
 pub mod compose;
 pub mod direct;
+pub mod emission_order;
 pub mod gather;
 pub mod gbuffer;
 pub mod hang;

@@ -17,6 +17,7 @@ use leakless_scene::Scene;
 use crate::error::{RenderError, Result};
 use crate::gpu_scene::{GpuScene, SceneBindings, SceneHandles};
 use crate::gpu_types::Light;
+use crate::passes::emission_order::{EmissionOrderParams, EmissionOrderPass};
 use crate::passes::photon_clearance::{Clearance, ClearancePass, Needed};
 use crate::passes::photon_dispatch::PhotonDispatchPass;
 use crate::photon_lights::{upload_lights, LightHandles, LightTable};
@@ -87,6 +88,11 @@ gpu_struct! {
         pub path_offset: u32,
         /// Threads dispatched; paths beyond them are taken by threads whose path ended.
         pub threads: u32,
+        /// 1: threads take paths in emission order (emission_order.rs); 0: in index order.
+        pub ordered: u32,
+        pub pad0: u32,
+        pub pad1: u32,
+        pub pad2: u32,
     }
 }
 
@@ -97,6 +103,7 @@ shader_bindings! {
         photon_lights: array(PhotonLight::LAYOUT),
         photons: array(Photon::LAYOUT),
         photon_counters: block(PhotonCounters::LAYOUT),
+        path_order: words,
     }
 }
 
@@ -150,10 +157,13 @@ const PATHS_PER_CPU_THREAD: u32 = 8;
 
 pub struct PhotonPass {
     pipeline: ComputePipeline,
+    emission_order: EmissionOrderPass,
     /// Paths per thread: on a CPU device (lavapipe) a SIMD group runs until its longest path
     /// ends, so each thread traces about this many paths, taking the next when one ends; a
     /// GPU keeps one path per thread, since it needs every thread it can get in flight.
     paths_per_thread: u32,
+    /// Whether threads take paths in emission order (the same photons either way).
+    emission_order_on: bool,
 }
 
 impl PhotonPass {
@@ -161,13 +171,23 @@ impl PhotonPass {
         let shader = backend.pick(&shaders::PHOTONS_COMP_RAYQUERY, &shaders::PHOTONS_COMP_COMPUTE);
         let pipeline = ComputePipeline::new(gpu, "photons", shader, &bindings(backend), Some(&PhotonPush::LAYOUT))?;
         let cpu = gpu.report().device_type == leakless_device::DeviceType::Cpu;
-        Ok(PhotonPass { pipeline, paths_per_thread: if cpu { PATHS_PER_CPU_THREAD } else { 1 } })
+        Ok(PhotonPass {
+            pipeline,
+            emission_order: EmissionOrderPass::new(gpu)?,
+            paths_per_thread: if cpu { PATHS_PER_CPU_THREAD } else { 1 },
+            emission_order_on: true,
+        })
     }
 
     /// Overrides the device's choice of paths per thread (at least 1): tests trace the same
     /// paths both ways on one device.
     pub fn set_paths_per_thread(&mut self, paths_per_thread: u32) {
         self.paths_per_thread = paths_per_thread.max(1);
+    }
+
+    /// Whether threads take paths in emission order (on by default; tests compare both).
+    pub fn set_emission_order(&mut self, on: bool) {
+        self.emission_order_on = on;
     }
 
     /// Adds two passes: "photon counters" zeroes `counters` (a transfer), then "photons"
@@ -213,6 +233,8 @@ impl PhotonPass {
             store_direct: params.store_direct as u32,
             path_offset: params.path_offset,
             threads: paths.div_ceil(self.paths_per_thread),
+            ordered: self.emission_order_on as u32,
+            ..Default::default()
         };
 
         let mut clear = graph.pass("photon counters");
@@ -222,8 +244,12 @@ impl PhotonPass {
             Ok(())
         });
 
+        let order = EmissionOrderParams { paths, path_offset: params.path_offset, seed: params.seed, pad0: 0 };
+        let path_order = self.emission_order.add(graph, order)?;
+
         let mut pass = graph.pass("photons");
         let own = PhotonBindings {
+            path_order: pass.read(&path_order, Access::ComputeRead),
             lights: pass.read(&lights.lights, Access::ComputeRead),
             photon_lights: pass.read(&lights.photon_lights, Access::ComputeRead),
             photons: pass.write(photons, Access::ComputeWrite),
@@ -319,6 +345,11 @@ impl<'g> PhotonTracer<'g> {
     /// Paths each thread traces ([`PhotonPass::set_paths_per_thread`]).
     pub fn set_paths_per_thread(&mut self, paths_per_thread: u32) {
         self.pass.set_paths_per_thread(paths_per_thread);
+    }
+
+    /// Whether threads take paths in emission order ([`PhotonPass::set_emission_order`]).
+    pub fn set_emission_order(&mut self, on: bool) {
+        self.pass.set_emission_order(on);
     }
 
     /// The light table photons are emitted from.

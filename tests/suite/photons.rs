@@ -188,15 +188,17 @@ fn same_seed_same_photons_another_seed_others() {
 
 /// Threads that take the next path when theirs ends (CPU devices) trace exactly the paths one
 /// thread a path (GPUs) traces: every path once, none twice, the same photons and rays, also
-/// when the threads do not divide the paths evenly.
+/// when the threads do not divide the paths evenly, and whether they take the paths in
+/// emission order (emission_order.rs) or in index order.
 #[test]
 fn every_path_is_traced_once_however_many_a_thread_takes() {
     let Some(gpu) = common::gpu() else { return };
     let (_, mut tracer) = cornell_tracer(&gpu);
     let params = PhotonParams { paths: 3001, max_bounces: 8, seed: 5, store_direct: true, ..Default::default() };
     let mut traces = Vec::new();
-    for per_thread in [1, 8, 7, 3001] {
+    for (per_thread, ordered) in [(1, true), (8, true), (7, true), (3001, true), (1, false), (8, false)] {
         tracer.set_paths_per_thread(per_thread);
+        tracer.set_emission_order(ordered);
         let t = tracer.trace(&params).unwrap();
         traces.push((per_thread, t.counters, sorted(t.photons)));
     }
@@ -213,7 +215,11 @@ fn every_path_is_traced_once_however_many_a_thread_takes() {
         // Every thread's last fetch finds the paths used up: one fetch per path in all.
         assert_eq!(c.next_path, 3001, "{per_thread} paths a thread");
     }
-    eprintln!("{} photons from {} paths, the same at 1, 8, 7 and 3001 paths a thread", photons.len(), paths.len());
+    eprintln!(
+        "{} photons from {} paths, the same at 1, 8, 7 and 3001 paths a thread, in emission and index order",
+        photons.len(),
+        paths.len()
+    );
     gpu.check_validation().expect("validation clean");
 }
 

@@ -1,0 +1,17 @@
+#version 460
+// Emission order, step 2: every path index goes to the next free slot of its cell's range, so
+// photons.comp's neighbouring threads start neighbouring paths (emission_order.rs).
+#include "emission_cell.glsl"
+
+layout(local_size_x = 64) in;
+
+EMISSION_ORDER_PARAMS_BLOCK;
+layout(set = 0, binding = 0, std430) buffer CellStarts { uint data[]; } cell_starts;
+layout(set = 0, binding = 1, std430) writeonly buffer PathOrder { uint paths[]; } path_order;
+
+void main() {
+    uint path = gl_GlobalInvocationID.x;
+    if (path < params.paths) {
+        path_order.paths[atomicAdd(cell_starts.data[emission_cell(path, params.path_offset, params.seed)], 1u)] = path;
+    }
+}
