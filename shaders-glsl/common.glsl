@@ -39,4 +39,14 @@ struct Material {
     float alpha_cutoff;   // < 0: opaque
 };
 
+// Bit i of the low `bits` bits of v moved to bit stride·i: interleaved, these make the Morton
+// numbers of the photon and emission cells (photon_cell.glsl, emission_cell.glsl).
+uint spread_cell_bits(uint v, uint bits, uint stride) {
+    uint spread = 0u;
+    for (uint i = 0u; i < bits; ++i) {
+        spread |= ((v >> i) & 1u) << (stride * i);
+    }
+    return spread;
+}
+
 #endif

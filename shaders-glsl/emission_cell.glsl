@@ -5,6 +5,7 @@
 #ifndef LEAKLESS_EMISSION_CELL_GLSL
 #define LEAKLESS_EMISSION_CELL_GLSL
 
+#include "common.glsl"
 #include "lowdiscrepancy.glsl"
 
 // Mirrored in src/passes/emission_order.rs (CELL_BITS).
@@ -17,20 +18,12 @@
     uint pad0; \
 } params
 
-uint spread_emission_bits(uint v) {
-    uint spread = 0u;
-    for (uint i = 0u; i < EMISSION_CELL_BITS; ++i) {
-        spread |= ((v >> i) & 1u) << (2u * i);
-    }
-    return spread;
-}
-
 // The cell of path `path`: photons.comp's `emit` draws the same sample (GROUP_EMISSION = 0).
 uint emission_cell(uint path, uint path_offset, uint seed) {
     vec2 u = ld_sample3(path + path_offset, 0u, seed).xy;
     uint side = 1u << EMISSION_CELL_BITS;
     uvec2 c = min(uvec2(u * float(side)), uvec2(side - 1u));
-    return (spread_emission_bits(c.x) << 1u) | spread_emission_bits(c.y);
+    return (spread_cell_bits(c.x, EMISSION_CELL_BITS, 2u) << 1u) | spread_cell_bits(c.y, EMISSION_CELL_BITS, 2u);
 }
 
 #endif
