@@ -1,4 +1,4 @@
-// The cells the emission order groups light paths by (src/passes/emission_order.rs): a 64×64
+// The cells the emission order groups light paths by (src/passes/emission_order.rs): a 256×256
 // grid over the emission sample's square (dimensions 0 and 1 of the path's low-discrepancy
 // emission sample: where on a directional light's disk, or which direction from a point or
 // spot light), numbered in Morton order so that consecutive cells are neighbours.

@@ -12,6 +12,11 @@ layout(set = 0, binding = 1, std430) writeonly buffer PathOrder { uint paths[]; 
 void main() {
     uint path = gl_GlobalInvocationID.x;
     if (path < params.paths) {
-        path_order.paths[atomicAdd(cell_starts.data[emission_cell(path, params.path_offset, params.seed)], 1u)] = path;
+        // The same cell as emission_cells.comp's, bit for bit: integer work, and a scaling by a
+        // power of two (emission_cell.glsl). The guard only keeps a mistake in bounds.
+        uint slot = atomicAdd(cell_starts.data[emission_cell(path, params.path_offset, params.seed)], 1u);
+        if (slot < params.paths) {
+            path_order.paths[slot] = path;
+        }
     }
 }

@@ -16,13 +16,15 @@ layout(set = 0, binding = 0, std430) readonly buffer Photons { Photon photons[];
 layout(set = 0, binding = 1, std430) readonly buffer PhotonCounters { uint stored; uint overflowed; uint rays; uint next_path; } photon_counters;
 layout(set = 0, binding = 2, std430) buffer CellStarts { uint data[]; } cell_starts;
 layout(set = 0, binding = 3, std430) writeonly buffer OrderedPhotons { Photon photons[]; } ordered_photons;
+layout(set = 0, binding = 4, std430) readonly buffer PhotonCellOf { uint data[]; } photon_cell_of;
 
 void main() {
     uint i = gl_GlobalInvocationID.x;
     if (i >= min(photon_counters.stored, params.capacity)) {
         return;
     }
-    Photon ph = photons.photons[i];
-    uint slot = atomicAdd(cell_starts.data[photon_cell(ph.position, params.bounds_min, params.bounds_max)], 1u);
-    ordered_photons.photons[slot] = ph;
+    uint slot = atomicAdd(cell_starts.data[photon_cell_of.data[i]], 1u);
+    if (slot < params.capacity) {  // always, as the counts and the cells are the same
+        ordered_photons.photons[slot] = photons.photons[i];
+    }
 }

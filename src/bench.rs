@@ -122,8 +122,9 @@ impl Measured {
         // (+ 0.0: an empty f64 sum is -0.0.)
         self.passes.iter().filter(|(n, _)| n == name).map(|(_, ms)| ms).sum::<f64>() + 0.0
     }
+    /// The photon pass and the passes that order its paths (emission_order.rs).
     pub fn photons_ms(&self) -> f64 {
-        self.pass_ms("photons")
+        self.pass_ms("photons") + self.ms(&["emission"])
     }
     pub fn hierarchy_ms(&self) -> f64 {
         self.ms(&["sample bounds", "morton", "sort ", "hierarchy"])

@@ -310,6 +310,9 @@ pub fn add<'r>(
         seed: frame.seed,
         store_direct: false,
         path_offset: frame.path_offset,
+        // leakless-capped keeps the first photons of each list: in either order they would
+        // come from one part of the light or of the disk, not from all over it.
+        emission_order: frame.settings.cap.is_none(),
     };
     passes.photons.add(
         graph,
@@ -323,7 +326,9 @@ pub fn add<'r>(
     )?;
 
     let dispatch = passes.dispatch.add(graph, &photon_counters, capacity)?;
-    if frame.settings.order_photons {
+    // Not for leakless-capped either: its cap keeps a list's first photons, which in cell order
+    // would come from one side of the disk.
+    if frame.settings.order_photons && frame.settings.cap.is_none() {
         let desc = photon_buffer(ORDERED_PHOTONS, photon_buffer_size(capacity), PHOTON_BUFFER_USAGE);
         let mut ordered = graph.buffer(&desc)?;
         passes.order.add(graph, &photons, &photon_counters, &dispatch, &frame.bounds, &mut ordered)?;

@@ -13,7 +13,7 @@ use leakless_device::{gpu_struct, BufferDesc, ComputePipeline, Gpu, GpuStruct, M
 use leakless_graph::{shader_bindings, Access, BufferHandle, Graph};
 
 use crate::error::Result;
-use crate::passes::sort::ScanPass;
+use crate::passes::scan::ScanPass;
 use crate::shaders;
 
 /// Bits per axis of a cell index (`EMISSION_CELL_BITS` in emission_cell.glsl).
@@ -96,7 +96,7 @@ impl EmissionOrderPass {
         let own = EmissionCellBindings { cell_counts: pass.write(&mut counts, Access::ComputeReadWrite) };
         pass.record(move |ctx| ctx.dispatch(&self.cells, &[&own], &params, threads));
 
-        self.scan.add(graph, "emission cell starts", CELLS, &mut counts);
+        self.scan.add(graph, "emission cell starts", CELLS, &mut counts)?;
 
         let mut pass = graph.pass("emission order");
         let own = EmissionOrderBindings {

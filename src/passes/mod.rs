@@ -19,6 +19,7 @@ pub mod photons;
 pub mod raycast;
 pub mod readback;
 pub mod reference;
+pub mod scan;
 pub mod sort;
 pub mod splat;
 pub mod tonemap;

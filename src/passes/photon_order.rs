@@ -21,7 +21,7 @@ use leakless_scene::Aabb;
 use crate::error::Result;
 use crate::passes::photon_dispatch::{check_workgroup, PhotonDispatch};
 use crate::passes::photons::{Photon, PhotonCounters};
-use crate::passes::sort::ScanPass;
+use crate::passes::scan::ScanPass;
 use crate::shaders;
 
 /// Bits per axis of a cell index (`PHOTON_CELL_BITS` in photon_cell.glsl): 32 cells a side.
@@ -61,6 +61,7 @@ shader_bindings! {
         photons: array(Photon::LAYOUT),
         photon_counters: block(PhotonCounters::LAYOUT),
         cell_counts: words,
+        photon_cell_of: words,
     }
 }
 
@@ -70,6 +71,7 @@ shader_bindings! {
         photon_counters: block(PhotonCounters::LAYOUT),
         cell_starts: words,
         ordered_photons: array(Photon::LAYOUT),
+        photon_cell_of: words,
     }
 }
 
@@ -112,6 +114,12 @@ impl PhotonOrderPass {
             usage: vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_DST,
             location: MemoryLocation::GpuOnly,
         })?;
+        let mut cell_of = graph.buffer(&BufferDesc {
+            name: "photon cell of",
+            size: 4 * dispatch.capacity.max(1) as u64,
+            usage: vk::BufferUsageFlags::STORAGE_BUFFER,
+            location: MemoryLocation::GpuOnly,
+        })?;
         let mut clear = graph.pass("photon cells clear");
         let cleared = clear.write(&mut counts, Access::TransferWrite);
         clear.record(move |ctx| {
@@ -125,11 +133,12 @@ impl PhotonOrderPass {
             photons: pass.read(photons, Access::ComputeRead),
             photon_counters: pass.read(photon_counters, Access::ComputeRead),
             cell_counts: pass.write(&mut counts, Access::ComputeReadWrite),
+            photon_cell_of: pass.write(&mut cell_of, Access::ComputeWrite),
         };
         let (args, threads) = (dispatch.declare(&mut pass), dispatch.most_threads());
         pass.record(move |ctx| ctx.dispatch_indirect(&self.cells, &[&own], &params, args, threads));
 
-        self.scan.add(graph, "photon cell starts", CELLS, &mut counts);
+        self.scan.add(graph, "photon cell starts", CELLS, &mut counts)?;
 
         let mut pass = graph.pass("photon order");
         let own = OrderBindings {
@@ -137,6 +146,7 @@ impl PhotonOrderPass {
             photon_counters: pass.read(photon_counters, Access::ComputeRead),
             cell_starts: pass.write(&mut counts, Access::ComputeReadWrite),
             ordered_photons: pass.write(ordered, Access::ComputeWrite),
+            photon_cell_of: pass.read(&cell_of, Access::ComputeRead),
         };
         let (args, threads) = (dispatch.declare(&mut pass), dispatch.most_threads());
         pass.record(move |ctx| ctx.dispatch_indirect(&self.order, &[&own], &params, args, threads));

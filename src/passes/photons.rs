@@ -123,11 +123,22 @@ pub struct PhotonParams {
     /// Index of path 0 in the low-discrepancy sequence: frame i of an accumulation traces
     /// paths i·N .. (i+1)·N of one sequence, so frames continue it rather than reseed.
     pub path_offset: u32,
+    /// Threads take paths grouped by emission cell (emission_order.rs): the same photons,
+    /// stored in another order, sooner. Off for `leakless-capped`, whose cap keeps the first
+    /// photons of a list: in emission order they would come from one part of the light.
+    pub emission_order: bool,
 }
 
 impl Default for PhotonParams {
     fn default() -> Self {
-        PhotonParams { paths: 10_000, max_bounces: 8, seed: 0, store_direct: false, path_offset: 0 }
+        PhotonParams {
+            paths: 10_000,
+            max_bounces: 8,
+            seed: 0,
+            store_direct: false,
+            path_offset: 0,
+            emission_order: true,
+        }
     }
 }
 
@@ -162,8 +173,6 @@ pub struct PhotonPass {
     /// ends, so each thread traces about this many paths, taking the next when one ends; a
     /// GPU keeps one path per thread, since it needs every thread it can get in flight.
     paths_per_thread: u32,
-    /// Whether threads take paths in emission order (the same photons either way).
-    emission_order_on: bool,
 }
 
 impl PhotonPass {
@@ -175,7 +184,6 @@ impl PhotonPass {
             pipeline,
             emission_order: EmissionOrderPass::new(gpu)?,
             paths_per_thread: if cpu { PATHS_PER_CPU_THREAD } else { 1 },
-            emission_order_on: true,
         })
     }
 
@@ -183,11 +191,6 @@ impl PhotonPass {
     /// paths both ways on one device.
     pub fn set_paths_per_thread(&mut self, paths_per_thread: u32) {
         self.paths_per_thread = paths_per_thread.max(1);
-    }
-
-    /// Whether threads take paths in emission order (on by default; tests compare both).
-    pub fn set_emission_order(&mut self, on: bool) {
-        self.emission_order_on = on;
     }
 
     /// Adds two passes: "photon counters" zeroes `counters` (a transfer), then "photons"
@@ -233,7 +236,7 @@ impl PhotonPass {
             store_direct: params.store_direct as u32,
             path_offset: params.path_offset,
             threads: paths.div_ceil(self.paths_per_thread),
-            ordered: self.emission_order_on as u32,
+            ordered: params.emission_order as u32,
             ..Default::default()
         };
 
@@ -244,7 +247,10 @@ impl PhotonPass {
             Ok(())
         });
 
-        let order = EmissionOrderParams { paths, path_offset: params.path_offset, seed: params.seed, pad0: 0 };
+        // Without the order the buffer is bound but not read.
+        let ordered_paths = if params.emission_order { paths } else { 0 };
+        let order =
+            EmissionOrderParams { paths: ordered_paths, path_offset: params.path_offset, seed: params.seed, pad0: 0 };
         let path_order = self.emission_order.add(graph, order)?;
 
         let mut pass = graph.pass("photons");
@@ -345,11 +351,6 @@ impl<'g> PhotonTracer<'g> {
     /// Paths each thread traces ([`PhotonPass::set_paths_per_thread`]).
     pub fn set_paths_per_thread(&mut self, paths_per_thread: u32) {
         self.pass.set_paths_per_thread(paths_per_thread);
-    }
-
-    /// Whether threads take paths in emission order ([`PhotonPass::set_emission_order`]).
-    pub fn set_emission_order(&mut self, on: bool) {
-        self.pass.set_emission_order(on);
     }
 
     /// The light table photons are emitted from.

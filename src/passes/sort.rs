@@ -31,6 +31,7 @@ use leakless_device::{gpu_struct, BindingDecl, BufferDesc, ComputePipeline, Gpu,
 use leakless_graph::{shader_bindings, Access, BufferHandle, Graph};
 
 use crate::error::{RenderError, Result};
+use crate::passes::scan::ScanPass;
 use crate::shaders;
 
 /// Threads per workgroup of every sort shader (`SORT_WORKGROUP_SIZE` in sort.glsl, checked
@@ -44,7 +45,7 @@ pub const ITEMS_PER_THREAD: u32 = 16;
 pub const BLOCK: u32 = WORKGROUP_SIZE * ITEMS_PER_THREAD;
 /// Bits per digit: 16 buckets.
 pub const DIGIT_BITS: u32 = 4;
-const RADIX: u32 = 1 << DIGIT_BITS;
+pub(crate) const RADIX: u32 = 1 << DIGIT_BITS;
 /// Workgroups the histogram and scatter passes may dispatch: Vulkan's guaranteed minimum of
 /// `maxComputeWorkGroupCount[0]`, so the bound holds on every device.
 pub const MAX_GROUPS: u32 = 65_535;
@@ -77,12 +78,6 @@ gpu_struct! {
 shader_bindings! {
     pub struct HistogramBindings {
         keys_in: array(u32::LAYOUT),
-        histograms: array(u32::LAYOUT),
-    }
-}
-
-shader_bindings! {
-    pub struct ScanBindings {
         histograms: array(u32::LAYOUT),
     }
 }
@@ -134,7 +129,12 @@ fn key_limit(key_bits: u32) -> u32 {
 }
 
 /// One pipeline of the sort, its workgroup size checked against [`WORKGROUP_SIZE`].
-fn sort_pipeline(gpu: &Gpu, name: &str, shader: &ShaderInfo, decls: &[BindingDecl]) -> Result<ComputePipeline> {
+pub(crate) fn sort_pipeline(
+    gpu: &Gpu,
+    name: &str,
+    shader: &ShaderInfo,
+    decls: &[BindingDecl],
+) -> Result<ComputePipeline> {
     let pipeline = ComputePipeline::new(gpu, name, shader, decls, Some(&SortParams::LAYOUT))?;
     if pipeline.workgroup_size() != [WORKGROUP_SIZE, 1, 1] {
         return Err(RenderError::Settings(format!(
@@ -143,28 +143,6 @@ fn sort_pipeline(gpu: &Gpu, name: &str, shader: &ShaderInfo, decls: &[BindingDec
         )));
     }
     Ok(pipeline)
-}
-
-/// An exclusive prefix sum of u32 counts, in place, by one workgroup (`sort_scan.comp`): the
-/// sort's step 2, and on its own the start of every photon cell (photon_order.rs).
-pub struct ScanPass {
-    pipeline: ComputePipeline,
-}
-
-impl ScanPass {
-    pub fn new(gpu: &Gpu) -> Result<Self> {
-        Ok(ScanPass { pipeline: sort_pipeline(gpu, "sort scan", &shaders::SORT_SCAN_COMP, ScanBindings::DECLS)? })
-    }
-
-    /// Adds a pass named `name` that turns the first `words` counts of `counts` (a multiple
-    /// of 16, the scan's unit) into exclusive prefix sums.
-    pub fn add<'r>(&'r self, graph: &mut Graph<'r>, name: &str, words: u32, counts: &mut BufferHandle) {
-        debug_assert_eq!(words % RADIX, 0, "the scan walks 16 counts per sort workgroup");
-        let params = SortParams { group_count: words / RADIX, ..Default::default() };
-        let mut pass = graph.pass(name);
-        let own = ScanBindings { histograms: pass.write(counts, Access::ComputeReadWrite) };
-        pass.record(move |ctx| ctx.dispatch(&self.pipeline, &[&own], &params, [WORKGROUP_SIZE, 1, 1]));
-    }
 }
 
 pub struct SortPass {
@@ -235,9 +213,9 @@ impl SortPass {
             let ctx = DigitPass { sort: self, digit, params };
             // Even digit passes read the caller's buffers, odd ones the scratch pair.
             if digit % 2 == 0 {
-                ctx.add(graph, (&*keys, &*values), (&mut scratch_keys, &mut scratch_values), &mut histograms);
+                ctx.add(graph, (&*keys, &*values), (&mut scratch_keys, &mut scratch_values), &mut histograms)?;
             } else {
-                ctx.add(graph, (&scratch_keys, &scratch_values), (&mut *keys, &mut *values), &mut histograms);
+                ctx.add(graph, (&scratch_keys, &scratch_values), (&mut *keys, &mut *values), &mut histograms)?;
             }
         }
         if digits % 2 == 1 {
@@ -270,7 +248,7 @@ impl<'r> DigitPass<'r> {
         (keys_in, values_in): (&BufferHandle, &BufferHandle),
         (keys_out, values_out): (&mut BufferHandle, &mut BufferHandle),
         histograms: &mut BufferHandle,
-    ) {
+    ) -> Result<()> {
         let (sort, digit, params) = (self.sort, self.digit, self.params);
         let threads = [params.group_count * WORKGROUP_SIZE, 1, 1];
 
@@ -281,7 +259,7 @@ impl<'r> DigitPass<'r> {
         };
         pass.record(move |ctx| ctx.dispatch(&sort.histogram, &[&own], &params, threads));
 
-        sort.scan.add(graph, &format!("sort scan {digit}"), RADIX * params.group_count, histograms);
+        sort.scan.add(graph, &format!("sort scan {digit}"), RADIX * params.group_count, histograms)?;
 
         let mut pass = graph.pass(&format!("sort scatter {digit}"));
         let own = ScatterBindings {
@@ -292,6 +270,7 @@ impl<'r> DigitPass<'r> {
             values_out: pass.write(values_out, Access::ComputeWrite),
         };
         pass.record(move |ctx| ctx.dispatch(&sort.scatter, &[&own], &params, threads));
+        Ok(())
     }
 }
 

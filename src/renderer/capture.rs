@@ -19,7 +19,7 @@ pub struct Capture {
     pub albedo: Vec<[f32; 4]>,
     pub photons: Vec<Photon>,
     /// The same photons in the order the splat and the gather read them, grouped by cell
-    /// (`passes::photon_order`); empty when `order_photons` is off.
+    /// (`passes::photon_order`); empty when `order_photons` is off or the gather is capped.
     pub ordered_photons: Vec<Photon>,
     /// For methods that splat: the box (min, max) around the valid view samples that
     /// `sample_bounds.comp` reduced on the GPU and the hierarchy was quantised to.
@@ -79,6 +79,8 @@ impl Renderer {
             let capacity = last.map_or(0, |s| s.paths).saturating_mul(self.settings.max_bounces.max(1));
             (photon_buffer_size(capacity), last.map_or(0, |s| s.photons_stored))
         });
+        // The splat read an ordered copy (not for a capped gather: splatting.rs says why).
+        let ordered = self.settings.photon_settings().is_some_and(|s| s.order_photons && s.cap.is_none());
         let mut g = self.runner.graph(&self.gpu)?;
         let gbuffer = GBufferHandles::new(&mut g, extent)?;
         readback::add(&mut g, CAPTURE_BUFFER, &[&gbuffer.position, &gbuffer.normal, &gbuffer.albedo])?;
@@ -90,7 +92,7 @@ impl Renderer {
                 BufferDesc { name: "photons", size, usage: PHOTON_BUFFER_USAGE, location: MemoryLocation::GpuOnly };
             let bytes = photon_count as u64 * std::mem::size_of::<Photon>() as u64;
             copy_to_host(&mut g, &desc, bytes, PHOTON_CAPTURE_BUFFER)?;
-            if self.settings.splat.order_photons {
+            if ordered {
                 copy_to_host(
                     &mut g,
                     &BufferDesc { name: ORDERED_PHOTONS, ..desc },
@@ -115,7 +117,7 @@ impl Renderer {
             _ => vec![],
         };
         let ordered_photons = match pool.frame_buffer(ORDERED_PHOTON_CAPTURE_BUFFER, done.slot) {
-            Some(b) if photon_count > 0 && self.settings.splat.order_photons => b.read_vec(photon_count)?,
+            Some(b) if photon_count > 0 && ordered => b.read_vec(photon_count)?,
             _ => vec![],
         };
         let sample_bounds = match pool.frame_buffer(BOUNDS_CAPTURE_BUFFER, done.slot) {

@@ -4,8 +4,8 @@
 
 use leakless::passes::hierarchy::{build, morton, sample_bounds};
 use leakless::passes::{
-    accumulate, compose, direct, gather, gbuffer, hang, luminance, photon_clearance, photons, raycast, reference, sort,
-    splat, tonemap, view_bindings, visible_disk,
+    accumulate, compose, direct, emission_order, gather, gbuffer, hang, luminance, photon_clearance, photon_dispatch,
+    photon_order, photons, raycast, reference, scan, sort, splat, tonemap, view_bindings, visible_disk,
 };
 use leakless::shaders;
 use leakless::Backend;
@@ -85,7 +85,37 @@ fn compute_passes(backend: Backend) -> Vec<(&'static str, &'static ShaderInfo, V
             sort::HistogramBindings::DECLS.to_vec(),
             Some(sort::SortParams::LAYOUT),
         ),
-        ("sort scan", &shaders::SORT_SCAN_COMP, sort::ScanBindings::DECLS.to_vec(), Some(sort::SortParams::LAYOUT)),
+        ("sort scan", &shaders::SORT_SCAN_COMP, scan::ScanBindings::DECLS.to_vec(), Some(sort::SortParams::LAYOUT)),
+        (
+            "photon dispatch",
+            &shaders::PHOTON_DISPATCH_COMP,
+            photon_dispatch::PhotonDispatchBindings::DECLS.to_vec(),
+            Some(photon_dispatch::PhotonDispatchParams::LAYOUT),
+        ),
+        (
+            "photon cells",
+            &shaders::PHOTON_CELLS_COMP,
+            photon_order::CellBindings::DECLS.to_vec(),
+            Some(photon_order::PhotonOrderParams::LAYOUT),
+        ),
+        (
+            "photon order",
+            &shaders::PHOTON_ORDER_COMP,
+            photon_order::OrderBindings::DECLS.to_vec(),
+            Some(photon_order::PhotonOrderParams::LAYOUT),
+        ),
+        (
+            "emission cells",
+            &shaders::EMISSION_CELLS_COMP,
+            emission_order::EmissionCellBindings::DECLS.to_vec(),
+            Some(emission_order::EmissionOrderParams::LAYOUT),
+        ),
+        (
+            "emission order",
+            &shaders::EMISSION_ORDER_COMP,
+            emission_order::EmissionOrderBindings::DECLS.to_vec(),
+            Some(emission_order::EmissionOrderParams::LAYOUT),
+        ),
         (
             "sort scatter",
             &shaders::SORT_SCATTER_COMP,

@@ -196,10 +196,9 @@ fn every_path_is_traced_once_however_many_a_thread_takes() {
     let (_, mut tracer) = cornell_tracer(&gpu);
     let params = PhotonParams { paths: 3001, max_bounces: 8, seed: 5, store_direct: true, ..Default::default() };
     let mut traces = Vec::new();
-    for (per_thread, ordered) in [(1, true), (8, true), (7, true), (3001, true), (1, false), (8, false)] {
+    for (per_thread, emission_order) in [(1, true), (8, true), (7, true), (3001, true), (1, false), (8, false)] {
         tracer.set_paths_per_thread(per_thread);
-        tracer.set_emission_order(ordered);
-        let t = tracer.trace(&params).unwrap();
+        let t = tracer.trace(&PhotonParams { emission_order, ..params }).unwrap();
         traces.push((per_thread, t.counters, sorted(t.photons)));
     }
     let (_, counters, photons) = &traces[0];

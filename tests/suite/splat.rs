@@ -330,4 +330,19 @@ fn ordering_photons_changes_no_pixel() {
         assert!(ordered <= bound, "{path}: {ordered} runs");
         assert!(traced > bound, "{path}: the trace's order passes the bound as well ({traced} runs)");
     }
+    // leakless-capped keeps a list's first photons: it reads them in the traced order.
+    let gpu = common::gpu_with(false).expect("device");
+    let capped = RenderSettings {
+        method: Method::LeakLessCapped,
+        ..settings(64, 48, SplatSettings { paths: 4000, ..Default::default() }, 8, 1)
+    };
+    let mut r = Renderer::new(gpu, &common::scene("scenes/cornell-box.gltf"), capped).expect("renderer");
+    let frame = r.render().expect("render");
+    let passes: Vec<&str> = frame.timings.iter().map(|t| t.name.as_str()).collect();
+    assert!(passes.contains(&"splat") && !passes.contains(&"photon order"), "capped: {passes:?}");
+    let capture = r.capture().expect("capture");
+    assert!(
+        !capture.photons.is_empty() && capture.ordered_photons.is_empty(),
+        "the capped gather read ordered photons"
+    );
 }

@@ -148,7 +148,9 @@ impl<'a> Cmd<'a> {
     /// Dispatches `pipeline` with the workgroup counts the device finds at `offset` in `args`
     /// (a `VkDispatchIndirectCommand`, written by an earlier pass), which are never more than
     /// `most_threads` need: that bound is checked against the device's limit here, since the
-    /// counts themselves are not known on the host.
+    /// counts themselves are not known on the host. `args` must have been created with
+    /// `INDIRECT_BUFFER` usage, which a [`Buffer`] does not record, so it is not checked here
+    /// (the validation layers do).
     pub fn dispatch_indirect(
         &mut self,
         pipeline: &ComputePipeline,
@@ -159,9 +161,10 @@ impl<'a> Cmd<'a> {
         most_threads: [u32; 3],
     ) -> Result<()> {
         self.workgroups(pipeline, most_threads)?;
-        if offset + 12 > args.size() {
+        // Vulkan: a multiple of 4, and the command's 12 bytes inside the buffer.
+        if offset % 4 != 0 || offset.checked_add(12).is_none_or(|end| end > args.size()) {
             return Err(DeviceError::Limit(format!(
-                "{}: indirect dispatch arguments at byte {offset} lie beyond the {}-byte buffer",
+                "{}: indirect dispatch arguments at byte {offset} are misaligned or beyond the {}-byte buffer",
                 pipeline.name,
                 args.size()
             )));
