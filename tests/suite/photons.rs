@@ -196,11 +196,25 @@ fn every_path_is_traced_once_however_many_a_thread_takes() {
     let (_, mut tracer) = cornell_tracer(&gpu);
     let params = PhotonParams { paths: 3001, max_bounces: 8, seed: 5, store_direct: true, ..Default::default() };
     let mut traces = Vec::new();
+    let mut gaps = Vec::new();
     for (per_thread, emission_order) in [(1, true), (8, true), (7, true), (3001, true), (1, false), (8, false)] {
         tracer.set_paths_per_thread(per_thread);
         let t = tracer.trace(&PhotonParams { emission_order, ..params }).unwrap();
+        // How far apart the first hits of neighbouring threads lie, in the order they were stored.
+        let first: Vec<DVec3> = t.photons.iter().filter(|p| p.bounce == 0).map(|p| v(p.position)).collect();
+        let gap = first.windows(2).map(|w| (w[1] - w[0]).length()).sum::<f64>() / (first.len() - 1) as f64;
+        gaps.push((per_thread, emission_order, gap));
         traces.push((per_thread, t.counters, sorted(t.photons)));
     }
+    // The order groups what it should: one path a thread, neighbouring threads' first hits lie
+    // far closer together taken in emission order than in index order (Sobol points spread).
+    let gap = |per_thread, ordered| gaps.iter().find(|g| (g.0, g.1) == (per_thread, ordered)).expect("traced").2;
+    eprintln!(
+        "mean gap between consecutive first hits: {:.4} in emission order, {:.4} in index order",
+        gap(1, true),
+        gap(1, false)
+    );
+    assert!(gap(1, true) < 0.5 * gap(1, false), "emission order does not group the paths");
     let (_, counters, photons) = &traces[0];
     // No path twice: one photon per (path, bounce); paths that escape through the open front
     // before a hit store nothing.

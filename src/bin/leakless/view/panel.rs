@@ -53,8 +53,12 @@ pub struct Sliders {
     pub duration: Option<f32>,
 }
 
-/// Short groups of passes, so the bars stay readable (the sort's 24 passes are one bar).
+/// Short groups of passes, so the bars stay readable (the sort's 24 passes are one bar). The
+/// passes that order the photon pass's paths (emission_order.rs) count as photon tracing.
 fn group(pass: &str) -> &str {
+    if pass.starts_with("emission") {
+        return "photon";
+    }
     for prefix in ["sort", "hierarchy", "luminance", "photon", "splat", "gather", "sample bounds"] {
         if pass.starts_with(prefix) {
             return prefix;
