@@ -1,5 +1,5 @@
 //! A minimal SPIR-V reader for build.rs: the descriptor bindings of a module (name, set,
-//! binding, kind) and its workgroup size, read straight from the words. It covers what naga
+//! binding, kind, access qualifiers) and its workgroup size, read straight from the words. It covers what naga
 //! cannot: modules naga's SPIR-V front end rejects (ray queries), and combined image samplers,
 //! which naga folds into the image type. Buffer layouts are left to naga.
 //!
@@ -22,6 +22,7 @@ const OP_TYPE_STRUCT: u32 = 30;
 const OP_TYPE_POINTER: u32 = 32;
 const OP_VARIABLE: u32 = 59;
 const OP_DECORATE: u32 = 71;
+const OP_MEMBER_DECORATE: u32 = 72;
 const OP_TYPE_ACCELERATION_STRUCTURE_KHR: u32 = 5341; // also OpTypeAccelerationStructureNV
 
 // Execution mode.
@@ -42,6 +43,8 @@ const BLOCK: u32 = 2;
 const BUFFER_BLOCK: u32 = 3;
 const BINDING: u32 = 33;
 const DESCRIPTOR_SET: u32 = 34;
+const NON_WRITABLE: u32 = 24;
+const NON_READABLE: u32 = 25;
 
 /// One descriptor binding of a module.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -53,6 +56,9 @@ pub struct Resource {
     pub binding: u32,
     /// Name of the `leakless_device::shader::BindingKind` variant.
     pub kind: &'static str,
+    /// Name of the `leakless_device::shader::BindingAccess` variant: what the GLSL's
+    /// `readonly` / `writeonly` allow (uniforms, samplers and acceleration structures are read).
+    pub access: &'static str,
 }
 
 /// What [`scan`] found.
@@ -86,6 +92,8 @@ pub fn scan(words: &[u32]) -> Result<Scan, String> {
     let (mut types, mut element, mut pointee) = (HashMap::new(), HashMap::new(), HashMap::new());
     let (mut sets, mut bindings, mut blocks) = (HashMap::new(), HashMap::new(), HashMap::new());
     let (mut vars, mut local_size) = (Vec::new(), [1; 3]);
+    // `readonly` / `writeonly`: on the variable (images), or on every member of a block.
+    let (mut qualified, mut members, mut member_count) = (HashMap::new(), HashMap::new(), HashMap::new());
     let mut i = 5; // after the header
     while i < words.len() {
         let (len, opcode) = ((words[i] >> 16) as usize, words[i] & 0xffff);
@@ -102,12 +110,21 @@ pub fn scan(words: &[u32]) -> Result<Scan, String> {
             (OP_TYPE_SAMPLER, [id]) => _ = types.insert(*id, Ty::Sampler),
             (OP_TYPE_SAMPLED_IMAGE, [id, _]) => _ = types.insert(*id, Ty::SampledImage),
             (OP_TYPE_ARRAY | OP_TYPE_RUNTIME_ARRAY, [id, el, ..]) => _ = element.insert(*id, *el),
-            (OP_TYPE_STRUCT, [id, ..]) => _ = types.insert(*id, Ty::Struct),
+            (OP_TYPE_STRUCT, [id, m @ ..]) => {
+                types.insert(*id, Ty::Struct);
+                member_count.insert(*id, m.len());
+            }
             (OP_TYPE_POINTER, [id, _, ty]) => _ = pointee.insert(*id, *ty),
             (OP_VARIABLE, [ptr, id, class, ..]) => vars.push((*id, *ptr, *class)),
             (OP_DECORATE, [id, DESCRIPTOR_SET, set]) => _ = sets.insert(*id, *set),
             (OP_DECORATE, [id, BINDING, b]) => _ = bindings.insert(*id, *b),
             (OP_DECORATE, [id, d @ (BLOCK | BUFFER_BLOCK)]) => _ = blocks.insert(*id, *d),
+            (OP_DECORATE, [id, d @ (NON_WRITABLE | NON_READABLE)]) => {
+                qualified.entry(*id).or_insert_with(Vec::new).push(*d)
+            }
+            (OP_MEMBER_DECORATE, [id, m, d @ (NON_WRITABLE | NON_READABLE)]) => {
+                members.entry((*id, *d)).or_insert_with(std::collections::HashSet::new).insert(*m);
+            }
             (OP_TYPE_ACCELERATION_STRUCTURE_KHR, [id]) => _ = types.insert(*id, Ty::AccelerationStructure),
             _ => {}
         }
@@ -153,7 +170,22 @@ pub fn scan(words: &[u32]) -> Result<Scan, String> {
                 block.to_lowercase()
             ));
         }
-        resources.push(Resource { name, set, binding, kind });
+        let has = |d: u32| {
+            qualified.get(&id).is_some_and(|ds| ds.contains(&d))
+                || members
+                    .get(&(ty, d))
+                    .is_some_and(|m| m.len() == member_count.get(&ty).copied().unwrap_or(usize::MAX))
+        };
+        let access = match kind {
+            "StorageBuffer" | "StorageImage" => match (has(NON_WRITABLE), has(NON_READABLE)) {
+                (true, true) => return Err(format!("{} is both readonly and writeonly", at())),
+                (true, false) => "Read",
+                (false, true) => "Write",
+                (false, false) => "ReadWrite",
+            },
+            _ => "Read",
+        };
+        resources.push(Resource { name, set, binding, kind, access });
     }
     resources.sort_by(|a, b| (a.set, a.binding, &a.name).cmp(&(b.set, b.binding, &b.name)));
     Ok(Scan { resources, local_size, push_constants })

@@ -3,15 +3,14 @@
 // punctual light it sees, L = ρ/π · Σ V · E_light, with one shadow ray per light (V).
 #include "trace.glsl"
 #include "common.glsl"
+#include "gbuffer.glsl"
 #include "light.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
 
 FRAME_BLOCK(0);
 layout(set = 0, binding = 1, std430) readonly buffer Lights { Light lights[]; } lights;
-layout(set = 0, binding = 2, rgba32f) uniform readonly image2D gbuffer_position;
-layout(set = 0, binding = 3, rgba32f) uniform readonly image2D gbuffer_normal;
-layout(set = 0, binding = 4, rgba32f) uniform readonly image2D gbuffer_albedo;
+GBUFFER_BINDINGS(2)
 layout(set = 0, binding = 5, rgba32f) uniform writeonly image2D direct;
 
 void main() {

@@ -25,15 +25,14 @@
 // bit-identical for a fixed seed.
 #include "trace.glsl"
 #include "common.glsl"
+#include "gbuffer.glsl"
 #include "hierarchy.glsl"
 #include "photon.glsl"
 #include "disk.glsl"
 
 layout(local_size_x = 64) in;
 
-layout(set = 0, binding = 0, rgba32f) uniform readonly image2D gbuffer_position;
-layout(set = 0, binding = 1, rgba32f) uniform readonly image2D gbuffer_normal;
-layout(set = 0, binding = 2, rgba32f) uniform readonly image2D gbuffer_albedo;
+GBUFFER_BINDINGS(0)
 layout(set = 0, binding = 3, std430) readonly buffer SortedKeys { uint keys[]; } sorted_keys;
 layout(set = 0, binding = 4, std430) readonly buffer SortedSamples { uint pixels[]; } sorted_samples;
 layout(set = 0, binding = 5, std430) readonly buffer Levels { Level levels[]; } levels;

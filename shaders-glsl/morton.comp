@@ -2,15 +2,16 @@
 // 30-bit Morton code of every pixel's view sample, quantised to the view-sample bounds, with
 // the pixel index as value. Pixels without a surface get INVALID_SAMPLE_KEY and sort last.
 #include "common.glsl"
+#include "gbuffer.glsl"
 #include "hierarchy.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
 
 FRAME_BLOCK(0);
-layout(set = 0, binding = 1, rgba32f) uniform readonly image2D gbuffer_position;
-layout(set = 0, binding = 2, std430) readonly buffer SampleBounds { uint min_key[3]; uint max_key[3]; } sample_bounds;
-layout(set = 0, binding = 3, std430) writeonly buffer MortonKeys { uint keys[]; } morton_keys;
-layout(set = 0, binding = 4, std430) writeonly buffer MortonValues { uint values[]; } morton_values;
+GBUFFER_BINDINGS(1)
+layout(set = 0, binding = 4, std430) readonly buffer SampleBounds { uint min_key[3]; uint max_key[3]; } sample_bounds;
+layout(set = 0, binding = 5, std430) writeonly buffer MortonKeys { uint keys[]; } morton_keys;
+layout(set = 0, binding = 6, std430) writeonly buffer MortonValues { uint values[]; } morton_values;
 
 float from_order_key(uint k) {
     return uintBitsToFloat((k & 0x80000000u) != 0u ? (k & 0x7fffffffu) : ~k);

@@ -5,6 +5,7 @@
 // comes from the direct pass) and adds `sample_count` samples to a running sum.
 #include "trace.glsl"
 #include "common.glsl"
+#include "gbuffer.glsl"
 #include "light.glsl"
 #include "random.glsl"
 
@@ -12,9 +13,7 @@ layout(local_size_x = 8, local_size_y = 8) in;
 
 FRAME_BLOCK(0);
 layout(set = 0, binding = 1, std430) readonly buffer Lights { Light lights[]; } lights;
-layout(set = 0, binding = 2, rgba32f) uniform readonly image2D gbuffer_position;
-layout(set = 0, binding = 3, rgba32f) uniform readonly image2D gbuffer_normal;
-layout(set = 0, binding = 4, rgba32f) uniform readonly image2D gbuffer_albedo;
+GBUFFER_BINDINGS(2)
 layout(set = 0, binding = 5, rgba32f) uniform image2D accumulated;
 layout(push_constant) uniform ReferenceParams {
     uint first_sample;   // index of this dispatch's first sample in the sequence

@@ -8,13 +8,14 @@
 // than the splat. A tree in shared memory needs no atomics (on CPU drivers each shared atomic
 // is a locked instruction per lane, sort_histogram.comp) and leaves 64 times fewer global ones.
 #include "common.glsl"
+#include "gbuffer.glsl"
 
 #define BOUNDS_THREADS 64u
 layout(local_size_x = 8, local_size_y = 8) in;
 
 FRAME_BLOCK(0);
-layout(set = 0, binding = 1, rgba32f) uniform readonly image2D gbuffer_position;
-layout(set = 0, binding = 2, std430) buffer SampleBounds { uint min_key[3]; uint max_key[3]; } sample_bounds;
+GBUFFER_BINDINGS(1)
+layout(set = 0, binding = 4, std430) buffer SampleBounds { uint min_key[3]; uint max_key[3]; } sample_bounds;
 
 shared uvec3 s_min[BOUNDS_THREADS];
 shared uvec3 s_max[BOUNDS_THREADS];

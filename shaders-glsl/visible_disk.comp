@@ -32,18 +32,18 @@
 // occluder lower than the lift the two disagree a little.
 #include "trace.glsl"
 #include "common.glsl"
+#include "gbuffer.glsl"
 #include "disk.glsl"
 #include "random.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
 
 FRAME_BLOCK(0);
-layout(set = 0, binding = 1, rgba32f) uniform readonly image2D gbuffer_position;
-layout(set = 0, binding = 2, rgba32f) uniform readonly image2D gbuffer_normal;
-layout(set = 0, binding = 3, rgba32f) uniform writeonly image2D disk_mass;
+GBUFFER_BINDINGS(1)
+layout(set = 0, binding = 4, rgba32f) uniform writeonly image2D disk_mass;
 // Per triangle, its coplanar neighbour across edge k (vertices k, k + 1), or NO_NEIGHBOUR
 // (Scene::coplanar_neighbours says which triangles are linked).
-layout(set = 0, binding = 4, std430) readonly buffer CoplanarNeighbours { uint ids[]; } coplanar_neighbours;
+layout(set = 0, binding = 5, std430) readonly buffer CoplanarNeighbours { uint ids[]; } coplanar_neighbours;
 layout(push_constant) uniform VisibleDiskParams {
     float radius;   // this frame's gather radius
     uint seed;      // this frame's seed (the rays' rotation)

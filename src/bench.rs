@@ -2,10 +2,12 @@
 //! between processes), printed by `leakless bench`, never asserted by a timed test.
 
 use leakless_device::Gpu;
+use leakless_graph::PassName;
 use leakless_scene::Scene;
 
 use crate::error::Result;
 use crate::gpu_types::GpuRay;
+use crate::passes::names::group;
 use crate::raycast::RayCaster;
 use crate::raygen;
 use crate::trace::Backend;
@@ -65,8 +67,9 @@ pub struct Measured {
     pub label: String,
     pub settings: crate::RenderSettings,
     pub frame: crate::RenderedFrame,
-    /// Host wall time of each pass's own submission, ms, in frame order.
-    pub passes: Vec<(String, f64)>,
+    /// Host wall time of each pass's own submission, ms, in frame order, with the pass's
+    /// group (`passes::names::group`).
+    pub passes: Vec<(String, &'static str, f64)>,
 }
 
 impl Measured {
@@ -95,7 +98,7 @@ impl Measured {
         let mut best: Option<Measured> = None;
         for _ in 0..repeats.max(1) {
             let frame = renderer.render()?;
-            let passes = frame.timings.iter().map(|t| (t.name.clone(), t.wall_ms.unwrap_or(t.ms))).collect();
+            let passes = frame.timings.iter().map(|t| (t.name.clone(), t.group, t.wall_ms.unwrap_or(t.ms))).collect();
             let run = Measured { label: label.to_string(), settings: settings.clone(), frame, passes };
             if best.as_ref().is_none_or(|b| run.frame_ms() < b.frame_ms()) {
                 best = Some(run);
@@ -110,29 +113,29 @@ impl Measured {
         self.frame.splat.as_ref().expect("benchmarks run photon methods")
     }
 
-    /// Summed time of the passes whose name starts with any of `prefixes`.
-    pub fn ms(&self, prefixes: &[&str]) -> f64 {
-        self.passes.iter().filter(|(n, _)| prefixes.iter().any(|p| n.starts_with(p))).map(|(_, ms)| ms).sum()
+    /// Summed time of the passes of `group` (`passes::names::group`).
+    pub fn group_ms(&self, group: &str) -> f64 {
+        // (+ 0.0: an empty f64 sum is -0.0.)
+        self.passes.iter().filter(|(_, g, _)| *g == group).map(|(_, _, ms)| ms).sum::<f64>() + 0.0
     }
     pub fn frame_ms(&self) -> f64 {
-        self.passes.iter().map(|(_, ms)| ms).sum()
+        self.passes.iter().map(|(_, _, ms)| ms).sum()
     }
-    /// The time of the pass named exactly `name`.
-    pub fn pass_ms(&self, name: &str) -> f64 {
-        // (+ 0.0: an empty f64 sum is -0.0.)
-        self.passes.iter().filter(|(n, _)| n == name).map(|(_, ms)| ms).sum::<f64>() + 0.0
+    /// The time of the pass `name`.
+    pub fn pass_ms(&self, name: PassName) -> f64 {
+        self.passes.iter().filter(|(n, _, _)| n == name.label).map(|(_, _, ms)| ms).sum::<f64>() + 0.0
     }
-    /// The photon pass and the passes that order its paths (emission_order.rs).
+    /// The photon pass and the passes that order its paths (emission_order.rs) and count them.
     pub fn photons_ms(&self) -> f64 {
-        self.pass_ms("photons") + self.ms(&["emission"])
+        self.group_ms(group::PHOTONS)
     }
     pub fn hierarchy_ms(&self) -> f64 {
-        self.ms(&["sample bounds", "morton", "sort ", "hierarchy"])
+        self.group_ms(group::HIERARCHY)
     }
     pub fn splat_ms(&self) -> f64 {
-        self.ms(&["splat"])
+        self.group_ms(group::SPLAT)
     }
     pub fn gather_ms(&self) -> f64 {
-        self.ms(&["gather"])
+        self.group_ms(group::GATHER)
     }
 }

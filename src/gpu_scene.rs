@@ -5,7 +5,7 @@
 use ash::vk;
 use glam::Vec3;
 use leakless_device::{Buffer, Gpu, GpuStruct};
-use leakless_graph::{shader_bindings, Access, BufferHandle, Graph, PassBuilder};
+use leakless_graph::{shader_bindings, BufferHandle, Graph, PassBuilder, Stage};
 use leakless_scene::{LightKind, Scene};
 
 use crate::error::{RenderError, Result};
@@ -15,11 +15,12 @@ use crate::trace::SceneBvh;
 shader_bindings! {
     /// What `scene.glsl` binds: the surfaces, by triangle index.
     pub struct SceneBindings {
-        scene_vertices: array(VERTEX_LAYOUT),
-        triangle_materials: array(u32::LAYOUT),
-        materials: array(Material::LAYOUT),
-        texels: array(u32::LAYOUT),
+        scene_vertices: read array(VERTEX_LAYOUT),
+        triangle_materials: read array(u32::LAYOUT),
+        materials: read array(Material::LAYOUT),
+        texels: read array(u32::LAYOUT),
     }
+    pub struct SceneResources;
 }
 
 /// The G-buffer stores `triangle + 1` in a float channel, exact up to 2^24.
@@ -125,14 +126,15 @@ pub struct SceneHandles {
 }
 
 impl SceneHandles {
-    /// Declares that `pass` reads the surfaces (`scene.glsl`) with `access`.
-    pub fn declare(&self, pass: &mut PassBuilder<'_, '_>, access: Access) -> SceneBindings {
-        SceneBindings {
-            scene_vertices: pass.read(&self.vertices, access),
-            triangle_materials: pass.read(&self.triangle_materials, access),
-            materials: pass.read(&self.materials, access),
-            texels: pass.read(&self.texels, access),
-        }
+    /// Declares that `pass` reads the surfaces (`scene.glsl`) in `stage`.
+    pub fn declare(&self, pass: &mut PassBuilder<'_, '_>, stage: Stage) -> SceneBindings {
+        let resources = SceneResources {
+            scene_vertices: &self.vertices,
+            triangle_materials: &self.triangle_materials,
+            materials: &self.materials,
+            texels: &self.texels,
+        };
+        SceneBindings::declare(pass, stage, resources)
     }
 }
 

@@ -13,6 +13,7 @@ pub mod limits;
 pub mod output;
 pub mod passes;
 pub mod photon_lights;
+pub mod pipelines;
 pub mod raycast;
 pub mod raygen;
 pub mod renderer;

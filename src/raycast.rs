@@ -10,7 +10,12 @@ use leakless_scene::Scene;
 use crate::error::Result;
 use crate::gpu_scene::GpuScene;
 use crate::gpu_types::{GpuRay, RayHit};
-use crate::passes::raycast::RaycastPass;
+use crate::passes::names;
+use crate::passes::raycast::{self, RAYCAST};
+use crate::pipelines::{ComputePassDef, Pipelines};
+
+/// What a [`RayCaster`] runs.
+static PASSES: &[&ComputePassDef] = &[&RAYCAST];
 use crate::trace::{Backend, TraceScene};
 
 pub struct RayCaster<'g> {
@@ -19,7 +24,8 @@ pub struct RayCaster<'g> {
     trace: TraceScene,
     /// The scene at t = 0 (these tools do not play animations).
     pose: crate::scene_pose::ScenePose,
-    pass: RaycastPass,
+    pipelines: Pipelines,
+    backend: Backend,
     runner: GraphRunner,
 }
 
@@ -37,7 +43,15 @@ impl<'g> RayCaster<'g> {
         let trace = TraceScene::build(gpu, scene, &gpu_scene, &pose, backend)?;
         let mut runner = GraphRunner::new(gpu, 1)?;
         runner.set_timing(Timing::PerPassSubmit);
-        Ok(RayCaster { gpu, scene: gpu_scene, trace, pose, pass: RaycastPass::new(gpu, backend)?, runner })
+        Ok(RayCaster {
+            gpu,
+            scene: gpu_scene,
+            trace,
+            pose,
+            pipelines: Pipelines::new(gpu, PASSES, backend)?,
+            backend,
+            runner,
+        })
     }
 
     pub fn trace_scene(&self) -> &TraceScene {
@@ -61,8 +75,17 @@ impl<'g> RayCaster<'g> {
         let trace = self.trace.import(&mut graph, &self.scene, &self.pose)?;
         let rays_h = graph.import_buffer(&ray_buffer);
         let mut hits_h = graph.import_buffer(&hit_buffer);
-        self.pass.add(&mut graph, rays.len() as u32, occlusion, &scene, &trace, &rays_h, &mut hits_h);
-        let mut host = graph.pass("to host");
+        raycast::add(
+            &mut graph,
+            self.pipelines.on(self.backend),
+            rays.len() as u32,
+            occlusion,
+            &scene,
+            &trace,
+            &rays_h,
+            &mut hits_h,
+        );
+        let mut host = graph.pass(names::TO_HOST);
         host.read(&hits_h, leakless_graph::Access::HostRead);
         host.record(|_| Ok(()));
         let submitted = graph.submit(&Default::default())?;

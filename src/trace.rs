@@ -9,7 +9,7 @@ use leakless_accel::{
 };
 use leakless_device::shader::ShaderInfo;
 use leakless_device::{gpu_struct, vk, BindingDecl, Bound, Buffer, Capabilities, DeviceType, Gpu, GpuStruct};
-use leakless_graph::{shader_bindings, Access, Bindings, BufferHandle, Graph, PassBuilder, Resolved};
+use leakless_graph::{shader_bindings, Access, Bindings, BufferHandle, Graph, PassBuilder, Resolved, Stage};
 use leakless_scene::{Scene, Vertex};
 
 use crate::error::{RenderError, Result};
@@ -129,20 +129,22 @@ gpu_struct! {
 shader_bindings! {
     /// What `trace.glsl` binds with `TRACE_RAYQUERY`.
     pub struct RayQueryTrace {
-        tlas: accel,
-        trace_scale: uniform(TraceScale::LAYOUT),
+        tlas: read accel,
+        trace_scale: read uniform(TraceScale::LAYOUT),
     }
+    pub struct RayQueryTraceResources;
 }
 
 shader_bindings! {
     /// What `trace.glsl` binds with `TRACE_COMPUTE`.
     pub struct ComputeTrace {
-        bvh_nodes: array(BVH_NODE_LAYOUT),
-        bvh_triangles: array(BVH_TRIANGLE_LAYOUT),
-        trace_scale: uniform(TraceScale::LAYOUT),
-        bvh_top: array(BVH_NODE_LAYOUT),
-        bvh_instances: array(BVH_INSTANCE_LAYOUT),
+        bvh_nodes: read array(BVH_NODE_LAYOUT),
+        bvh_triangles: read array(BVH_TRIANGLE_LAYOUT),
+        trace_scale: read uniform(TraceScale::LAYOUT),
+        bvh_top: read array(BVH_NODE_LAYOUT),
+        bvh_instances: read array(BVH_INSTANCE_LAYOUT),
     }
+    pub struct ComputeTraceResources;
 }
 
 /// A tracing pass's trace bindings, on whichever backend runs.
@@ -359,14 +361,14 @@ impl TraceHandles {
     pub fn declare(&self, pass: &mut PassBuilder<'_, '_>) -> TraceBindings {
         match &self.rayquery {
             Some(rq) => {
-                let trace_scale = pass.read(&self.scale, Access::ComputeRead);
                 // Traversal reads the BLASes through the TLAS: all are declared, only the TLAS
                 // is bound.
                 pass.read(&rq.tlas_buffer, Access::RayQueryRead);
                 for b in &rq.blas_buffers {
                     pass.read(b, Access::RayQueryRead);
                 }
-                TraceBindings::RayQuery(RayQueryTrace { tlas: rq.tlas, trace_scale })
+                let resources = RayQueryTraceResources { tlas: rq.tlas, trace_scale: &self.scale };
+                TraceBindings::RayQuery(RayQueryTrace::declare(pass, Stage::Compute, resources))
             }
             None => TraceBindings::Compute(self.declare_bvh(pass)),
         }
@@ -374,12 +376,13 @@ impl TraceHandles {
 
     /// Declares that `pass` searches the scene's BVH (on any backend).
     pub fn declare_bvh(&self, pass: &mut PassBuilder<'_, '_>) -> ComputeTrace {
-        ComputeTrace {
-            bvh_nodes: pass.read(&self.nodes, Access::ComputeRead),
-            bvh_triangles: pass.read(&self.triangles, Access::ComputeRead),
-            trace_scale: pass.read(&self.scale, Access::ComputeRead),
-            bvh_top: pass.read(&self.top, Access::ComputeRead),
-            bvh_instances: pass.read(&self.instances, Access::ComputeRead),
-        }
+        let resources = ComputeTraceResources {
+            bvh_nodes: &self.nodes,
+            bvh_triangles: &self.triangles,
+            trace_scale: &self.scale,
+            bvh_top: &self.top,
+            bvh_instances: &self.instances,
+        };
+        ComputeTrace::declare(pass, Stage::Compute, resources)
     }
 }

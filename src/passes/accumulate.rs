@@ -2,11 +2,12 @@
 //! render (`accumulate.comp`; docs/architecture.md §1).
 
 use bytemuck::{Pod, Zeroable};
-use leakless_device::{gpu_struct, ComputePipeline, Gpu, GpuStruct};
-use leakless_graph::{shader_bindings, Access, BufferHandle, Graph, ImageHandle};
+use leakless_device::{gpu_struct, GpuStruct};
+use leakless_graph::{shader_bindings, BufferHandle, Graph, ImageHandle, Stage};
 
-use crate::error::Result;
 use crate::gpu_types::Frame;
+use crate::passes::names;
+use crate::pipelines::{ComputePassDef, PipelineSet};
 use crate::shaders;
 
 gpu_struct! {
@@ -26,18 +27,19 @@ gpu_struct! {
 
 shader_bindings! {
     pub struct AccumulateBindings {
-        frame: uniform(Frame::LAYOUT),
-        direct: image,
-        indirect: image,
-        leaked: image,
-        sum_direct: image,
-        sum_indirect: image,
-        sum_leaked: image,
-        mean_direct: image,
-        mean_indirect: image,
-        mean_leaked: image,
-        mean_radiance: image,
+        frame: read uniform(Frame::LAYOUT),
+        direct: read image,
+        indirect: read image,
+        leaked: read image,
+        sum_direct: read_write image,
+        sum_indirect: read_write image,
+        sum_leaked: read_write image,
+        mean_direct: write image,
+        mean_indirect: write image,
+        mean_leaked: write image,
+        mean_radiance: write image,
     }
+    pub struct AccumulateResources;
 }
 
 /// This frame's layers, in.
@@ -73,54 +75,47 @@ pub struct Accumulated {
     pub frame_batches: u32,
 }
 
-pub struct AccumulatePass {
-    pipeline: ComputePipeline,
-}
+pub static ACCUMULATE: ComputePassDef =
+    ComputePassDef::any(names::ACCUMULATE, &shaders::ACCUMULATE_COMP, &[AccumulateBindings::DECLS])
+        .push(AccumulateParams::LAYOUT);
 
-impl AccumulatePass {
-    pub fn new(gpu: &Gpu) -> Result<Self> {
-        let pipeline = ComputePipeline::new(
-            gpu,
-            "accumulate",
-            &shaders::ACCUMULATE_COMP,
-            AccumulateBindings::DECLS,
-            Some(&AccumulateParams::LAYOUT),
-        )?;
-        Ok(AccumulatePass { pipeline })
-    }
-
-    /// Adds frame number `count.frames` (1 for the first) of an accumulation to `sums` and
-    /// writes the means: the direct layer's over frames, the photon layers' over batches.
-    pub fn add<'r>(
-        &'r self,
-        graph: &mut Graph<'r>,
-        count: Accumulated,
-        frame: &BufferHandle,
-        layers: FrameLayers<'_>,
-        sums: Sums<'_>,
-        means: Means<'_>,
-    ) {
-        let params = AccumulateParams {
-            first: (count.frames <= 1) as u32,
-            inv_frames: 1.0 / count.frames.max(1) as f32,
-            batches: count.frame_batches as f32,
-            inv_batches: 1.0 / count.batches.max(1) as f32,
-        };
-        let extent = means.radiance.extent();
-        let mut pass = graph.pass("accumulate");
-        let own = AccumulateBindings {
-            frame: pass.read(frame, Access::ComputeRead),
-            direct: pass.read(layers.direct, Access::ComputeRead),
-            indirect: pass.read(layers.indirect, Access::ComputeRead),
-            leaked: pass.read(layers.leaked, Access::ComputeRead),
-            sum_direct: pass.write(sums.direct, Access::ComputeReadWrite),
-            sum_indirect: pass.write(sums.indirect, Access::ComputeReadWrite),
-            sum_leaked: pass.write(sums.leaked, Access::ComputeReadWrite),
-            mean_direct: pass.write(means.direct, Access::ComputeWrite),
-            mean_indirect: pass.write(means.indirect, Access::ComputeWrite),
-            mean_leaked: pass.write(means.leaked, Access::ComputeWrite),
-            mean_radiance: pass.write(means.radiance, Access::ComputeWrite),
-        };
-        pass.record(move |ctx| ctx.dispatch(&self.pipeline, &[&own], &params, [extent.width, extent.height, 1]));
-    }
+/// Adds frame number `count.frames` (1 for the first) of an accumulation to `sums` and
+/// writes the means: the direct layer's over frames, the photon layers' over batches.
+pub fn add<'r>(
+    graph: &mut Graph<'r>,
+    pipelines: PipelineSet<'r>,
+    count: Accumulated,
+    frame: &BufferHandle,
+    layers: FrameLayers<'_>,
+    sums: Sums<'_>,
+    means: Means<'_>,
+) {
+    let params = AccumulateParams {
+        first: (count.frames <= 1) as u32,
+        inv_frames: 1.0 / count.frames.max(1) as f32,
+        batches: count.frame_batches as f32,
+        inv_batches: 1.0 / count.batches.max(1) as f32,
+    };
+    let extent = means.radiance.extent();
+    let mut pass = graph.pass(names::ACCUMULATE);
+    let own = AccumulateBindings::declare(
+        &mut pass,
+        Stage::Compute,
+        AccumulateResources {
+            frame,
+            direct: layers.direct,
+            indirect: layers.indirect,
+            leaked: layers.leaked,
+            sum_direct: sums.direct,
+            sum_indirect: sums.indirect,
+            sum_leaked: sums.leaked,
+            mean_direct: means.direct,
+            mean_indirect: means.indirect,
+            mean_leaked: means.leaked,
+            mean_radiance: means.radiance,
+        },
+    );
+    pass.record(move |ctx| {
+        ctx.dispatch(pipelines.get(&ACCUMULATE), &[&own], &params, [extent.width, extent.height, 1])
+    });
 }

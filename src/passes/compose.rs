@@ -2,11 +2,12 @@
 //! (`compose.comp`).
 
 use bytemuck::{Pod, Zeroable};
-use leakless_device::{gpu_struct, ComputePipeline, Gpu, GpuStruct};
-use leakless_graph::{shader_bindings, Access, BufferHandle, Graph, ImageHandle};
+use leakless_device::{gpu_struct, GpuStruct};
+use leakless_graph::{shader_bindings, BufferHandle, Graph, ImageHandle, Stage};
 
-use crate::error::Result;
 use crate::gpu_types::Frame;
+use crate::passes::names;
+use crate::pipelines::{ComputePassDef, PipelineSet};
 use crate::shaders;
 
 gpu_struct! {
@@ -25,19 +26,19 @@ gpu_struct! {
 
 shader_bindings! {
     pub struct ComposeBindings {
-        frame: uniform(Frame::LAYOUT),
-        direct: image,
-        indirect_sum: image,
-        indirect: image,
-        radiance: image,
-        leaked: image,
-        gather_counts: image,
+        frame: read uniform(Frame::LAYOUT),
+        direct: read image,
+        indirect_sum: read image,
+        indirect: write image,
+        radiance: write image,
+        leaked: write image,
+        gather_counts: write image,
     }
+    pub struct ComposeResources;
 }
 
-pub struct ComposePass {
-    pipeline: ComputePipeline,
-}
+pub static COMPOSE: ComputePassDef =
+    ComputePassDef::any(names::COMPOSE, &shaders::COMPOSE_COMP, &[ComposeBindings::DECLS]).push(ComposeParams::LAYOUT);
 
 /// The images compose reads and writes.
 pub struct ComposeImages<'a> {
@@ -49,36 +50,27 @@ pub struct ComposeImages<'a> {
     pub gather_counts: &'a mut ImageHandle,
 }
 
-impl ComposePass {
-    pub fn new(gpu: &Gpu) -> Result<Self> {
-        let pipeline = ComputePipeline::new(
-            gpu,
-            "compose",
-            &shaders::COMPOSE_COMP,
-            ComposeBindings::DECLS,
-            Some(&ComposeParams::LAYOUT),
-        )?;
-        Ok(ComposePass { pipeline })
-    }
-
-    pub fn add<'r>(
-        &'r self,
-        graph: &mut Graph<'r>,
-        params: ComposeParams,
-        frame: &BufferHandle,
-        images: ComposeImages<'_>,
-    ) {
-        let extent = images.radiance.extent();
-        let mut pass = graph.pass("compose");
-        let own = ComposeBindings {
-            frame: pass.read(frame, Access::ComputeRead),
-            direct: pass.read(images.direct, Access::ComputeRead),
-            indirect_sum: pass.read(images.indirect_sum, Access::ComputeRead),
-            indirect: pass.write(images.indirect, Access::ComputeWrite),
-            radiance: pass.write(images.radiance, Access::ComputeWrite),
-            leaked: pass.write(images.leaked, Access::ComputeReadWrite),
-            gather_counts: pass.write(images.gather_counts, Access::ComputeReadWrite),
-        };
-        pass.record(move |ctx| ctx.dispatch(&self.pipeline, &[&own], &params, [extent.width, extent.height, 1]));
-    }
+pub fn add<'r>(
+    graph: &mut Graph<'r>,
+    pipelines: PipelineSet<'r>,
+    params: ComposeParams,
+    frame: &BufferHandle,
+    images: ComposeImages<'_>,
+) {
+    let extent = images.radiance.extent();
+    let mut pass = graph.pass(names::COMPOSE);
+    let own = ComposeBindings::declare(
+        &mut pass,
+        Stage::Compute,
+        ComposeResources {
+            frame,
+            direct: images.direct,
+            indirect_sum: images.indirect_sum,
+            indirect: images.indirect,
+            radiance: images.radiance,
+            leaked: images.leaked,
+            gather_counts: images.gather_counts,
+        },
+    );
+    pass.record(move |ctx| ctx.dispatch(pipelines.get(&COMPOSE), &[&own], &params, [extent.width, extent.height, 1]));
 }

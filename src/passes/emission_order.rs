@@ -9,11 +9,13 @@
 
 use ash::vk;
 use bytemuck::{Pod, Zeroable};
-use leakless_device::{gpu_struct, BufferDesc, ComputePipeline, Gpu, GpuStruct, MemoryLocation};
-use leakless_graph::{shader_bindings, Access, BufferHandle, Graph};
+use leakless_device::{gpu_struct, BufferDesc, GpuStruct, MemoryLocation};
+use leakless_graph::{shader_bindings, BufferHandle, Fill, Graph, Stage};
 
 use crate::error::Result;
-use crate::passes::scan::ScanPass;
+use crate::passes::names;
+use crate::passes::scan;
+use crate::pipelines::{ComputePassDef, PipelineSet};
 use crate::shaders;
 
 /// Bits per axis of a cell index (`EMISSION_CELL_BITS` in emission_cell.glsl).
@@ -34,76 +36,53 @@ gpu_struct! {
 
 shader_bindings! {
     pub struct EmissionCellBindings {
-        cell_counts: words,
+        cell_counts: read_write words,
     }
+    pub struct EmissionCellResources;
 }
 
 shader_bindings! {
     pub struct EmissionOrderBindings {
-        cell_starts: words,
-        path_order: words,
+        cell_starts: read_write words,
+        path_order: write words,
     }
+    pub struct EmissionOrderResources;
 }
 
-pub struct EmissionOrderPass {
-    cells: ComputePipeline,
-    scan: ScanPass,
-    order: ComputePipeline,
-}
+pub static EMISSION_CELLS: ComputePassDef =
+    ComputePassDef::any(names::EMISSION_CELLS, &shaders::EMISSION_CELLS_COMP, &[EmissionCellBindings::DECLS])
+        .push(EmissionOrderParams::LAYOUT);
 
-impl EmissionOrderPass {
-    pub fn new(gpu: &Gpu) -> Result<Self> {
-        let push = Some(&EmissionOrderParams::LAYOUT);
-        Ok(EmissionOrderPass {
-            cells: ComputePipeline::new(
-                gpu,
-                "emission cells",
-                &shaders::EMISSION_CELLS_COMP,
-                EmissionCellBindings::DECLS,
-                push,
-            )?,
-            scan: ScanPass::new(gpu)?,
-            order: ComputePipeline::new(
-                gpu,
-                "emission order",
-                &shaders::EMISSION_ORDER_COMP,
-                EmissionOrderBindings::DECLS,
-                push,
-            )?,
-        })
-    }
+pub static EMISSION_ORDER: ComputePassDef =
+    ComputePassDef::any(names::EMISSION_ORDER, &shaders::EMISSION_ORDER_COMP, &[EmissionOrderBindings::DECLS])
+        .push(EmissionOrderParams::LAYOUT);
 
-    /// Adds the passes that order the `params.paths` paths; returns the buffer of path indices
-    /// in the order the photon pass takes them.
-    pub fn add<'r>(&'r self, graph: &mut Graph<'r>, params: EmissionOrderParams) -> Result<BufferHandle> {
-        let storage = |name, words: u32, usage| BufferDesc {
-            name,
-            size: 4 * words.max(1) as u64,
-            usage: vk::BufferUsageFlags::STORAGE_BUFFER | usage,
-            location: MemoryLocation::GpuOnly,
-        };
-        let mut counts = graph.buffer(&storage("emission cell counts", CELLS, vk::BufferUsageFlags::TRANSFER_DST))?;
-        let mut order = graph.buffer(&storage("path order", params.paths, vk::BufferUsageFlags::empty()))?;
-        let mut clear = graph.pass("emission cells clear");
-        let cleared = clear.write(&mut counts, Access::TransferWrite);
-        clear.record(move |ctx| {
-            let counts = ctx.buffer(cleared);
-            ctx.cmd.fill_buffer(counts, 0, counts.size(), 0);
-            Ok(())
-        });
-        let threads = [params.paths, 1, 1];
-        let mut pass = graph.pass("emission cells");
-        let own = EmissionCellBindings { cell_counts: pass.write(&mut counts, Access::ComputeReadWrite) };
-        pass.record(move |ctx| ctx.dispatch(&self.cells, &[&own], &params, threads));
+/// Adds the passes that order the `params.paths` paths; returns the buffer of path indices
+/// in the order the photon pass takes them.
+pub fn add<'r>(graph: &mut Graph<'r>, pipelines: PipelineSet<'r>, params: EmissionOrderParams) -> Result<BufferHandle> {
+    let storage = |name, words: u32, usage| BufferDesc {
+        name,
+        size: 4 * words.max(1) as u64,
+        usage: vk::BufferUsageFlags::STORAGE_BUFFER | usage,
+        location: MemoryLocation::GpuOnly,
+    };
+    let mut counts = graph.buffer(&storage("emission cell counts", CELLS, vk::BufferUsageFlags::TRANSFER_DST))?;
+    let mut order = graph.buffer(&storage("path order", params.paths, vk::BufferUsageFlags::empty()))?;
+    graph.fill(names::EMISSION_CELLS_CLEAR, &mut [(&mut counts, &[Fill::whole(0)])]);
+    let threads = [params.paths, 1, 1];
+    let mut pass = graph.pass(names::EMISSION_CELLS);
+    let own =
+        EmissionCellBindings::declare(&mut pass, Stage::Compute, EmissionCellResources { cell_counts: &mut counts });
+    pass.record(move |ctx| ctx.dispatch(pipelines.get(&EMISSION_CELLS), &[&own], &params, threads));
 
-        self.scan.add(graph, "emission cell starts", CELLS, &mut counts)?;
+    scan::add(graph, pipelines, (names::EMISSION_CELL_STARTS, None), CELLS, &mut counts)?;
 
-        let mut pass = graph.pass("emission order");
-        let own = EmissionOrderBindings {
-            cell_starts: pass.write(&mut counts, Access::ComputeReadWrite),
-            path_order: pass.write(&mut order, Access::ComputeWrite),
-        };
-        pass.record(move |ctx| ctx.dispatch(&self.order, &[&own], &params, threads));
-        Ok(order)
-    }
+    let mut pass = graph.pass(names::EMISSION_ORDER);
+    let own = EmissionOrderBindings::declare(
+        &mut pass,
+        Stage::Compute,
+        EmissionOrderResources { cell_starts: &mut counts, path_order: &mut order },
+    );
+    pass.record(move |ctx| ctx.dispatch(pipelines.get(&EMISSION_ORDER), &[&own], &params, threads));
+    Ok(order)
 }

@@ -4,18 +4,20 @@
 
 use ash::vk;
 use bytemuck::{Pod, Zeroable};
-use leakless_device::{gpu_struct, BufferDesc, ComputePipeline, Gpu, GpuStruct, MemoryLocation};
-use leakless_graph::{shader_bindings, Access, BufferHandle, Graph, ImageHandle};
+use leakless_device::{gpu_struct, BufferDesc, GpuStruct, MemoryLocation};
+use leakless_graph::{shader_bindings, BufferHandle, Fill, Graph, ImageHandle, Stage};
 
 use crate::error::Result;
 use crate::gpu_scene::{SceneBindings, SceneHandles};
-use crate::passes::gbuffer::GBufferHandles;
+use crate::passes::gbuffer::{GBufferBindings, GBufferHandles};
 use crate::passes::hierarchy::{HierarchyHandles, Level, Shape};
+use crate::passes::names;
 use crate::passes::photon_clearance::Clearance;
 use crate::passes::photons::Photon;
 use crate::passes::splat::{ListEntry, NodeListHandles};
+use crate::pipelines::{ComputePassDef, PipelineSet};
 use crate::shaders;
-use crate::trace::{Backend, TraceHandles};
+use crate::trace::TraceHandles;
 
 gpu_struct! {
     /// The `GatherParams` push constants of gather.comp.
@@ -86,32 +88,28 @@ shader_bindings! {
     /// What gather.comp binds besides the scene (geometric normals) and the trace structures
     /// (visibility segments).
     pub struct GatherBindings {
-        gbuffer_position: image,
-        gbuffer_normal: image,
-        gbuffer_albedo: image,
-        sorted_keys: words,
-        sorted_samples: words,
-        levels: array(Level::LAYOUT),
-        photons: array(Photon::LAYOUT),
-        node_heads: words,
-        list_entries: array(ListEntry::LAYOUT),
-        gather_counters: block(GatherCounters::LAYOUT),
-        indirect_sum: image,
-        leaked: image,
-        gather_counts: image,
-        clearance: array(Clearance::LAYOUT),
-        disk_mass: image,
+        sorted_keys: read words,
+        sorted_samples: read words,
+        levels: read array(Level::LAYOUT),
+        photons: read array(Photon::LAYOUT),
+        node_heads: read words,
+        list_entries: read array(ListEntry::LAYOUT),
+        gather_counters: read_write block(GatherCounters::LAYOUT),
+        indirect_sum: write image,
+        leaked: write image,
+        gather_counts: write image,
+        clearance: read array(Clearance::LAYOUT),
+        disk_mass: read image,
     }
+    pub struct GatherResources;
 }
 
-/// Every binding of the gather on `backend`.
-pub fn bindings(backend: Backend) -> Vec<leakless_device::BindingDecl> {
-    [GatherBindings::DECLS, SceneBindings::DECLS, backend.bindings()].concat()
-}
-
-pub struct GatherPass {
-    pipeline: ComputePipeline,
-}
+pub static GATHER: ComputePassDef = ComputePassDef::traced(
+    names::GATHER,
+    (&shaders::GATHER_COMP_RAYQUERY, &shaders::GATHER_COMP_COMPUTE),
+    &[GatherBindings::DECLS, GBufferBindings::DECLS, SceneBindings::DECLS],
+)
+.push(GatherParams::LAYOUT);
 
 /// The photons the gather reads, and how.
 pub struct GatherInputs<'a> {
@@ -168,66 +166,56 @@ pub fn counters(graph: &mut Graph<'_>) -> Result<BufferHandle> {
     })?)
 }
 
-impl GatherPass {
-    pub fn new(gpu: &Gpu, backend: Backend) -> Result<Self> {
-        let shader = backend.pick(&shaders::GATHER_COMP_RAYQUERY, &shaders::GATHER_COMP_COMPUTE);
-        let pipeline = ComputePipeline::new(gpu, "gather", shader, &bindings(backend), Some(&GatherParams::LAYOUT))?;
-        Ok(GatherPass { pipeline })
-    }
-
-    #[allow(clippy::too_many_arguments)]
-    pub fn add<'r>(
-        &'r self,
-        graph: &mut Graph<'r>,
-        shape: &Shape,
-        input: GatherInputs<'_>,
-        gbuffer: &GBufferHandles,
-        scene: &SceneHandles,
-        trace: &TraceHandles,
-        hierarchy: &HierarchyHandles,
-        lists: &NodeListHandles,
-        out: GatherOutputs<'_>,
-    ) {
-        let mut clear = graph.pass("gather clear");
-        let counters = clear.write(out.counters, Access::TransferWrite);
-        clear.record(move |ctx| {
-            let counters = ctx.buffer(counters);
-            ctx.cmd.fill_buffer(counters, 0, counters.size(), 0);
-            Ok(())
-        });
-        let params = GatherParams {
-            radius: input.radius,
-            fixed_scale: input.fixed_scale,
-            level_count: shape.levels.len() as u32,
-            sample_count: shape.sample_count,
-            image_width: gbuffer.position.extent().width,
-            visibility: input.visibility as u32,
-            cap: input.cap.unwrap_or(0),
-            prove_clear: input.prove_clear as u32,
-            eye: input.eye,
-            visible_disk: input.visible_disk as u32,
-        };
-        let mut pass = graph.pass("gather");
-        let own = GatherBindings {
-            gbuffer_position: pass.read(&gbuffer.position, Access::ComputeRead),
-            gbuffer_normal: pass.read(&gbuffer.normal, Access::ComputeRead),
-            gbuffer_albedo: pass.read(&gbuffer.albedo, Access::ComputeRead),
-            sorted_keys: pass.read(&hierarchy.keys, Access::ComputeRead),
-            sorted_samples: pass.read(&hierarchy.samples, Access::ComputeRead),
-            levels: pass.read(&hierarchy.levels, Access::ComputeRead),
-            photons: pass.read(input.photons, Access::ComputeRead),
-            node_heads: pass.read(&lists.heads, Access::ComputeRead),
-            list_entries: pass.read(&lists.entries, Access::ComputeRead),
-            gather_counters: pass.write(out.counters, Access::ComputeReadWrite),
-            indirect_sum: pass.write(out.indirect_sum, Access::ComputeWrite),
-            leaked: pass.write(out.leaked, Access::ComputeWrite),
-            gather_counts: pass.write(out.counts, Access::ComputeWrite),
-            clearance: pass.read(input.clearance, Access::ComputeRead),
-            disk_mass: pass.read(input.disk_mass, Access::ComputeRead),
-        };
-        let surfaces = scene.declare(&mut pass, Access::ComputeRead);
-        let trace = trace.declare(&mut pass);
-        let samples = shape.sample_count;
-        pass.record(move |ctx| ctx.dispatch(&self.pipeline, &[&own, &surfaces, &trace], &params, [samples, 1, 1]));
-    }
+#[allow(clippy::too_many_arguments)]
+pub fn add<'r>(
+    graph: &mut Graph<'r>,
+    pipelines: PipelineSet<'r>,
+    shape: &Shape,
+    input: GatherInputs<'_>,
+    gbuffer: &GBufferHandles,
+    scene: &SceneHandles,
+    trace: &TraceHandles,
+    hierarchy: &HierarchyHandles,
+    lists: &NodeListHandles,
+    out: GatherOutputs<'_>,
+) {
+    graph.fill(names::GATHER_CLEAR, &mut [(&mut *out.counters, &[Fill::whole(0)])]);
+    let params = GatherParams {
+        radius: input.radius,
+        fixed_scale: input.fixed_scale,
+        level_count: shape.levels.len() as u32,
+        sample_count: shape.sample_count,
+        image_width: gbuffer.position.extent().width,
+        visibility: input.visibility as u32,
+        cap: input.cap.unwrap_or(0),
+        prove_clear: input.prove_clear as u32,
+        eye: input.eye,
+        visible_disk: input.visible_disk as u32,
+    };
+    let mut pass = graph.pass(names::GATHER);
+    let own = GatherBindings::declare(
+        &mut pass,
+        Stage::Compute,
+        GatherResources {
+            sorted_keys: &hierarchy.keys,
+            sorted_samples: &hierarchy.samples,
+            levels: &hierarchy.levels,
+            photons: input.photons,
+            node_heads: &lists.heads,
+            list_entries: &lists.entries,
+            gather_counters: out.counters,
+            indirect_sum: out.indirect_sum,
+            leaked: out.leaked,
+            gather_counts: out.counts,
+            clearance: input.clearance,
+            disk_mass: input.disk_mass,
+        },
+    );
+    let gbuffer = gbuffer.declare(&mut pass);
+    let surfaces = scene.declare(&mut pass, Stage::Compute);
+    let trace = trace.declare(&mut pass);
+    let samples = shape.sample_count;
+    pass.record(move |ctx| {
+        ctx.dispatch(pipelines.get(&GATHER), &[&own, &gbuffer, &surfaces, &trace], &params, [samples, 1, 1])
+    });
 }

@@ -3,22 +3,35 @@
 
 use ash::vk;
 use leakless_device::{ColorTarget, Gpu, GpuStruct, GraphicsDesc, GraphicsPipeline, ImageDesc, VertexLayout};
-use leakless_graph::{shader_bindings, Access, BufferHandle, Graph, ImageHandle};
+use leakless_graph::{shader_bindings, Access, BufferHandle, Graph, ImageHandle, PassBuilder, Stage};
 use leakless_scene::Vertex;
 
 use crate::error::Result;
 use crate::gpu_scene::{SceneBindings, SceneHandles};
 use crate::gpu_types::Frame;
+use crate::passes::names;
 use crate::shaders;
 
 pub const FORMAT: vk::Format = vk::Format::R32G32B32A32_SFLOAT;
 const DEPTH_FORMAT: vk::Format = vk::Format::D32_SFLOAT;
 
 shader_bindings! {
-    /// The pass's own bindings; it also binds the scene.
-    pub struct GBufferBindings {
-        frame: uniform(Frame::LAYOUT),
+    /// The raster pass's own bindings; it also binds the scene.
+    pub struct RasterBindings {
+        frame: read uniform(Frame::LAYOUT),
     }
+    pub struct RasterResources;
+}
+
+shader_bindings! {
+    /// The G-buffer as every pass that reads it binds it (`GBUFFER_BINDINGS(n)` of
+    /// gbuffer.glsl).
+    pub struct GBufferBindings {
+        gbuffer_position: read image,
+        gbuffer_normal: read image,
+        gbuffer_albedo: read image,
+    }
+    pub struct GBufferResources;
 }
 
 /// The view samples of a frame: one per pixel, `position.w = triangle + 1`, 0 where nothing
@@ -31,6 +44,16 @@ pub struct GBufferHandles {
 }
 
 impl GBufferHandles {
+    /// Declares that a compute `pass` reads the G-buffer.
+    pub fn declare(&self, pass: &mut PassBuilder<'_, '_>) -> GBufferBindings {
+        let resources = GBufferResources {
+            gbuffer_position: &self.position,
+            gbuffer_normal: &self.normal,
+            gbuffer_albedo: &self.albedo,
+        };
+        GBufferBindings::declare(pass, Stage::Compute, resources)
+    }
+
     /// The G-buffer images of an `extent` frame (made anew when the size changes).
     pub fn new(graph: &mut Graph<'_>, extent: vk::Extent2D) -> Result<GBufferHandles> {
         let usage =
@@ -72,7 +95,7 @@ impl GBufferPass {
             cull: vk::CullModeFlags::NONE,
             push: None,
         };
-        let decls = [GBufferBindings::DECLS, SceneBindings::DECLS].concat();
+        let decls = [RasterBindings::DECLS, SceneBindings::DECLS].concat();
         Ok(GBufferPass { pipeline: GraphicsPipeline::new(gpu, "gbuffer", &desc, &decls)? })
     }
 
@@ -84,11 +107,11 @@ impl GBufferPass {
         vertex_count: u32,
         out: &mut GBufferHandles,
     ) {
-        let mut pass = graph.pass("gbuffer");
-        let own = GBufferBindings { frame: pass.read(frame, Access::VertexShaderRead) };
-        pass.read(frame, Access::FragmentRead);
+        let mut pass = graph.pass(names::GBUFFER);
+        let own = RasterBindings::declare(&mut pass, Stage::Vertex, RasterResources { frame });
+        pass.read(frame, Access::FragmentRead); // the fragment stage reads it too
         let vertices = pass.read(&scene.vertices, Access::VertexBuffer);
-        let surfaces = scene.declare(&mut pass, Access::FragmentRead);
+        let surfaces = scene.declare(&mut pass, Stage::Fragment);
         let position = pass.write(&mut out.position, Access::ColorAttachmentWrite);
         let normal = pass.write(&mut out.normal, Access::ColorAttachmentWrite);
         let albedo = pass.write(&mut out.albedo, Access::ColorAttachmentWrite);

@@ -7,16 +7,22 @@ use std::rc::Rc;
 
 use ash::vk;
 use leakless_device::{Buffer, BufferDesc, ComputePipeline, Gpu, MemoryLocation};
-use leakless_graph::{shader_bindings, Access, Graph, GraphRunner};
+use leakless_graph::{shader_bindings, Graph, GraphRunner, Stage};
 
 use crate::error::Result;
+use crate::passes::names;
+use crate::pipelines::ComputePassDef;
 use crate::shaders;
 
 shader_bindings! {
     pub struct HangBindings {
-        release: words,
+        release: read_write words,
     }
+    pub struct HangResources;
 }
+
+/// The spin, appended to the pass it stalls (its own name labels no pass).
+pub static HANG: ComputePassDef = ComputePassDef::any(names::HANG, &shaders::HANG_COMP, &[HangBindings::DECLS]);
 
 /// A stall armed for one named pass.
 pub struct HangPass {
@@ -38,7 +44,7 @@ impl HangPass {
             eprintln!("warning: LEAKLESS_FAULT_HANG is ignored: fault injection exists in debug builds only");
             return Ok(None);
         }
-        let pipeline = ComputePipeline::new(gpu, "hang", &shaders::HANG_COMP, HangBindings::DECLS, None)?;
+        let pipeline = HANG.create(gpu, crate::trace::Backend::Compute)?; // it traces nothing
         let release = Buffer::new(
             gpu,
             &BufferDesc {
@@ -54,9 +60,9 @@ impl HangPass {
 
     /// Appends the spin to the graph's pass of that name, if the frame has one.
     pub fn add<'r>(&'r self, graph: &mut Graph<'r>) {
-        let release = graph.import_buffer(&self.release);
+        let mut release = graph.import_buffer(&self.release);
         let Some(mut pass) = graph.extend_pass(&self.pass) else { return };
-        let own = HangBindings { release: pass.read(&release, Access::ComputeRead) };
+        let own = HangBindings::declare(&mut pass, Stage::Compute, HangResources { release: &mut release });
         pass.record(move |ctx| ctx.dispatch(&self.pipeline, &[&own], &(), [1, 1, 1]));
     }
 

@@ -7,6 +7,7 @@ use leakless_graph::{Access, BufferHandle, Graph};
 use leakless_scene::Vertex;
 
 use crate::error::Result;
+use crate::passes::names;
 
 /// Adds the copy of `vertices` to `scene_vertices` from vertex `first_vertex` on. The graph
 /// orders it after every earlier use of the buffer, including the frame still in flight.
@@ -23,7 +24,7 @@ pub fn add(
     let upload = g.upload("instance vertices", vk::BufferUsageFlags::TRANSFER_SRC, bytes)?;
     let offset = (first_vertex * std::mem::size_of::<Vertex>()) as u64;
     let size = bytes.len() as u64;
-    let mut pass = g.pass("instance vertices");
+    let mut pass = g.pass(names::INSTANCE_VERTICES);
     let src = pass.read(&upload, Access::TransferRead);
     let dst = pass.write(scene_vertices, Access::TransferWrite);
     pass.record(move |ctx| {

@@ -5,10 +5,12 @@
 
 use ash::vk;
 use bytemuck::{Pod, Zeroable};
-use leakless_device::{gpu_struct, BufferDesc, ComputePipeline, Gpu, GpuStruct, MemoryLocation};
-use leakless_graph::{shader_bindings, Access, BufferHandle, Graph, ImageHandle};
+use leakless_device::{gpu_struct, BufferDesc, GpuStruct, MemoryLocation};
+use leakless_graph::{shader_bindings, BufferHandle, Graph, ImageHandle, Stage};
 
 use crate::error::Result;
+use crate::passes::names;
+use crate::pipelines::{ComputePassDef, PipelineSet};
 use crate::shaders;
 
 const TILE: u32 = 16;
@@ -74,18 +76,20 @@ impl LuminanceStats {
 
 shader_bindings! {
     pub struct TileBindings {
-        displayed: image,
-        indirect: image,
-        leaked: image,
-        partials: words,
+        displayed: read image,
+        indirect: read image,
+        leaked: read image,
+        partials: write words,
     }
+    pub struct TileResources;
 }
 
 shader_bindings! {
     pub struct TotalBindings {
-        partials: words,
-        stats: block(LuminanceStats::LAYOUT),
+        partials: read words,
+        stats: write block(LuminanceStats::LAYOUT),
     }
+    pub struct TotalResources;
 }
 
 /// The images the statistics read.
@@ -97,59 +101,45 @@ pub struct LuminanceInputs<'a> {
     pub leaked: &'a ImageHandle,
 }
 
-pub struct LuminancePass {
-    tiles: ComputePipeline,
-    total: ComputePipeline,
-}
+pub static LUMINANCE_TILES: ComputePassDef =
+    ComputePassDef::any(names::LUMINANCE_TILES, &shaders::LUMINANCE_COMP, &[TileBindings::DECLS])
+        .push(LuminanceParams::LAYOUT);
 
-impl LuminancePass {
-    pub fn new(gpu: &Gpu) -> Result<Self> {
-        Ok(LuminancePass {
-            tiles: ComputePipeline::new(
-                gpu,
-                "luminance tiles",
-                &shaders::LUMINANCE_COMP,
-                TileBindings::DECLS,
-                Some(&LuminanceParams::LAYOUT),
-            )?,
-            total: ComputePipeline::new(
-                gpu,
-                "luminance total",
-                &shaders::LUMINANCE_TOTAL_COMP,
-                TotalBindings::DECLS,
-                Some(&TotalParams::LAYOUT),
-            )?,
-        })
-    }
+pub static LUMINANCE_TOTAL: ComputePassDef =
+    ComputePassDef::any(names::LUMINANCE_TOTAL, &shaders::LUMINANCE_TOTAL_COMP, &[TotalBindings::DECLS])
+        .push(TotalParams::LAYOUT);
 
-    /// Adds both stages; returns the [`LuminanceStats`] buffer (of the graph's pool).
-    pub fn add<'r>(&'r self, graph: &mut Graph<'r>, input: LuminanceInputs<'_>) -> Result<BufferHandle> {
-        let extent = input.displayed.extent();
-        let tiles_x = extent.width.div_ceil(TILE);
-        let tiles = tiles_x * extent.height.div_ceil(TILE);
-        let storage = vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_SRC;
-        let mut buffer =
-            |name, size| graph.buffer(&BufferDesc { name, size, usage: storage, location: MemoryLocation::GpuOnly });
-        let mut partials = buffer("luminance partials", 16 * tiles as u64)?;
-        let mut stats = buffer("luminance stats", std::mem::size_of::<LuminanceStats>() as u64)?;
+/// Adds both stages; returns the [`LuminanceStats`] buffer (of the graph's pool).
+pub fn add<'r>(graph: &mut Graph<'r>, pipelines: PipelineSet<'r>, input: LuminanceInputs<'_>) -> Result<BufferHandle> {
+    let extent = input.displayed.extent();
+    let tiles_x = extent.width.div_ceil(TILE);
+    let tiles = tiles_x * extent.height.div_ceil(TILE);
+    let storage = vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_SRC;
+    let mut buffer =
+        |name, size| graph.buffer(&BufferDesc { name, size, usage: storage, location: MemoryLocation::GpuOnly });
+    let mut partials = buffer("luminance partials", 16 * tiles as u64)?;
+    let mut stats = buffer("luminance stats", std::mem::size_of::<LuminanceStats>() as u64)?;
 
-        let params = LuminanceParams { mode: input.mode, width: extent.width, height: extent.height, tiles_x };
-        let mut pass = graph.pass("luminance tiles");
-        let own = TileBindings {
-            displayed: pass.read(input.displayed, Access::ComputeRead),
-            indirect: pass.read(input.indirect, Access::ComputeRead),
-            leaked: pass.read(input.leaked, Access::ComputeRead),
-            partials: pass.write(&mut partials, Access::ComputeWrite),
-        };
-        pass.record(move |ctx| ctx.dispatch(&self.tiles, &[&own], &params, [extent.width, extent.height, 1]));
+    let params = LuminanceParams { mode: input.mode, width: extent.width, height: extent.height, tiles_x };
+    let mut pass = graph.pass(names::LUMINANCE_TILES);
+    let own = TileBindings::declare(
+        &mut pass,
+        Stage::Compute,
+        TileResources {
+            displayed: input.displayed,
+            indirect: input.indirect,
+            leaked: input.leaked,
+            partials: &mut partials,
+        },
+    );
+    pass.record(move |ctx| {
+        ctx.dispatch(pipelines.get(&LUMINANCE_TILES), &[&own], &params, [extent.width, extent.height, 1])
+    });
 
-        let mut pass = graph.pass("luminance total");
-        let own = TotalBindings {
-            partials: pass.read(&partials, Access::ComputeRead),
-            stats: pass.write(&mut stats, Access::ComputeWrite),
-        };
-        let params = TotalParams { tiles, ..Default::default() };
-        pass.record(move |ctx| ctx.dispatch(&self.total, &[&own], &params, [256, 1, 1]));
-        Ok(stats)
-    }
+    let mut pass = graph.pass(names::LUMINANCE_TOTAL);
+    let own =
+        TotalBindings::declare(&mut pass, Stage::Compute, TotalResources { partials: &partials, stats: &mut stats });
+    let params = TotalParams { tiles, ..Default::default() };
+    pass.record(move |ctx| ctx.dispatch(pipelines.get(&LUMINANCE_TOTAL), &[&own], &params, [256, 1, 1]));
+    Ok(stats)
 }

@@ -12,6 +12,7 @@ pub mod hang;
 pub mod hierarchy;
 pub mod instance_vertices;
 pub mod luminance;
+pub mod names;
 pub mod photon_clearance;
 pub mod photon_dispatch;
 pub mod photon_order;
@@ -25,13 +26,47 @@ pub mod splat;
 pub mod tonemap;
 pub mod visible_disk;
 
-use leakless_device::{BindingDecl, GpuStruct};
-use leakless_graph::{shader_bindings, Access, BufferHandle, PassBuilder};
+use leakless_device::{Bound, GpuStruct};
+use leakless_graph::{shader_bindings, Bindings, BufferHandle, PassBuilder, Resolved, Stage};
 
 use crate::gpu_scene::{SceneBindings, SceneHandles};
 use crate::gpu_types::{Frame, Light};
-use crate::trace::{Backend, TraceBindings, TraceHandles};
-use gbuffer::GBufferHandles;
+use crate::pipelines::ComputePassDef;
+use crate::trace::{TraceBindings, TraceHandles};
+use gbuffer::{GBufferBindings, GBufferHandles};
+
+/// Every compute pass a frame may run: the renderer's pipeline cache makes them all, and the
+/// bindings test checks them all against their shaders on both backends. A new pass adds its
+/// definition here.
+pub static FRAME_PASSES: &[&ComputePassDef] = &[
+    &direct::DIRECT,
+    &reference::REFERENCE,
+    &emission_order::EMISSION_CELLS,
+    &scan::SCAN,
+    &emission_order::EMISSION_ORDER,
+    &photons::PHOTONS,
+    &photon_dispatch::PHOTON_DISPATCH,
+    &photon_order::PHOTON_CELLS,
+    &photon_order::PHOTON_ORDER,
+    &visible_disk::VISIBLE_DISK,
+    &hierarchy::sample_bounds::SAMPLE_BOUNDS,
+    &hierarchy::morton::MORTON,
+    &sort::SORT_HISTOGRAM,
+    &sort::SORT_SCATTER,
+    &sort::SORT_COPY,
+    &hierarchy::build::HIERARCHY_LEVEL,
+    &splat::SPLAT,
+    &photon_clearance::PHOTON_CLEARANCE,
+    &gather::GATHER,
+    &compose::COMPOSE,
+    &accumulate::ACCUMULATE,
+    &luminance::LUMINANCE_TILES,
+    &luminance::LUMINANCE_TOTAL,
+];
+
+/// The compute passes of tools and tests, outside the frame: `bench rays` and the
+/// backend-agreement tests' ray casts, and fault injection's stall.
+pub static TOOL_PASSES: &[&ComputePassDef] = &[&raycast::RAYCAST, &hang::HANG];
 
 /// What every pass that shades view samples reads: the frame, the lights, the G-buffer, the
 /// scene's surfaces and the trace structures.
@@ -44,31 +79,41 @@ pub struct ViewInputs<'a> {
 }
 
 shader_bindings! {
-    /// The frame, lights and G-buffer of a view-sample shading pass.
+    /// The frame and lights of a view-sample shading pass.
     pub struct ViewBindings {
-        frame: uniform(Frame::LAYOUT),
-        lights: array(Light::LAYOUT),
-        gbuffer_position: image,
-        gbuffer_normal: image,
-        gbuffer_albedo: image,
+        frame: read uniform(Frame::LAYOUT),
+        lights: read array(Light::LAYOUT),
     }
+    pub struct ViewResources;
 }
 
-/// The bindings of a view-sample pass: [`ViewInputs`] plus the pass's own.
-pub fn view_bindings(backend: Backend, own: &[BindingDecl]) -> Vec<BindingDecl> {
-    [ViewBindings::DECLS, SceneBindings::DECLS, backend.bindings(), own].concat()
+/// What a view-sample pass binds of [`ViewInputs`].
+#[derive(Clone, Copy)]
+pub struct ViewUses {
+    view: ViewBindings,
+    gbuffer: GBufferBindings,
+    scene: SceneBindings,
+    trace: TraceBindings,
+}
+
+impl Bindings for ViewUses {
+    fn bind<'a>(&self, res: Resolved<'a>, out: &mut Vec<(&'static str, Bound<'a>)>) {
+        self.view.bind(res, out);
+        self.gbuffer.bind(res, out);
+        self.scene.bind(res, out);
+        self.trace.bind(res, out);
+    }
 }
 
 impl ViewInputs<'_> {
     /// Declares the compute reads of [`ViewInputs`].
-    pub fn declare(&self, pass: &mut PassBuilder<'_, '_>) -> (ViewBindings, SceneBindings, TraceBindings) {
-        let view = ViewBindings {
-            frame: pass.read(self.frame, Access::ComputeRead),
-            lights: pass.read(self.lights, Access::ComputeRead),
-            gbuffer_position: pass.read(&self.gbuffer.position, Access::ComputeRead),
-            gbuffer_normal: pass.read(&self.gbuffer.normal, Access::ComputeRead),
-            gbuffer_albedo: pass.read(&self.gbuffer.albedo, Access::ComputeRead),
-        };
-        (view, self.scene.declare(pass, Access::ComputeRead), self.trace.declare(pass))
+    pub fn declare(&self, pass: &mut PassBuilder<'_, '_>) -> ViewUses {
+        let resources = ViewResources { frame: self.frame, lights: self.lights };
+        ViewUses {
+            view: ViewBindings::declare(pass, Stage::Compute, resources),
+            gbuffer: self.gbuffer.declare(pass),
+            scene: self.scene.declare(pass, Stage::Compute),
+            trace: self.trace.declare(pass),
+        }
     }
 }

@@ -4,12 +4,14 @@
 
 use ash::vk;
 use bytemuck::{Pod, Zeroable};
-use leakless_device::{gpu_struct, BufferDesc, ComputePipeline, Gpu, GpuStruct, MemoryLocation};
-use leakless_graph::{shader_bindings, Access, BufferHandle, Graph};
+use leakless_device::{gpu_struct, BufferDesc, GpuStruct, MemoryLocation};
+use leakless_graph::{shader_bindings, BufferHandle, Graph, Stage};
 
 use crate::error::Result;
-use crate::passes::photon_dispatch::{check_workgroup, PhotonDispatch};
+use crate::passes::names;
+use crate::passes::photon_dispatch::{PhotonDispatch, PHOTON_WORKGROUP};
 use crate::passes::photons::{Photon, PhotonCounters};
+use crate::pipelines::{ComputePassDef, PipelineSet};
 use crate::shaders;
 use crate::trace::{ComputeTrace, TraceHandles};
 
@@ -37,11 +39,12 @@ gpu_struct! {
 
 shader_bindings! {
     pub struct ClearanceBindings {
-        photons: array(Photon::LAYOUT),
-        photon_counters: block(PhotonCounters::LAYOUT),
-        clearance: array(Clearance::LAYOUT),
-        photon_listed: words,
+        photons: read array(Photon::LAYOUT),
+        photon_counters: read block(PhotonCounters::LAYOUT),
+        clearance: write array(Clearance::LAYOUT),
+        photon_listed: read words,
     }
+    pub struct ClearanceResources;
 }
 
 /// The clearance buffer for `capacity` photons (of the graph's pool).
@@ -62,59 +65,55 @@ pub enum Needed<'a> {
     Listed(&'a BufferHandle),
 }
 
-pub struct ClearancePass {
-    pipeline: ComputePipeline,
-}
+/// The clearance searches the scene's BVH on every backend (it needs distances, not hits).
+pub static PHOTON_CLEARANCE: ComputePassDef = ComputePassDef::any(
+    names::PHOTON_CLEARANCE,
+    &shaders::PHOTON_CLEARANCE_COMP,
+    &[ClearanceBindings::DECLS, ComputeTrace::DECLS],
+)
+.push(ClearanceParams::LAYOUT)
+.workgroup([PHOTON_WORKGROUP, 1, 1]);
 
-impl ClearancePass {
-    pub fn new(gpu: &Gpu) -> Result<Self> {
-        let decls = [ClearanceBindings::DECLS, ComputeTrace::DECLS].concat();
-        let shader = &shaders::PHOTON_CLEARANCE_COMP;
-        let pipeline = ComputePipeline::new(gpu, "photon clearance", shader, &decls, Some(&ClearanceParams::LAYOUT))?;
-        check_workgroup(&pipeline, "photon clearance")?;
-        Ok(ClearancePass { pipeline })
-    }
-
-    /// Computes the clearance of the `needed` stored photons (up to the dispatch's capacity) into
-    /// `clearance`, searching up to `max_radius` (the longest segment the gather may trace);
-    /// the others get radius 0.
-    #[allow(clippy::too_many_arguments)]
-    pub fn add<'r>(
-        &'r self,
-        graph: &mut Graph<'r>,
-        trace: &TraceHandles,
-        photons: &BufferHandle,
-        photon_counters: &BufferHandle,
-        dispatch: &PhotonDispatch,
-        max_radius: f32,
-        needed: Needed<'_>,
-        clearance: &mut BufferHandle,
-    ) -> Result<()> {
-        let unread;
-        let (listed, only_listed) = match needed {
-            Needed::Listed(listed) => (listed, 1),
-            Needed::All => {
-                // The binding needs a buffer; the shader does not read it.
-                unread = graph.buffer(&BufferDesc {
-                    name: "photon listed (unread)",
-                    size: 4,
-                    usage: vk::BufferUsageFlags::STORAGE_BUFFER,
-                    location: MemoryLocation::GpuOnly,
-                })?;
-                (&unread, 0)
-            }
-        };
-        let params = ClearanceParams { max_radius, capacity: dispatch.capacity, only_listed, ..Default::default() };
-        let mut pass = graph.pass("photon clearance");
-        let own = ClearanceBindings {
-            photons: pass.read(photons, Access::ComputeRead),
-            photon_counters: pass.read(photon_counters, Access::ComputeRead),
-            clearance: pass.write(clearance, Access::ComputeWrite),
-            photon_listed: pass.read(listed, Access::ComputeRead),
-        };
-        let bvh = trace.declare_bvh(&mut pass);
-        let (args, threads) = (dispatch.declare(&mut pass), dispatch.most_threads());
-        pass.record(move |ctx| ctx.dispatch_indirect(&self.pipeline, &[&own, &bvh], &params, args, threads));
-        Ok(())
-    }
+/// Computes the clearance of the `needed` stored photons (up to the dispatch's capacity) into
+/// `clearance`, searching up to `max_radius` (the longest segment the gather may trace);
+/// the others get radius 0.
+#[allow(clippy::too_many_arguments)]
+pub fn add<'r>(
+    graph: &mut Graph<'r>,
+    pipelines: PipelineSet<'r>,
+    trace: &TraceHandles,
+    photons: &BufferHandle,
+    photon_counters: &BufferHandle,
+    dispatch: &PhotonDispatch,
+    max_radius: f32,
+    needed: Needed<'_>,
+    clearance: &mut BufferHandle,
+) -> Result<()> {
+    let unread;
+    let (listed, only_listed) = match needed {
+        Needed::Listed(listed) => (listed, 1),
+        Needed::All => {
+            // The binding needs a buffer; the shader does not read it.
+            unread = graph.buffer(&BufferDesc {
+                name: "photon listed (unread)",
+                size: 4,
+                usage: vk::BufferUsageFlags::STORAGE_BUFFER,
+                location: MemoryLocation::GpuOnly,
+            })?;
+            (&unread, 0)
+        }
+    };
+    let params = ClearanceParams { max_radius, capacity: dispatch.capacity, only_listed, ..Default::default() };
+    let mut pass = graph.pass(names::PHOTON_CLEARANCE);
+    let own = ClearanceBindings::declare(
+        &mut pass,
+        Stage::Compute,
+        ClearanceResources { photons, photon_counters, clearance, photon_listed: listed },
+    );
+    let bvh = trace.declare_bvh(&mut pass);
+    let (args, threads) = (dispatch.declare(&mut pass), dispatch.most_threads());
+    pass.record(move |ctx| {
+        ctx.dispatch_indirect(pipelines.get(&PHOTON_CLEARANCE), &[&own, &bvh], &params, args, threads)
+    });
+    Ok(())
 }

@@ -7,14 +7,17 @@
 
 use ash::vk;
 use bytemuck::{Pod, Zeroable};
-use leakless_device::{gpu_struct, BufferDesc, ComputePipeline, Gpu, GpuStruct, MemoryLocation};
-use leakless_graph::{shader_bindings, Access, Buf, BufferHandle, Graph, PassBuilder};
+use leakless_device::{gpu_struct, BufferDesc, GpuStruct, MemoryLocation};
+use leakless_graph::{shader_bindings, Access, Buf, BufferHandle, Graph, PassBuilder, Stage};
 
-use crate::error::{RenderError, Result};
+use crate::error::Result;
+use crate::passes::names;
 use crate::passes::photons::PhotonCounters;
+use crate::pipelines::{ComputePassDef, PipelineSet};
 use crate::shaders;
 
-/// Threads per workgroup of every per-photon pass, checked by [`check_workgroup`].
+/// Threads per workgroup of every per-photon pass, checked when their pipelines are made
+/// (`ComputePassDef::workgroup`).
 pub const PHOTON_WORKGROUP: u32 = 64;
 
 gpu_struct! {
@@ -40,9 +43,10 @@ gpu_struct! {
 
 shader_bindings! {
     pub struct PhotonDispatchBindings {
-        photon_counters: block(PhotonCounters::LAYOUT),
-        photon_dispatch: block(DispatchCommand::LAYOUT),
+        photon_counters: read block(PhotonCounters::LAYOUT),
+        photon_dispatch: write block(DispatchCommand::LAYOUT),
     }
+    pub struct PhotonDispatchResources;
 }
 
 /// A frame's per-photon dispatch: the command's buffer, and the capacity that bounds it.
@@ -64,55 +68,31 @@ impl PhotonDispatch {
     }
 }
 
-/// Fails when a per-photon pipeline's workgroup is not [`PHOTON_WORKGROUP`] threads: the
-/// command would then cover too few or too many photons.
-pub fn check_workgroup(pipeline: &ComputePipeline, name: &str) -> Result<()> {
-    if pipeline.workgroup_size() != [PHOTON_WORKGROUP, 1, 1] {
-        return Err(RenderError::Settings(format!(
-            "{name} has workgroup size {:?}; per-photon passes need [{PHOTON_WORKGROUP}, 1, 1] (photon_dispatch.rs)",
-            pipeline.workgroup_size()
-        )));
-    }
-    Ok(())
-}
+pub static PHOTON_DISPATCH: ComputePassDef =
+    ComputePassDef::any(names::PHOTON_DISPATCH, &shaders::PHOTON_DISPATCH_COMP, &[PhotonDispatchBindings::DECLS])
+        .push(PhotonDispatchParams::LAYOUT);
 
-pub struct PhotonDispatchPass {
-    pipeline: ComputePipeline,
-}
-
-impl PhotonDispatchPass {
-    pub fn new(gpu: &Gpu) -> Result<Self> {
-        let pipeline = ComputePipeline::new(
-            gpu,
-            "photon dispatch",
-            &shaders::PHOTON_DISPATCH_COMP,
-            PhotonDispatchBindings::DECLS,
-            Some(&PhotonDispatchParams::LAYOUT),
-        )?;
-        Ok(PhotonDispatchPass { pipeline })
-    }
-
-    /// Adds the pass that turns `photon_counters` (of a buffer of `capacity` photons) into the
-    /// per-photon passes' dispatch.
-    pub fn add<'r>(
-        &'r self,
-        graph: &mut Graph<'r>,
-        photon_counters: &BufferHandle,
-        capacity: u32,
-    ) -> Result<PhotonDispatch> {
-        let mut args = graph.buffer(&BufferDesc {
-            name: "photon dispatch",
-            size: std::mem::size_of::<DispatchCommand>() as u64,
-            usage: vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::INDIRECT_BUFFER,
-            location: MemoryLocation::GpuOnly,
-        })?;
-        let params = PhotonDispatchParams { capacity, group_size: PHOTON_WORKGROUP, ..Default::default() };
-        let mut pass = graph.pass("photon dispatch");
-        let own = PhotonDispatchBindings {
-            photon_counters: pass.read(photon_counters, Access::ComputeRead),
-            photon_dispatch: pass.write(&mut args, Access::ComputeWrite),
-        };
-        pass.record(move |ctx| ctx.dispatch(&self.pipeline, &[&own], &params, [1, 1, 1]));
-        Ok(PhotonDispatch { args, capacity })
-    }
+/// Adds the pass that turns `photon_counters` (of a buffer of `capacity` photons) into the
+/// per-photon passes' dispatch.
+pub fn add<'r>(
+    graph: &mut Graph<'r>,
+    pipelines: PipelineSet<'r>,
+    photon_counters: &BufferHandle,
+    capacity: u32,
+) -> Result<PhotonDispatch> {
+    let mut args = graph.buffer(&BufferDesc {
+        name: "photon dispatch",
+        size: std::mem::size_of::<DispatchCommand>() as u64,
+        usage: vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::INDIRECT_BUFFER,
+        location: MemoryLocation::GpuOnly,
+    })?;
+    let params = PhotonDispatchParams { capacity, group_size: PHOTON_WORKGROUP, ..Default::default() };
+    let mut pass = graph.pass(names::PHOTON_DISPATCH);
+    let own = PhotonDispatchBindings::declare(
+        &mut pass,
+        Stage::Compute,
+        PhotonDispatchResources { photon_counters, photon_dispatch: &mut args },
+    );
+    pass.record(move |ctx| ctx.dispatch(pipelines.get(&PHOTON_DISPATCH), &[&own], &params, [1, 1, 1]));
+    Ok(PhotonDispatch { args, capacity })
 }

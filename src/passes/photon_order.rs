@@ -14,14 +14,16 @@
 
 use ash::vk;
 use bytemuck::{Pod, Zeroable};
-use leakless_device::{gpu_struct, BufferDesc, ComputePipeline, Gpu, GpuStruct, MemoryLocation};
-use leakless_graph::{shader_bindings, Access, BufferHandle, Graph};
+use leakless_device::{gpu_struct, BufferDesc, GpuStruct, MemoryLocation};
+use leakless_graph::{shader_bindings, BufferHandle, Fill, Graph, Stage};
 use leakless_scene::Aabb;
 
 use crate::error::Result;
-use crate::passes::photon_dispatch::{check_workgroup, PhotonDispatch};
+use crate::passes::names;
+use crate::passes::photon_dispatch::{PhotonDispatch, PHOTON_WORKGROUP};
 use crate::passes::photons::{Photon, PhotonCounters};
-use crate::passes::scan::ScanPass;
+use crate::passes::scan;
+use crate::pipelines::{ComputePassDef, PipelineSet};
 use crate::shaders;
 
 /// Bits per axis of a cell index (`PHOTON_CELL_BITS` in photon_cell.glsl): 32 cells a side.
@@ -58,98 +60,90 @@ gpu_struct! {
 
 shader_bindings! {
     pub struct CellBindings {
-        photons: array(Photon::LAYOUT),
-        photon_counters: block(PhotonCounters::LAYOUT),
-        cell_counts: words,
-        photon_cell_of: words,
+        photons: read array(Photon::LAYOUT),
+        photon_counters: read block(PhotonCounters::LAYOUT),
+        cell_counts: read_write words,
+        photon_cell_of: write words,
     }
+    pub struct CellResources;
 }
 
 shader_bindings! {
     pub struct OrderBindings {
-        photons: array(Photon::LAYOUT),
-        photon_counters: block(PhotonCounters::LAYOUT),
-        cell_starts: words,
-        ordered_photons: array(Photon::LAYOUT),
-        photon_cell_of: words,
+        photons: read array(Photon::LAYOUT),
+        photon_counters: read block(PhotonCounters::LAYOUT),
+        cell_starts: read_write words,
+        ordered_photons: write array(Photon::LAYOUT),
+        photon_cell_of: read words,
     }
+    pub struct OrderResources;
 }
 
-pub struct PhotonOrderPass {
-    cells: ComputePipeline,
-    scan: ScanPass,
-    order: ComputePipeline,
-}
+pub static PHOTON_CELLS: ComputePassDef =
+    ComputePassDef::any(names::PHOTON_CELLS, &shaders::PHOTON_CELLS_COMP, &[CellBindings::DECLS])
+        .push(PhotonOrderParams::LAYOUT)
+        .workgroup([PHOTON_WORKGROUP, 1, 1]);
 
-impl PhotonOrderPass {
-    pub fn new(gpu: &Gpu) -> Result<Self> {
-        let push = Some(&PhotonOrderParams::LAYOUT);
-        let cells = ComputePipeline::new(gpu, "photon cells", &shaders::PHOTON_CELLS_COMP, CellBindings::DECLS, push)?;
-        let order = ComputePipeline::new(gpu, "photon order", &shaders::PHOTON_ORDER_COMP, OrderBindings::DECLS, push)?;
-        check_workgroup(&cells, "photon cells")?;
-        check_workgroup(&order, "photon order")?;
-        Ok(PhotonOrderPass { cells, scan: ScanPass::new(gpu)?, order })
-    }
+pub static PHOTON_ORDER: ComputePassDef =
+    ComputePassDef::any(names::PHOTON_ORDER, &shaders::PHOTON_ORDER_COMP, &[OrderBindings::DECLS])
+        .push(PhotonOrderParams::LAYOUT)
+        .workgroup([PHOTON_WORKGROUP, 1, 1]);
 
-    /// Copies the stored photons of `photons` (at most the dispatch's capacity) into `ordered`,
-    /// grouped by cell of a grid over `bounds`, and cells in Morton order.
-    pub fn add<'r>(
-        &'r self,
-        graph: &mut Graph<'r>,
-        photons: &BufferHandle,
-        photon_counters: &BufferHandle,
-        dispatch: &PhotonDispatch,
-        bounds: &Aabb,
-        ordered: &mut BufferHandle,
-    ) -> Result<()> {
-        let params = PhotonOrderParams {
-            bounds_min: bounds.min.to_array(),
-            capacity: dispatch.capacity,
-            bounds_max: bounds.max.to_array(),
-            pad0: 0,
-        };
-        let mut counts = graph.buffer(&BufferDesc {
-            name: "photon cell counts",
-            size: 4 * CELLS as u64,
-            usage: vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_DST,
-            location: MemoryLocation::GpuOnly,
-        })?;
-        let mut cell_of = graph.buffer(&BufferDesc {
-            name: "photon cell of",
-            size: 4 * dispatch.capacity.max(1) as u64,
-            usage: vk::BufferUsageFlags::STORAGE_BUFFER,
-            location: MemoryLocation::GpuOnly,
-        })?;
-        let mut clear = graph.pass("photon cells clear");
-        let cleared = clear.write(&mut counts, Access::TransferWrite);
-        clear.record(move |ctx| {
-            let counts = ctx.buffer(cleared);
-            ctx.cmd.fill_buffer(counts, 0, counts.size(), 0);
-            Ok(())
-        });
+/// Copies the stored photons of `photons` (at most the dispatch's capacity) into `ordered`,
+/// grouped by cell of a grid over `bounds`, and cells in Morton order.
+pub fn add<'r>(
+    graph: &mut Graph<'r>,
+    pipelines: PipelineSet<'r>,
+    photons: &BufferHandle,
+    photon_counters: &BufferHandle,
+    dispatch: &PhotonDispatch,
+    bounds: &Aabb,
+    ordered: &mut BufferHandle,
+) -> Result<()> {
+    let params = PhotonOrderParams {
+        bounds_min: bounds.min.to_array(),
+        capacity: dispatch.capacity,
+        bounds_max: bounds.max.to_array(),
+        pad0: 0,
+    };
+    let mut counts = graph.buffer(&BufferDesc {
+        name: "photon cell counts",
+        size: 4 * CELLS as u64,
+        usage: vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_DST,
+        location: MemoryLocation::GpuOnly,
+    })?;
+    let mut cell_of = graph.buffer(&BufferDesc {
+        name: "photon cell of",
+        size: 4 * dispatch.capacity.max(1) as u64,
+        usage: vk::BufferUsageFlags::STORAGE_BUFFER,
+        location: MemoryLocation::GpuOnly,
+    })?;
+    graph.fill(names::PHOTON_CELLS_CLEAR, &mut [(&mut counts, &[Fill::whole(0)])]);
 
-        let mut pass = graph.pass("photon cells");
-        let own = CellBindings {
-            photons: pass.read(photons, Access::ComputeRead),
-            photon_counters: pass.read(photon_counters, Access::ComputeRead),
-            cell_counts: pass.write(&mut counts, Access::ComputeReadWrite),
-            photon_cell_of: pass.write(&mut cell_of, Access::ComputeWrite),
-        };
-        let (args, threads) = (dispatch.declare(&mut pass), dispatch.most_threads());
-        pass.record(move |ctx| ctx.dispatch_indirect(&self.cells, &[&own], &params, args, threads));
+    let mut pass = graph.pass(names::PHOTON_CELLS);
+    let own = CellBindings::declare(
+        &mut pass,
+        Stage::Compute,
+        CellResources { photons, photon_counters, cell_counts: &mut counts, photon_cell_of: &mut cell_of },
+    );
+    let (args, threads) = (dispatch.declare(&mut pass), dispatch.most_threads());
+    pass.record(move |ctx| ctx.dispatch_indirect(pipelines.get(&PHOTON_CELLS), &[&own], &params, args, threads));
 
-        self.scan.add(graph, "photon cell starts", CELLS, &mut counts)?;
+    scan::add(graph, pipelines, (names::PHOTON_CELL_STARTS, None), CELLS, &mut counts)?;
 
-        let mut pass = graph.pass("photon order");
-        let own = OrderBindings {
-            photons: pass.read(photons, Access::ComputeRead),
-            photon_counters: pass.read(photon_counters, Access::ComputeRead),
-            cell_starts: pass.write(&mut counts, Access::ComputeReadWrite),
-            ordered_photons: pass.write(ordered, Access::ComputeWrite),
-            photon_cell_of: pass.read(&cell_of, Access::ComputeRead),
-        };
-        let (args, threads) = (dispatch.declare(&mut pass), dispatch.most_threads());
-        pass.record(move |ctx| ctx.dispatch_indirect(&self.order, &[&own], &params, args, threads));
-        Ok(())
-    }
+    let mut pass = graph.pass(names::PHOTON_ORDER);
+    let own = OrderBindings::declare(
+        &mut pass,
+        Stage::Compute,
+        OrderResources {
+            photons,
+            photon_counters,
+            cell_starts: &mut counts,
+            ordered_photons: ordered,
+            photon_cell_of: &cell_of,
+        },
+    );
+    let (args, threads) = (dispatch.declare(&mut pass), dispatch.most_threads());
+    pass.record(move |ctx| ctx.dispatch_indirect(pipelines.get(&PHOTON_ORDER), &[&own], &params, args, threads));
+    Ok(())
 }

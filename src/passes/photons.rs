@@ -10,17 +10,19 @@
 
 use ash::vk;
 use bytemuck::{Pod, Zeroable};
-use leakless_device::{gpu_struct, BindingDecl, Buffer, BufferDesc, ComputePipeline, Gpu, GpuStruct, MemoryLocation};
-use leakless_graph::{shader_bindings, Access, BufferHandle, Graph, GraphRunner, Timing};
+use leakless_device::{gpu_struct, Buffer, BufferDesc, Gpu, GpuStruct, MemoryLocation};
+use leakless_graph::{shader_bindings, Access, BufferHandle, Fill, Graph, GraphRunner, Stage, Timing};
 use leakless_scene::Scene;
 
 use crate::error::{RenderError, Result};
 use crate::gpu_scene::{GpuScene, SceneBindings, SceneHandles};
 use crate::gpu_types::Light;
-use crate::passes::emission_order::{EmissionOrderParams, EmissionOrderPass};
-use crate::passes::photon_clearance::{Clearance, ClearancePass, Needed};
-use crate::passes::photon_dispatch::PhotonDispatchPass;
+use crate::passes::emission_order::{self, EmissionOrderParams};
+use crate::passes::names;
+use crate::passes::photon_clearance::{self, Clearance, Needed};
+use crate::passes::{photon_dispatch, scan};
 use crate::photon_lights::{upload_lights, LightHandles, LightTable};
+use crate::pipelines::{ComputePassDef, PipelineSet, Pipelines};
 use crate::shaders;
 use crate::trace::{Backend, TraceHandles, TraceScene};
 
@@ -99,12 +101,13 @@ gpu_struct! {
 shader_bindings! {
     /// What photons.comp binds besides the scene and the trace structures.
     pub struct PhotonBindings {
-        lights: array(Light::LAYOUT),
-        photon_lights: array(PhotonLight::LAYOUT),
-        photons: array(Photon::LAYOUT),
-        photon_counters: block(PhotonCounters::LAYOUT),
-        path_order: words,
+        lights: read array(Light::LAYOUT),
+        photon_lights: read array(PhotonLight::LAYOUT),
+        photons: write array(Photon::LAYOUT),
+        photon_counters: read_write block(PhotonCounters::LAYOUT),
+        path_order: read words,
     }
+    pub struct PhotonResources;
 }
 
 /// What one photon-tracing run does.
@@ -127,6 +130,9 @@ pub struct PhotonParams {
     /// stored in another order, sooner. Off for `leakless-capped`, whose cap keeps the first
     /// photons of a list: in emission order they would come from one part of the light.
     pub emission_order: bool,
+    /// Paths each thread traces; `None`: the device's choice ([`paths_per_thread`]). Tests
+    /// trace the same paths both ways on one device.
+    pub paths_per_thread: Option<u32>,
 }
 
 impl Default for PhotonParams {
@@ -138,13 +144,9 @@ impl Default for PhotonParams {
             store_direct: false,
             path_offset: 0,
             emission_order: true,
+            paths_per_thread: None,
         }
     }
-}
-
-/// Every binding of photons.comp on `backend`.
-pub fn bindings(backend: Backend) -> Vec<BindingDecl> {
-    [PhotonBindings::DECLS, SceneBindings::DECLS, backend.bindings()].concat()
 }
 
 /// Bytes of a photon buffer holding `capacity` photons.
@@ -163,109 +165,101 @@ pub const COUNTER_BUFFER_USAGE: vk::BufferUsageFlags = vk::BufferUsageFlags::fro
         | vk::BufferUsageFlags::TRANSFER_SRC.as_raw(),
 );
 
-/// Paths each thread traces on a CPU device ([`PhotonPass`]).
+/// Paths each thread traces on a CPU device ([`paths_per_thread`]).
 const PATHS_PER_CPU_THREAD: u32 = 8;
 
-pub struct PhotonPass {
-    pipeline: ComputePipeline,
-    emission_order: EmissionOrderPass,
-    /// Paths per thread: on a CPU device (lavapipe) a SIMD group runs until its longest path
-    /// ends, so each thread traces about this many paths, taking the next when one ends; a
-    /// GPU keeps one path per thread, since it needs every thread it can get in flight.
-    paths_per_thread: u32,
+/// Paths each thread traces on `gpu`, a choice made per device: on a CPU device (lavapipe) a
+/// SIMD group runs until its longest path ends, so each thread traces about
+/// `PATHS_PER_CPU_THREAD` paths, taking the next when one ends; a GPU keeps one path per
+/// thread, since it needs every thread it can get in flight.
+pub fn paths_per_thread(gpu: &Gpu) -> u32 {
+    match gpu.report().device_type {
+        leakless_device::DeviceType::Cpu => PATHS_PER_CPU_THREAD,
+        _ => 1,
+    }
 }
 
-impl PhotonPass {
-    pub fn new(gpu: &Gpu, backend: Backend) -> Result<Self> {
-        let shader = backend.pick(&shaders::PHOTONS_COMP_RAYQUERY, &shaders::PHOTONS_COMP_COMPUTE);
-        let pipeline = ComputePipeline::new(gpu, "photons", shader, &bindings(backend), Some(&PhotonPush::LAYOUT))?;
-        let cpu = gpu.report().device_type == leakless_device::DeviceType::Cpu;
-        Ok(PhotonPass {
-            pipeline,
-            emission_order: EmissionOrderPass::new(gpu)?,
-            paths_per_thread: if cpu { PATHS_PER_CPU_THREAD } else { 1 },
-        })
+pub static PHOTONS: ComputePassDef = ComputePassDef::traced(
+    names::PHOTONS,
+    (&shaders::PHOTONS_COMP_RAYQUERY, &shaders::PHOTONS_COMP_COMPUTE),
+    &[PhotonBindings::DECLS, SceneBindings::DECLS],
+)
+.push(PhotonPush::LAYOUT);
+
+/// Adds two passes: "photon counters" zeroes `counters` (a transfer), then "photons"
+/// traces `params.paths` light paths, appending at most `capacity` photons to `photons`
+/// and counting them in `counters` ([`PhotonCounters`]).
+#[allow(clippy::too_many_arguments)]
+pub fn add<'r>(
+    graph: &mut Graph<'r>,
+    pipelines: PipelineSet<'r>,
+    params: &PhotonParams,
+    scene: &SceneHandles,
+    trace: &TraceHandles,
+    lights: &LightHandles,
+    photons: &mut BufferHandle,
+    capacity: u32,
+    counters: &mut BufferHandle,
+) -> Result<()> {
+    let table = &lights.table;
+    if photons.size() < photon_buffer_size(capacity) {
+        return Err(RenderError::Settings(format!(
+            "photon buffer holds {} bytes; capacity {capacity} needs {}",
+            photons.size(),
+            photon_buffer_size(capacity)
+        )));
     }
-
-    /// Overrides the device's choice of paths per thread (at least 1): tests trace the same
-    /// paths both ways on one device.
-    pub fn set_paths_per_thread(&mut self, paths_per_thread: u32) {
-        self.paths_per_thread = paths_per_thread.max(1);
+    let counter_size = std::mem::size_of::<PhotonCounters>() as u64;
+    if counters.size() < counter_size {
+        return Err(RenderError::Settings(format!(
+            "photon counter buffer holds {} bytes; it needs {counter_size}",
+            counters.size()
+        )));
     }
+    let per_thread = params.paths_per_thread.unwrap_or_else(|| paths_per_thread(graph.gpu())).max(1);
+    // No emitting light, or no path: nothing to trace (the counters still read zero).
+    let paths = if table.emits() { params.paths } else { 0 };
+    let push = PhotonPush {
+        scene_center: table.center.to_array(),
+        scene_radius: table.radius,
+        paths,
+        max_bounces: params.max_bounces,
+        seed: params.seed,
+        capacity,
+        light_count: table.entries.len() as u32,
+        store_direct: params.store_direct as u32,
+        path_offset: params.path_offset,
+        threads: paths.div_ceil(per_thread),
+        ordered: params.emission_order as u32,
+        ..Default::default()
+    };
 
-    /// Adds two passes: "photon counters" zeroes `counters` (a transfer), then "photons"
-    /// traces `params.paths` light paths, appending at most `capacity` photons to `photons`
-    /// and counting them in `counters` ([`PhotonCounters`]).
-    #[allow(clippy::too_many_arguments)]
-    pub fn add<'r>(
-        &'r self,
-        graph: &mut Graph<'r>,
-        params: &PhotonParams,
-        scene: &SceneHandles,
-        trace: &TraceHandles,
-        lights: &LightHandles,
-        photons: &mut BufferHandle,
-        capacity: u32,
-        counters: &mut BufferHandle,
-    ) -> Result<()> {
-        let table = &lights.table;
-        if photons.size() < photon_buffer_size(capacity) {
-            return Err(RenderError::Settings(format!(
-                "photon buffer holds {} bytes; capacity {capacity} needs {}",
-                photons.size(),
-                photon_buffer_size(capacity)
-            )));
-        }
-        let counter_size = std::mem::size_of::<PhotonCounters>() as u64;
-        if counters.size() < counter_size {
-            return Err(RenderError::Settings(format!(
-                "photon counter buffer holds {} bytes; it needs {counter_size}",
-                counters.size()
-            )));
-        }
-        // No emitting light, or no path: nothing to trace (the counters still read zero).
-        let paths = if table.emits() { params.paths } else { 0 };
-        let push = PhotonPush {
-            scene_center: table.center.to_array(),
-            scene_radius: table.radius,
-            paths,
-            max_bounces: params.max_bounces,
-            seed: params.seed,
-            capacity,
-            light_count: table.entries.len() as u32,
-            store_direct: params.store_direct as u32,
-            path_offset: params.path_offset,
-            threads: paths.div_ceil(self.paths_per_thread),
-            ordered: params.emission_order as u32,
-            ..Default::default()
-        };
+    graph.fill(names::PHOTON_COUNTERS, &mut [(&mut *counters, &[Fill::range(0, counter_size, 0)])]);
 
-        let mut clear = graph.pass("photon counters");
-        let counter_buffer = clear.write(counters, Access::TransferWrite);
-        clear.record(move |ctx| {
-            ctx.cmd.fill_buffer(ctx.buffer(counter_buffer), 0, counter_size, 0);
-            Ok(())
-        });
+    // Without the order the buffer is bound but not read.
+    let ordered_paths = if params.emission_order { paths } else { 0 };
+    let order =
+        EmissionOrderParams { paths: ordered_paths, path_offset: params.path_offset, seed: params.seed, pad0: 0 };
+    let path_order = emission_order::add(graph, pipelines, order)?;
 
-        // Without the order the buffer is bound but not read.
-        let ordered_paths = if params.emission_order { paths } else { 0 };
-        let order =
-            EmissionOrderParams { paths: ordered_paths, path_offset: params.path_offset, seed: params.seed, pad0: 0 };
-        let path_order = self.emission_order.add(graph, order)?;
-
-        let mut pass = graph.pass("photons");
-        let own = PhotonBindings {
-            path_order: pass.read(&path_order, Access::ComputeRead),
-            lights: pass.read(&lights.lights, Access::ComputeRead),
-            photon_lights: pass.read(&lights.photon_lights, Access::ComputeRead),
-            photons: pass.write(photons, Access::ComputeWrite),
-            photon_counters: pass.write(counters, Access::ComputeReadWrite),
-        };
-        let surfaces = scene.declare(&mut pass, Access::ComputeRead);
-        let trace = trace.declare(&mut pass);
-        pass.record(move |ctx| ctx.dispatch(&self.pipeline, &[&own, &surfaces, &trace], &push, [push.threads, 1, 1]));
-        Ok(())
-    }
+    let mut pass = graph.pass(names::PHOTONS);
+    let own = PhotonBindings::declare(
+        &mut pass,
+        Stage::Compute,
+        PhotonResources {
+            path_order: &path_order,
+            lights: &lights.lights,
+            photon_lights: &lights.photon_lights,
+            photons,
+            photon_counters: counters,
+        },
+    );
+    let surfaces = scene.declare(&mut pass, Stage::Compute);
+    let trace = trace.declare(&mut pass);
+    pass.record(move |ctx| {
+        ctx.dispatch(pipelines.get(&PHOTONS), &[&own, &surfaces, &trace], &push, [push.threads, 1, 1])
+    });
+    Ok(())
 }
 
 /// Sorts photons by (path, bounce): a canonical order independent of scheduling.
@@ -293,6 +287,16 @@ const GUARD_WORD: u32 = 0xdead_beef;
 /// A self-contained photon tracer on one backend (tests, benchmarks): uploads the scene,
 /// builds its trace structures, and traces into host-visible buffers with a guard region
 /// after the capacity.
+/// The passes a [`PhotonTracer`] runs.
+static TRACER_PASSES: &[&ComputePassDef] = &[
+    &PHOTONS,
+    &emission_order::EMISSION_CELLS,
+    &scan::SCAN,
+    &emission_order::EMISSION_ORDER,
+    &photon_dispatch::PHOTON_DISPATCH,
+    &photon_clearance::PHOTON_CLEARANCE,
+];
+
 pub struct PhotonTracer<'g> {
     gpu: &'g Gpu,
     scene: GpuScene,
@@ -301,7 +305,10 @@ pub struct PhotonTracer<'g> {
     pose: crate::scene_pose::ScenePose,
     lights: Vec<leakless_scene::Light>,
     bounds: leakless_scene::Aabb,
-    pass: PhotonPass,
+    pipelines: Pipelines,
+    backend: Backend,
+    /// Paths per thread, when a test overrides the device's choice.
+    paths_per_thread: Option<u32>,
     capacity: u32,
     photons: Buffer,
     counters: Buffer,
@@ -340,7 +347,9 @@ impl<'g> PhotonTracer<'g> {
             pose,
             lights: scene.lights.clone(),
             bounds: scene.bounds(),
-            pass: PhotonPass::new(gpu, backend)?,
+            pipelines: Pipelines::new(gpu, TRACER_PASSES, backend)?,
+            backend,
+            paths_per_thread: None,
             capacity,
             photons,
             counters,
@@ -348,9 +357,9 @@ impl<'g> PhotonTracer<'g> {
         })
     }
 
-    /// Paths each thread traces ([`PhotonPass::set_paths_per_thread`]).
+    /// Paths each thread traces, overriding the device's choice ([`PhotonParams`]).
     pub fn set_paths_per_thread(&mut self, paths_per_thread: u32) {
-        self.pass.set_paths_per_thread(paths_per_thread);
+        self.paths_per_thread = Some(paths_per_thread.max(1));
     }
 
     /// The light table photons are emitted from.
@@ -384,10 +393,6 @@ impl<'g> PhotonTracer<'g> {
         // earlier run can pass for a new one, and the guard shows any write past the capacity.
         let words = (capacity + GUARD_PHOTONS) as usize * std::mem::size_of::<Photon>() / 4;
         self.photons.write(0, bytemuck::cast_slice(&vec![GUARD_WORD; words]))?;
-        let clearance_pass = match clearance_radius {
-            Some(_) => Some((ClearancePass::new(self.gpu)?, PhotonDispatchPass::new(self.gpu)?)),
-            None => None,
-        };
         let clearance_buffer = match clearance_radius {
             Some(_) => Some(Buffer::new(
                 self.gpu,
@@ -407,13 +412,25 @@ impl<'g> PhotonTracer<'g> {
         let mut photons = graph.import_buffer(&self.photons);
         let mut counters = graph.import_buffer(&self.counters);
         // The pass writes up to the capacity, never into the guard after it.
-        self.pass.add(&mut graph, params, &scene, &trace, &lights, &mut photons, capacity, &mut counters)?;
+        let pipelines = self.pipelines.on(self.backend);
+        let params = PhotonParams { paths_per_thread: params.paths_per_thread.or(self.paths_per_thread), ..*params };
+        add(&mut graph, pipelines, &params, &scene, &trace, &lights, &mut photons, capacity, &mut counters)?;
         let mut clearance = clearance_buffer.as_ref().map(|b| graph.import_buffer(b));
-        if let (Some((pass, dispatch)), Some(out), Some(radius)) = (&clearance_pass, &mut clearance, clearance_radius) {
-            let dispatch = dispatch.add(&mut graph, &counters, capacity)?;
-            pass.add(&mut graph, &trace, &photons, &counters, &dispatch, radius, Needed::All, out)?;
+        if let (Some(out), Some(radius)) = (&mut clearance, clearance_radius) {
+            let dispatch = photon_dispatch::add(&mut graph, pipelines, &counters, capacity)?;
+            photon_clearance::add(
+                &mut graph,
+                pipelines,
+                &trace,
+                &photons,
+                &counters,
+                &dispatch,
+                radius,
+                Needed::All,
+                out,
+            )?;
         }
-        let mut host = graph.pass("to host");
+        let mut host = graph.pass(names::TO_HOST);
         host.read(&photons, Access::HostRead);
         host.read(&counters, Access::HostRead);
         if let Some(c) = &clearance {
@@ -422,7 +439,8 @@ impl<'g> PhotonTracer<'g> {
         host.record(|_| Ok(()));
         let submitted = graph.submit(&Default::default())?;
         let done = self.runner.wait_for(self.gpu, submitted)?;
-        let trace_ms = done.timings.iter().find(|t| t.name == "photons").and_then(|t| t.wall_ms).unwrap_or(0.0);
+        let trace_ms =
+            done.timings.iter().find(|t| t.name == names::PHOTONS.label).and_then(|t| t.wall_ms).unwrap_or(0.0);
         let counters: PhotonCounters = self.counters.read_vec(1)?[0];
         let all: Vec<Photon> = self.photons.read_vec((capacity + GUARD_PHOTONS) as usize)?;
         let stored = (counters.stored.min(capacity)) as usize;

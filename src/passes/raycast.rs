@@ -1,14 +1,15 @@
 //! Raycast: traces a buffer of rays and writes one hit record per ray (`raycast.comp`).
 
 use bytemuck::{Pod, Zeroable};
-use leakless_device::{gpu_struct, BindingDecl, ComputePipeline, Gpu, GpuStruct};
-use leakless_graph::{shader_bindings, Access, BufferHandle, Graph};
+use leakless_device::{gpu_struct, GpuStruct};
+use leakless_graph::{shader_bindings, BufferHandle, Graph, Stage};
 
-use crate::error::Result;
 use crate::gpu_scene::{SceneBindings, SceneHandles};
 use crate::gpu_types::{GpuRay, RayHit};
+use crate::passes::names;
+use crate::pipelines::{ComputePassDef, PipelineSet};
 use crate::shaders;
-use crate::trace::{Backend, TraceHandles};
+use crate::trace::TraceHandles;
 
 gpu_struct! {
     /// The `RaycastParams` push constants of raycast.comp.
@@ -24,45 +25,36 @@ gpu_struct! {
 
 shader_bindings! {
     pub struct RaycastBindings {
-        rays: array(GpuRay::LAYOUT),
-        ray_hits: array(RayHit::LAYOUT),
+        rays: read array(GpuRay::LAYOUT),
+        ray_hits: write array(RayHit::LAYOUT),
     }
+    pub struct RaycastResources;
 }
 
-pub fn bindings(backend: Backend) -> Vec<BindingDecl> {
-    [RaycastBindings::DECLS, SceneBindings::DECLS, backend.bindings()].concat()
-}
+pub static RAYCAST: ComputePassDef = ComputePassDef::traced(
+    names::RAYCAST,
+    (&shaders::RAYCAST_COMP_RAYQUERY, &shaders::RAYCAST_COMP_COMPUTE),
+    &[RaycastBindings::DECLS, SceneBindings::DECLS],
+)
+.push(RaycastParams::LAYOUT);
 
-pub struct RaycastPass {
-    pipeline: ComputePipeline,
-}
-
-impl RaycastPass {
-    pub fn new(gpu: &Gpu, backend: Backend) -> Result<Self> {
-        let shader = backend.pick(&shaders::RAYCAST_COMP_RAYQUERY, &shaders::RAYCAST_COMP_COMPUTE);
-        let pipeline = ComputePipeline::new(gpu, "raycast", shader, &bindings(backend), Some(&RaycastParams::LAYOUT))?;
-        Ok(RaycastPass { pipeline })
-    }
-
-    #[allow(clippy::too_many_arguments)]
-    pub fn add<'r>(
-        &'r self,
-        graph: &mut Graph<'r>,
-        ray_count: u32,
-        occlusion: bool,
-        scene: &SceneHandles,
-        trace: &TraceHandles,
-        rays: &BufferHandle,
-        hits: &mut BufferHandle,
-    ) {
-        let params = RaycastParams { ray_count, occlusion: occlusion as u32, ..Default::default() };
-        let mut pass = graph.pass("raycast");
-        let own = RaycastBindings {
-            rays: pass.read(rays, Access::ComputeRead),
-            ray_hits: pass.write(hits, Access::ComputeWrite),
-        };
-        let surfaces = scene.declare(&mut pass, Access::ComputeRead);
-        let trace = trace.declare(&mut pass);
-        pass.record(move |ctx| ctx.dispatch(&self.pipeline, &[&own, &surfaces, &trace], &params, [ray_count, 1, 1]));
-    }
+#[allow(clippy::too_many_arguments)]
+pub fn add<'r>(
+    graph: &mut Graph<'r>,
+    pipelines: PipelineSet<'r>,
+    ray_count: u32,
+    occlusion: bool,
+    scene: &SceneHandles,
+    trace: &TraceHandles,
+    rays: &BufferHandle,
+    hits: &mut BufferHandle,
+) {
+    let params = RaycastParams { ray_count, occlusion: occlusion as u32, ..Default::default() };
+    let mut pass = graph.pass(names::RAYCAST);
+    let own = RaycastBindings::declare(&mut pass, Stage::Compute, RaycastResources { rays, ray_hits: hits });
+    let surfaces = scene.declare(&mut pass, Stage::Compute);
+    let trace = trace.declare(&mut pass);
+    pass.record(move |ctx| {
+        ctx.dispatch(pipelines.get(&RAYCAST), &[&own, &surfaces, &trace], &params, [ray_count, 1, 1])
+    });
 }

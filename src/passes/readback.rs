@@ -4,9 +4,10 @@
 
 use ash::vk;
 use leakless_device::{BufferDesc, MemoryLocation};
-use leakless_graph::{Access, BufferHandle, Graph, ImageHandle};
+use leakless_graph::{Access, BufferHandle, Graph, ImageHandle, PassName};
 
 use crate::error::{RenderError, Result};
+use crate::passes::names;
 
 /// Bytes per texel of the formats the renderer reads back.
 pub fn texel_bytes(format: vk::Format) -> Result<u64> {
@@ -30,7 +31,7 @@ pub fn add(graph: &mut Graph<'_>, name: &str, images: &[&ImageHandle]) -> Result
     }
     let desc = BufferDesc { name, size, usage: vk::BufferUsageFlags::TRANSFER_DST, location: MemoryLocation::GpuToCpu };
     let mut buffer = graph.frame_buffer(&desc)?;
-    let mut pass = graph.pass("readback");
+    let mut pass = graph.pass(names::READBACK);
     let sources: Vec<_> = images.iter().map(|h| pass.read(*h, Access::TransferRead)).collect();
     let dst = pass.write(&mut buffer, Access::TransferWrite);
     pass.record(move |ctx| {
@@ -39,15 +40,19 @@ pub fn add(graph: &mut Graph<'_>, name: &str, images: &[&ImageHandle]) -> Result
         }
         Ok(())
     });
-    let mut host = graph.pass("to host");
+    let mut host = graph.pass(names::TO_HOST);
     host.read(&buffer, Access::HostRead);
     host.record(|_| Ok(()));
     Ok(buffer)
 }
 
 /// Adds the copy of whole buffers into the per-frame buffer `name` (counters for the stats),
-/// readable on the host when the frame completed.
-pub fn add_buffers(graph: &mut Graph<'_>, name: &str, buffers: &[&BufferHandle]) -> Result<BufferHandle> {
+/// readable on the host when the frame completed, by the pass `pass`.
+pub fn add_buffers(
+    graph: &mut Graph<'_>,
+    (name, pass): (&str, PassName),
+    buffers: &[&BufferHandle],
+) -> Result<BufferHandle> {
     let mut offsets = Vec::with_capacity(buffers.len());
     let mut size = 0;
     for b in buffers {
@@ -56,7 +61,7 @@ pub fn add_buffers(graph: &mut Graph<'_>, name: &str, buffers: &[&BufferHandle])
     }
     let desc = BufferDesc { name, size, usage: vk::BufferUsageFlags::TRANSFER_DST, location: MemoryLocation::GpuToCpu };
     let mut buffer = graph.frame_buffer(&desc)?;
-    let mut pass = graph.pass(name);
+    let mut pass = graph.pass(pass);
     let sources: Vec<_> = buffers.iter().map(|h| (pass.read(*h, Access::TransferRead), h.size())).collect();
     let dst = pass.write(&mut buffer, Access::TransferWrite);
     pass.record(move |ctx| {
@@ -65,7 +70,7 @@ pub fn add_buffers(graph: &mut Graph<'_>, name: &str, buffers: &[&BufferHandle])
         }
         Ok(())
     });
-    let mut host = graph.pass("stats to host");
+    let mut host = graph.pass(names::STATS_TO_HOST);
     host.read(&buffer, Access::HostRead);
     host.record(|_| Ok(()));
     Ok(buffer)

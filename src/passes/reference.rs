@@ -2,13 +2,15 @@
 //! running sum (`reference.comp`).
 
 use bytemuck::{Pod, Zeroable};
-use leakless_device::{gpu_struct, ComputePipeline, Gpu, GpuStruct};
-use leakless_graph::{shader_bindings, Access, Graph, ImageHandle};
+use leakless_device::{gpu_struct, GpuStruct};
+use leakless_graph::{shader_bindings, Graph, ImageHandle, Stage};
 
-use crate::error::Result;
-use crate::passes::{view_bindings, ViewInputs};
+use crate::gpu_scene::SceneBindings;
+use crate::passes::gbuffer::GBufferBindings;
+use crate::passes::names;
+use crate::passes::{ViewBindings, ViewInputs};
+use crate::pipelines::{ComputePassDef, PipelineSet};
 use crate::shaders;
-use crate::trace::Backend;
 
 gpu_struct! {
     /// The `ReferenceParams` push constants of reference.comp.
@@ -34,42 +36,36 @@ gpu_struct! {
 shader_bindings! {
     /// The pass's own bindings, after those of [`ViewInputs`].
     pub struct ReferenceBindings {
-        accumulated: image,
+        accumulated: read_write image,
     }
+    pub struct ReferenceResources;
 }
 
-pub struct ReferencePass {
-    pipeline: ComputePipeline,
-}
+pub static REFERENCE: ComputePassDef = ComputePassDef::traced(
+    names::REFERENCE,
+    (&shaders::REFERENCE_COMP_RAYQUERY, &shaders::REFERENCE_COMP_COMPUTE),
+    &[ViewBindings::DECLS, GBufferBindings::DECLS, SceneBindings::DECLS, ReferenceBindings::DECLS],
+)
+.push(ReferenceParams::LAYOUT);
 
-impl ReferencePass {
-    pub fn new(gpu: &Gpu, backend: Backend) -> Result<Self> {
-        let shader = backend.pick(&shaders::REFERENCE_COMP_RAYQUERY, &shaders::REFERENCE_COMP_COMPUTE);
-        let decls = view_bindings(backend, ReferenceBindings::DECLS);
-        let pipeline = ComputePipeline::new(gpu, "reference", shader, &decls, Some(&ReferenceParams::LAYOUT))?;
-        Ok(ReferencePass { pipeline })
-    }
-
-    /// Adds `params.sample_count` samples per view sample to `accumulated` (overwrites it
-    /// when `params.restart` is 1), in passes of about [`PATHS_PER_PASS`] paths each (see
-    /// [`dispatches`]).
-    pub fn add<'r>(
-        &'r self,
-        graph: &mut Graph<'r>,
-        params: ReferenceParams,
-        view: &ViewInputs<'_>,
-        accumulated: &mut ImageHandle,
-    ) {
-        let extent = accumulated.extent();
-        for params in dispatches(params, extent.width as u64 * extent.height as u64) {
-            let mut pass = graph.pass("reference");
-            let (inputs, surfaces, trace) = view.declare(&mut pass);
-            let own = ReferenceBindings { accumulated: pass.write(accumulated, Access::ComputeReadWrite) };
-            pass.record(move |ctx| {
-                let groups: [&dyn leakless_graph::Bindings; 4] = [&inputs, &surfaces, &trace, &own];
-                ctx.dispatch(&self.pipeline, &groups, &params, [extent.width, extent.height, 1])
-            });
-        }
+/// Adds `params.sample_count` samples per view sample to `accumulated` (overwrites it
+/// when `params.restart` is 1), in passes of about [`PATHS_PER_PASS`] paths each (see
+/// [`dispatches`]).
+pub fn add<'r>(
+    graph: &mut Graph<'r>,
+    pipelines: PipelineSet<'r>,
+    params: ReferenceParams,
+    view: &ViewInputs<'_>,
+    accumulated: &mut ImageHandle,
+) {
+    let extent = accumulated.extent();
+    for params in dispatches(params, extent.width as u64 * extent.height as u64) {
+        let mut pass = graph.pass(names::REFERENCE);
+        let inputs = view.declare(&mut pass);
+        let own = ReferenceBindings::declare(&mut pass, Stage::Compute, ReferenceResources { accumulated });
+        pass.record(move |ctx| {
+            ctx.dispatch(pipelines.get(&REFERENCE), &[&inputs, &own], &params, [extent.width, extent.height, 1])
+        });
     }
 }
 

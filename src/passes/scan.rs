@@ -2,42 +2,50 @@
 //! radix sort's step 2 (`sort.rs`), and on its own the first slot of every cell of the photon
 //! and emission orders (`photon_order.rs`, `emission_order.rs`).
 
-use leakless_device::{ComputePipeline, Gpu, GpuStruct};
-use leakless_graph::{shader_bindings, Access, BufferHandle, Graph};
+use leakless_device::GpuStruct;
+use leakless_graph::{shader_bindings, BufferHandle, Graph, PassName, Stage};
 
 use crate::error::{RenderError, Result};
-use crate::passes::sort::{sort_pipeline, SortParams, RADIX, WORKGROUP_SIZE};
+use crate::passes::names;
+use crate::passes::sort::{SortParams, RADIX, WORKGROUP_SIZE};
+use crate::pipelines::{ComputePassDef, PipelineSet};
 use crate::shaders;
 
 shader_bindings! {
     pub struct ScanBindings {
-        histograms: array(u32::LAYOUT),
+        histograms: read_write array(u32::LAYOUT),
     }
+    pub struct ScanResources;
 }
 
-pub struct ScanPass {
-    pipeline: ComputePipeline,
-}
+/// The scan is one workgroup of the sort's size.
+pub static SCAN: ComputePassDef =
+    ComputePassDef::any(names::SORT_SCAN, &shaders::SORT_SCAN_COMP, &[ScanBindings::DECLS])
+        .push(SortParams::LAYOUT)
+        .workgroup([WORKGROUP_SIZE, 1, 1]);
 
-impl ScanPass {
-    pub fn new(gpu: &Gpu) -> Result<Self> {
-        Ok(ScanPass { pipeline: sort_pipeline(gpu, "sort scan", &shaders::SORT_SCAN_COMP, ScanBindings::DECLS)? })
+/// Adds a pass named `name` (number `index` of a repeated pass) that turns the first
+/// `words` counts of `counts` into exclusive prefix sums. The scan walks counts in groups of
+/// 16 (one per radix digit of a sort workgroup), so `words` must be a multiple of 16.
+pub fn add<'r>(
+    graph: &mut Graph<'r>,
+    pipelines: PipelineSet<'r>,
+    (name, index): (PassName, Option<u32>),
+    words: u32,
+    counts: &mut BufferHandle,
+) -> Result<()> {
+    if words % RADIX != 0 || counts.size() < 4 * words as u64 {
+        return Err(RenderError::Settings(format!(
+            "{name}: {words} counts in {} bytes; the scan needs a multiple of {RADIX} that the buffer holds",
+            counts.size()
+        )));
     }
-
-    /// Adds a pass named `name` that turns the first `words` counts of `counts` into exclusive
-    /// prefix sums. The scan walks counts in groups of 16 (one per radix digit of a sort
-    /// workgroup), so `words` must be a multiple of 16.
-    pub fn add<'r>(&'r self, graph: &mut Graph<'r>, name: &str, words: u32, counts: &mut BufferHandle) -> Result<()> {
-        if words % RADIX != 0 || counts.size() < 4 * words as u64 {
-            return Err(RenderError::Settings(format!(
-                "{name}: {words} counts in {} bytes; the scan needs a multiple of {RADIX} that the buffer holds",
-                counts.size()
-            )));
-        }
-        let params = SortParams { group_count: words / RADIX, ..Default::default() };
-        let mut pass = graph.pass(name);
-        let own = ScanBindings { histograms: pass.write(counts, Access::ComputeReadWrite) };
-        pass.record(move |ctx| ctx.dispatch(&self.pipeline, &[&own], &params, [WORKGROUP_SIZE, 1, 1]));
-        Ok(())
-    }
+    let params = SortParams { group_count: words / RADIX, ..Default::default() };
+    let mut pass = match index {
+        Some(index) => graph.pass_numbered(name, index),
+        None => graph.pass(name),
+    };
+    let own = ScanBindings::declare(&mut pass, Stage::Compute, ScanResources { histograms: counts });
+    pass.record(move |ctx| ctx.dispatch(pipelines.get(&SCAN), &[&own], &params, [WORKGROUP_SIZE, 1, 1]));
+    Ok(())
 }

@@ -26,12 +26,13 @@
 
 use ash::vk;
 use bytemuck::{Pod, Zeroable};
-use leakless_device::shader::ShaderInfo;
-use leakless_device::{gpu_struct, BindingDecl, BufferDesc, ComputePipeline, Gpu, GpuStruct, MemoryLocation};
-use leakless_graph::{shader_bindings, Access, BufferHandle, Graph};
+use leakless_device::{gpu_struct, BufferDesc, GpuStruct, MemoryLocation};
+use leakless_graph::{shader_bindings, BufferHandle, Graph, Stage};
 
 use crate::error::{RenderError, Result};
-use crate::passes::scan::ScanPass;
+use crate::passes::names;
+use crate::passes::scan;
+use crate::pipelines::{ComputePassDef, PipelineSet};
 use crate::shaders;
 
 /// Threads per workgroup of every sort shader (`SORT_WORKGROUP_SIZE` in sort.glsl, checked
@@ -77,28 +78,31 @@ gpu_struct! {
 
 shader_bindings! {
     pub struct HistogramBindings {
-        keys_in: array(u32::LAYOUT),
-        histograms: array(u32::LAYOUT),
+        keys_in: read array(u32::LAYOUT),
+        histograms: write array(u32::LAYOUT),
     }
+    pub struct HistogramResources;
 }
 
 shader_bindings! {
     pub struct ScatterBindings {
-        keys_in: array(u32::LAYOUT),
-        values_in: array(u32::LAYOUT),
-        histograms: array(u32::LAYOUT),
-        keys_out: array(u32::LAYOUT),
-        values_out: array(u32::LAYOUT),
+        keys_in: read array(u32::LAYOUT),
+        values_in: read array(u32::LAYOUT),
+        histograms: read array(u32::LAYOUT),
+        keys_out: write array(u32::LAYOUT),
+        values_out: write array(u32::LAYOUT),
     }
+    pub struct ScatterResources;
 }
 
 shader_bindings! {
     pub struct CopyBindings {
-        keys_in: array(u32::LAYOUT),
-        values_in: array(u32::LAYOUT),
-        keys_out: array(u32::LAYOUT),
-        values_out: array(u32::LAYOUT),
+        keys_in: read array(u32::LAYOUT),
+        values_in: read array(u32::LAYOUT),
+        keys_out: write array(u32::LAYOUT),
+        values_out: write array(u32::LAYOUT),
     }
+    pub struct CopyResources;
 }
 
 /// Digit passes for keys of `key_bits` valid bits: `key_bits + 1` bits (out-of-range keys
@@ -128,115 +132,94 @@ fn key_limit(key_bits: u32) -> u32 {
     }
 }
 
-/// One pipeline of the sort, its workgroup size checked against [`WORKGROUP_SIZE`].
-pub(crate) fn sort_pipeline(
-    gpu: &Gpu,
-    name: &str,
-    shader: &ShaderInfo,
-    decls: &[BindingDecl],
-) -> Result<ComputePipeline> {
-    let pipeline = ComputePipeline::new(gpu, name, shader, decls, Some(&SortParams::LAYOUT))?;
-    if pipeline.workgroup_size() != [WORKGROUP_SIZE, 1, 1] {
-        return Err(RenderError::Settings(format!(
-            "{name} has workgroup size {:?}; sort.rs expects [{WORKGROUP_SIZE}, 1, 1]",
-            pipeline.workgroup_size()
-        )));
+pub static SORT_HISTOGRAM: ComputePassDef =
+    ComputePassDef::any(names::SORT_HISTOGRAM, &shaders::SORT_HISTOGRAM_COMP, &[HistogramBindings::DECLS])
+        .push(SortParams::LAYOUT)
+        .workgroup([WORKGROUP_SIZE, 1, 1]);
+
+pub static SORT_SCATTER: ComputePassDef =
+    ComputePassDef::any(names::SORT_SCATTER, &shaders::SORT_SCATTER_COMP, &[ScatterBindings::DECLS])
+        .push(SortParams::LAYOUT)
+        .workgroup([WORKGROUP_SIZE, 1, 1]);
+
+pub static SORT_COPY: ComputePassDef =
+    ComputePassDef::any(names::SORT_COPY, &shaders::SORT_COPY_COMP, &[CopyBindings::DECLS])
+        .push(SortParams::LAYOUT)
+        .workgroup([WORKGROUP_SIZE, 1, 1]);
+
+/// Sorts the first `len` (key, value) pairs of `keys` / `values` by key, stably, and leaves
+/// them there (elements past `len` are untouched). Keys at or above `2^key_bits` sort last,
+/// in input order (see the module documentation); `key_bits = 30` for Morton codes with the
+/// `0xFFFFFFFF` sentinel, 32 for arbitrary keys. Adds [`graph_passes`]`(key_bits)` passes
+/// named "sort histogram i", "sort scan i", "sort scatter i" (and "sort copy"), and takes
+/// its scratch buffers from the graph's pool. On an error the graph may hold some of the
+/// passes: drop it.
+pub fn add<'r>(
+    graph: &mut Graph<'r>,
+    pipelines: PipelineSet<'r>,
+    len: u32,
+    key_bits: u32,
+    keys: &mut BufferHandle,
+    values: &mut BufferHandle,
+) -> Result<()> {
+    if len > MAX_LEN {
+        return Err(too_long(len));
     }
-    Ok(pipeline)
-}
-
-pub struct SortPass {
-    histogram: ComputePipeline,
-    scan: ScanPass,
-    scatter: ComputePipeline,
-    copy: ComputePipeline,
-}
-
-impl SortPass {
-    pub fn new(gpu: &Gpu) -> Result<Self> {
-        Ok(SortPass {
-            histogram: sort_pipeline(gpu, "sort histogram", &shaders::SORT_HISTOGRAM_COMP, HistogramBindings::DECLS)?,
-            scan: ScanPass::new(gpu)?,
-            scatter: sort_pipeline(gpu, "sort scatter", &shaders::SORT_SCATTER_COMP, ScatterBindings::DECLS)?,
-            copy: sort_pipeline(gpu, "sort copy", &shaders::SORT_COPY_COMP, CopyBindings::DECLS)?,
+    if key_bits > 32 {
+        return Err(RenderError::Settings(format!("radix sort: key_bits {key_bits} > 32")));
+    }
+    if len == 0 {
+        return Ok(());
+    }
+    for b in [&*keys, &*values] {
+        if b.size() < 4 * len as u64 {
+            return Err(RenderError::Settings(format!(
+                "radix sort of {len} elements: a buffer holds only {} bytes",
+                b.size()
+            )));
+        }
+    }
+    let group_count = len.div_ceil(BLOCK);
+    let key_limit = key_limit(key_bits);
+    let digits = digit_passes(key_bits);
+    let mut storage = |name, words: u64| {
+        graph.buffer(&BufferDesc {
+            name,
+            size: 4 * words,
+            usage: vk::BufferUsageFlags::STORAGE_BUFFER,
+            location: MemoryLocation::GpuOnly,
         })
+    };
+    let mut histograms = storage("sort histograms", RADIX as u64 * group_count as u64)?;
+    let mut scratch_keys = storage("sort scratch keys", len as u64)?;
+    let mut scratch_values = storage("sort scratch values", len as u64)?;
+    for digit in 0..digits {
+        let params = SortParams { len, shift: DIGIT_BITS * digit, key_limit, group_count };
+        let ctx = DigitPass { pipelines, digit, params };
+        // Even digit passes read the caller's buffers, odd ones the scratch pair.
+        if digit % 2 == 0 {
+            ctx.add(graph, (&*keys, &*values), (&mut scratch_keys, &mut scratch_values), &mut histograms)?;
+        } else {
+            ctx.add(graph, (&scratch_keys, &scratch_values), (&mut *keys, &mut *values), &mut histograms)?;
+        }
     }
-
-    /// Sorts the first `len` (key, value) pairs of `keys` / `values` by key, stably, and leaves
-    /// them there (elements past `len` are untouched). Keys at or above `2^key_bits` sort last,
-    /// in input order (see the module documentation); `key_bits = 30` for Morton codes with the
-    /// `0xFFFFFFFF` sentinel, 32 for arbitrary keys. Adds [`graph_passes`]`(key_bits)` passes
-    /// named "sort histogram i", "sort scan i", "sort scatter i" (and "sort copy"), and takes
-    /// its scratch buffers from the graph's pool. On an error the graph may hold some of the
-    /// passes: drop it.
-    pub fn add<'r>(
-        &'r self,
-        graph: &mut Graph<'r>,
-        len: u32,
-        key_bits: u32,
-        keys: &mut BufferHandle,
-        values: &mut BufferHandle,
-    ) -> Result<()> {
-        if len > MAX_LEN {
-            return Err(too_long(len));
-        }
-        if key_bits > 32 {
-            return Err(RenderError::Settings(format!("radix sort: key_bits {key_bits} > 32")));
-        }
-        if len == 0 {
-            return Ok(());
-        }
-        for b in [&*keys, &*values] {
-            if b.size() < 4 * len as u64 {
-                return Err(RenderError::Settings(format!(
-                    "radix sort of {len} elements: a buffer holds only {} bytes",
-                    b.size()
-                )));
-            }
-        }
-        let group_count = len.div_ceil(BLOCK);
-        let key_limit = key_limit(key_bits);
-        let digits = digit_passes(key_bits);
-        let mut storage = |name, words: u64| {
-            graph.buffer(&BufferDesc {
-                name,
-                size: 4 * words,
-                usage: vk::BufferUsageFlags::STORAGE_BUFFER,
-                location: MemoryLocation::GpuOnly,
-            })
-        };
-        let mut histograms = storage("sort histograms", RADIX as u64 * group_count as u64)?;
-        let mut scratch_keys = storage("sort scratch keys", len as u64)?;
-        let mut scratch_values = storage("sort scratch values", len as u64)?;
-        for digit in 0..digits {
-            let params = SortParams { len, shift: DIGIT_BITS * digit, key_limit, group_count };
-            let ctx = DigitPass { sort: self, digit, params };
-            // Even digit passes read the caller's buffers, odd ones the scratch pair.
-            if digit % 2 == 0 {
-                ctx.add(graph, (&*keys, &*values), (&mut scratch_keys, &mut scratch_values), &mut histograms)?;
-            } else {
-                ctx.add(graph, (&scratch_keys, &scratch_values), (&mut *keys, &mut *values), &mut histograms)?;
-            }
-        }
-        if digits % 2 == 1 {
-            // The copy reads only `len`.
-            let params = SortParams { len, shift: 0, key_limit, group_count };
-            let mut pass = graph.pass("sort copy");
-            let own = CopyBindings {
-                keys_in: pass.read(&scratch_keys, Access::ComputeRead),
-                values_in: pass.read(&scratch_values, Access::ComputeRead),
-                keys_out: pass.write(keys, Access::ComputeWrite),
-                values_out: pass.write(values, Access::ComputeWrite),
-            };
-            pass.record(move |ctx| ctx.dispatch(&self.copy, &[&own], &params, [len, 1, 1]));
-        }
-        Ok(())
+    if digits % 2 == 1 {
+        // The copy reads only `len`.
+        let params = SortParams { len, shift: 0, key_limit, group_count };
+        let mut pass = graph.pass(names::SORT_COPY);
+        let own = CopyBindings::declare(
+            &mut pass,
+            Stage::Compute,
+            CopyResources { keys_in: &scratch_keys, values_in: &scratch_values, keys_out: keys, values_out: values },
+        );
+        pass.record(move |ctx| ctx.dispatch(pipelines.get(&SORT_COPY), &[&own], &params, [len, 1, 1]));
     }
+    Ok(())
 }
 
 /// What the three dispatches of one digit pass share.
 struct DigitPass<'r> {
-    sort: &'r SortPass,
+    pipelines: PipelineSet<'r>,
     digit: u32,
     params: SortParams,
 }
@@ -249,27 +232,22 @@ impl<'r> DigitPass<'r> {
         (keys_out, values_out): (&mut BufferHandle, &mut BufferHandle),
         histograms: &mut BufferHandle,
     ) -> Result<()> {
-        let (sort, digit, params) = (self.sort, self.digit, self.params);
+        let (pipelines, digit, params) = (self.pipelines, self.digit, self.params);
         let threads = [params.group_count * WORKGROUP_SIZE, 1, 1];
 
-        let mut pass = graph.pass(&format!("sort histogram {digit}"));
-        let own = HistogramBindings {
-            keys_in: pass.read(keys_in, Access::ComputeRead),
-            histograms: pass.write(histograms, Access::ComputeWrite),
-        };
-        pass.record(move |ctx| ctx.dispatch(&sort.histogram, &[&own], &params, threads));
+        let mut pass = graph.pass_numbered(names::SORT_HISTOGRAM, digit);
+        let own = HistogramBindings::declare(&mut pass, Stage::Compute, HistogramResources { keys_in, histograms });
+        pass.record(move |ctx| ctx.dispatch(pipelines.get(&SORT_HISTOGRAM), &[&own], &params, threads));
 
-        sort.scan.add(graph, &format!("sort scan {digit}"), RADIX * params.group_count, histograms)?;
+        scan::add(graph, pipelines, (names::SORT_SCAN, Some(digit)), RADIX * params.group_count, histograms)?;
 
-        let mut pass = graph.pass(&format!("sort scatter {digit}"));
-        let own = ScatterBindings {
-            keys_in: pass.read(keys_in, Access::ComputeRead),
-            values_in: pass.read(values_in, Access::ComputeRead),
-            histograms: pass.read(histograms, Access::ComputeRead),
-            keys_out: pass.write(keys_out, Access::ComputeWrite),
-            values_out: pass.write(values_out, Access::ComputeWrite),
-        };
-        pass.record(move |ctx| ctx.dispatch(&sort.scatter, &[&own], &params, threads));
+        let mut pass = graph.pass_numbered(names::SORT_SCATTER, digit);
+        let own = ScatterBindings::declare(
+            &mut pass,
+            Stage::Compute,
+            ScatterResources { keys_in, values_in, histograms, keys_out, values_out },
+        );
+        pass.record(move |ctx| ctx.dispatch(pipelines.get(&SORT_SCATTER), &[&own], &params, threads));
         Ok(())
     }
 }

@@ -4,13 +4,15 @@
 
 use ash::vk;
 use bytemuck::{Pod, Zeroable};
-use leakless_device::{gpu_struct, BufferDesc, ComputePipeline, Gpu, GpuStruct, MemoryLocation};
-use leakless_graph::{shader_bindings, Access, BufferHandle, Graph};
+use leakless_device::{gpu_struct, BufferDesc, GpuStruct, MemoryLocation};
+use leakless_graph::{shader_bindings, BufferHandle, Fill, Graph, Stage};
 
 use crate::error::Result;
 use crate::passes::hierarchy::{HierarchyHandles, Level, Node, Shape};
-use crate::passes::photon_dispatch::{check_workgroup, PhotonDispatch};
+use crate::passes::names;
+use crate::passes::photon_dispatch::{PhotonDispatch, PHOTON_WORKGROUP};
 use crate::passes::photons::{Photon, PhotonCounters};
+use crate::pipelines::{ComputePassDef, PipelineSet};
 use crate::shaders;
 
 gpu_struct! {
@@ -58,15 +60,16 @@ gpu_struct! {
 
 shader_bindings! {
     pub struct SplatBindings {
-        photons: array(Photon::LAYOUT),
-        photon_counters: block(PhotonCounters::LAYOUT),
-        levels: array(Level::LAYOUT),
-        nodes: array(Node::LAYOUT),
-        node_heads: words,
-        list_entries: array(ListEntry::LAYOUT),
-        splat_counters: block(SplatCounters::LAYOUT),
-        photon_listed: words,
+        photons: read array(Photon::LAYOUT),
+        photon_counters: read block(PhotonCounters::LAYOUT),
+        levels: read array(Level::LAYOUT),
+        nodes: read array(Node::LAYOUT),
+        node_heads: read_write words,
+        list_entries: write array(ListEntry::LAYOUT),
+        splat_counters: read_write block(SplatCounters::LAYOUT),
+        photon_listed: write words,
     }
+    pub struct SplatResources;
 }
 
 /// The node lists of one frame (buffers of the graph's pool).
@@ -111,56 +114,45 @@ pub struct SplatInputs<'a> {
     pub trivial_accept: bool,
 }
 
-pub struct SplatPass {
-    pipeline: ComputePipeline,
-}
+/// The splat: one thread per stored photon.
+pub static SPLAT: ComputePassDef = ComputePassDef::any(names::SPLAT, &shaders::SPLAT_COMP, &[SplatBindings::DECLS])
+    .push(SplatParams::LAYOUT)
+    .workgroup([PHOTON_WORKGROUP, 1, 1]);
 
-impl SplatPass {
-    pub fn new(gpu: &Gpu) -> Result<Self> {
-        let pipeline =
-            ComputePipeline::new(gpu, "splat", &shaders::SPLAT_COMP, SplatBindings::DECLS, Some(&SplatParams::LAYOUT))?;
-        check_workgroup(&pipeline, "splat")?;
-        Ok(SplatPass { pipeline })
-    }
-
-    pub fn add<'r>(
-        &'r self,
-        graph: &mut Graph<'r>,
-        shape: &Shape,
-        input: SplatInputs<'_>,
-        hierarchy: &HierarchyHandles,
-        lists: &mut NodeListHandles,
-    ) {
-        let params = SplatParams {
-            radius: input.radius,
-            node_radius: input.node_radius as u32,
-            trivial_accept: input.trivial_accept as u32,
-            root: shape.root(),
-            capacity: lists.capacity,
-            photon_capacity: input.dispatch.capacity,
-            ..Default::default()
-        };
-        let mut clear = graph.pass("splat clear");
-        let heads = clear.write(&mut lists.heads, Access::TransferWrite);
-        let counters = clear.write(&mut lists.counters, Access::TransferWrite);
-        clear.record(move |ctx| {
-            let (heads, counters) = (ctx.buffer(heads), ctx.buffer(counters));
-            ctx.cmd.fill_buffer(heads, 0, heads.size(), u32::MAX);
-            ctx.cmd.fill_buffer(counters, 0, counters.size(), 0);
-            Ok(())
-        });
-        let mut pass = graph.pass("splat");
-        let own = SplatBindings {
-            photons: pass.read(input.photons, Access::ComputeRead),
-            photon_counters: pass.read(input.photon_counters, Access::ComputeRead),
-            levels: pass.read(&hierarchy.levels, Access::ComputeRead),
-            nodes: pass.read(&hierarchy.nodes, Access::ComputeRead),
-            node_heads: pass.write(&mut lists.heads, Access::ComputeReadWrite),
-            list_entries: pass.write(&mut lists.entries, Access::ComputeWrite),
-            splat_counters: pass.write(&mut lists.counters, Access::ComputeReadWrite),
-            photon_listed: pass.write(&mut lists.listed, Access::ComputeWrite),
-        };
-        let (args, threads) = (input.dispatch.declare(&mut pass), input.dispatch.most_threads());
-        pass.record(move |ctx| ctx.dispatch_indirect(&self.pipeline, &[&own], &params, args, threads));
-    }
+pub fn add<'r>(
+    graph: &mut Graph<'r>,
+    pipelines: PipelineSet<'r>,
+    shape: &Shape,
+    input: SplatInputs<'_>,
+    hierarchy: &HierarchyHandles,
+    lists: &mut NodeListHandles,
+) {
+    let params = SplatParams {
+        radius: input.radius,
+        node_radius: input.node_radius as u32,
+        trivial_accept: input.trivial_accept as u32,
+        root: shape.root(),
+        capacity: lists.capacity,
+        photon_capacity: input.dispatch.capacity,
+        ..Default::default()
+    };
+    let empty = [Fill::whole(u32::MAX)];
+    graph.fill(names::SPLAT_CLEAR, &mut [(&mut lists.heads, &empty), (&mut lists.counters, &[Fill::whole(0)])]);
+    let mut pass = graph.pass(names::SPLAT);
+    let own = SplatBindings::declare(
+        &mut pass,
+        Stage::Compute,
+        SplatResources {
+            photons: input.photons,
+            photon_counters: input.photon_counters,
+            levels: &hierarchy.levels,
+            nodes: &hierarchy.nodes,
+            node_heads: &mut lists.heads,
+            list_entries: &mut lists.entries,
+            splat_counters: &mut lists.counters,
+            photon_listed: &mut lists.listed,
+        },
+    );
+    let (args, threads) = (input.dispatch.declare(&mut pass), input.dispatch.most_threads());
+    pass.record(move |ctx| ctx.dispatch_indirect(pipelines.get(&SPLAT), &[&own], &params, args, threads));
 }

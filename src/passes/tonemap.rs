@@ -5,10 +5,11 @@
 use ash::vk;
 use bytemuck::{Pod, Zeroable};
 use leakless_device::{gpu_struct, ColorTarget, Gpu, GpuStruct, GraphicsDesc, GraphicsPipeline};
-use leakless_graph::{shader_bindings, Access, BufferHandle, Graph, ImageHandle};
+use leakless_graph::{shader_bindings, Access, BufferHandle, Graph, ImageHandle, Stage};
 
 use crate::error::Result;
 use crate::passes::luminance::LuminanceStats;
+use crate::passes::names;
 use crate::shaders;
 
 /// What the window (or the PNG) shows.
@@ -84,9 +85,10 @@ gpu_struct! {
 
 shader_bindings! {
     pub struct TonemapBindings {
-        displayed: image,
-        stats: block(LuminanceStats::LAYOUT),
+        displayed: read image,
+        stats: read block(LuminanceStats::LAYOUT),
     }
+    pub struct TonemapResources;
 }
 
 /// The tonemap for one target format.
@@ -139,11 +141,8 @@ impl TonemapPass {
             source_scale: [from.width as f32 / to.width as f32, from.height as f32 / to.height as f32],
             ..Default::default()
         };
-        let mut pass = graph.pass("tonemap");
-        let own = TonemapBindings {
-            displayed: pass.read(displayed, Access::FragmentStorageRead),
-            stats: pass.read(stats, Access::FragmentRead),
-        };
+        let mut pass = graph.pass(names::TONEMAP);
+        let own = TonemapBindings::declare(&mut pass, Stage::Fragment, TonemapResources { displayed, stats });
         let out = pass.write(target, Access::ColorAttachmentWrite);
         pass.record(move |ctx| ctx.draw(&self.pipeline, &[&own], &params, &[(out, [0.0; 4])], None, None, 3));
     }

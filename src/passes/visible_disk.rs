@@ -8,15 +8,17 @@
 
 use ash::vk;
 use bytemuck::{Pod, Zeroable};
-use leakless_device::{gpu_struct, ComputePipeline, Gpu, GpuStruct, ImageDesc};
-use leakless_graph::{shader_bindings, Access, BufferHandle, Graph, ImageHandle};
+use leakless_device::{gpu_struct, GpuStruct, ImageDesc};
+use leakless_graph::{shader_bindings, BufferHandle, Graph, ImageHandle, Stage};
 
 use crate::error::Result;
 use crate::gpu_scene::{SceneBindings, SceneHandles};
 use crate::gpu_types::Frame;
-use crate::passes::gbuffer::{self, GBufferHandles};
+use crate::passes::gbuffer::{self, GBufferBindings, GBufferHandles};
+use crate::passes::names;
+use crate::pipelines::{ComputePassDef, PipelineSet};
 use crate::shaders;
-use crate::trace::{Backend, TraceHandles};
+use crate::trace::TraceHandles;
 
 gpu_struct! {
     /// The `VisibleDiskParams` push constants of visible_disk.comp.
@@ -44,12 +46,11 @@ gpu_struct! {
 shader_bindings! {
     /// What visible_disk.comp binds besides the scene and the trace structures.
     pub struct VisibleDiskBindings {
-        frame: uniform(Frame::LAYOUT),
-        gbuffer_position: image,
-        gbuffer_normal: image,
-        disk_mass: image,
-        coplanar_neighbours: array(u32::LAYOUT),
+        frame: read uniform(Frame::LAYOUT),
+        disk_mass: write image,
+        coplanar_neighbours: read array(u32::LAYOUT),
     }
+    pub struct VisibleDiskResources;
 }
 
 /// The per-pixel mass image of an `extent` frame (of the graph's pool): the mass in `.r`,
@@ -66,49 +67,42 @@ pub fn image(graph: &mut Graph<'_>, extent: vk::Extent2D) -> Result<ImageHandle>
     })?)
 }
 
-/// Every binding of the pass on `backend`.
-pub fn bindings(backend: Backend) -> Vec<leakless_device::BindingDecl> {
-    [VisibleDiskBindings::DECLS, SceneBindings::DECLS, backend.bindings()].concat()
-}
+pub static VISIBLE_DISK: ComputePassDef = ComputePassDef::traced(
+    names::VISIBLE_DISK,
+    (&shaders::VISIBLE_DISK_COMP_RAYQUERY, &shaders::VISIBLE_DISK_COMP_COMPUTE),
+    &[VisibleDiskBindings::DECLS, GBufferBindings::DECLS, SceneBindings::DECLS],
+)
+.push(VisibleDiskParams::LAYOUT);
 
-pub struct VisibleDiskPass {
-    pipeline: ComputePipeline,
-}
-
-impl VisibleDiskPass {
-    pub fn new(gpu: &Gpu, backend: Backend) -> Result<Self> {
-        let shader = backend.pick(&shaders::VISIBLE_DISK_COMP_RAYQUERY, &shaders::VISIBLE_DISK_COMP_COMPUTE);
-        let pipeline =
-            ComputePipeline::new(gpu, "visible disk", shader, &bindings(backend), Some(&VisibleDiskParams::LAYOUT))?;
-        Ok(VisibleDiskPass { pipeline })
-    }
-
-    /// Writes each sample's mass and radius into `disk_mass` (mass 1 and the frame's radius
-    /// everywhere when `params.enabled` is 0).
-    #[allow(clippy::too_many_arguments)]
-    pub fn add<'r>(
-        &'r self,
-        graph: &mut Graph<'r>,
-        params: VisibleDiskParams,
-        frame: &BufferHandle,
-        gbuffer: &GBufferHandles,
-        scene: &SceneHandles,
-        trace: &TraceHandles,
-        disk_mass: &mut ImageHandle,
-    ) {
-        let extent = disk_mass.extent();
-        let mut pass = graph.pass("visible disk");
-        let own = VisibleDiskBindings {
-            frame: pass.read(frame, Access::ComputeRead),
-            gbuffer_position: pass.read(&gbuffer.position, Access::ComputeRead),
-            gbuffer_normal: pass.read(&gbuffer.normal, Access::ComputeRead),
-            disk_mass: pass.write(disk_mass, Access::ComputeWrite),
-            coplanar_neighbours: pass.read(&scene.coplanar_neighbours, Access::ComputeRead),
-        };
-        let surfaces = scene.declare(&mut pass, Access::ComputeRead);
-        let trace = trace.declare(&mut pass);
-        pass.record(move |ctx| {
-            ctx.dispatch(&self.pipeline, &[&own, &surfaces, &trace], &params, [extent.width, extent.height, 1])
-        });
-    }
+/// Writes each sample's mass and radius into `disk_mass` (mass 1 and the frame's radius
+/// everywhere when `params.enabled` is 0).
+#[allow(clippy::too_many_arguments)]
+pub fn add<'r>(
+    graph: &mut Graph<'r>,
+    pipelines: PipelineSet<'r>,
+    params: VisibleDiskParams,
+    frame: &BufferHandle,
+    gbuffer: &GBufferHandles,
+    scene: &SceneHandles,
+    trace: &TraceHandles,
+    disk_mass: &mut ImageHandle,
+) {
+    let extent = disk_mass.extent();
+    let mut pass = graph.pass(names::VISIBLE_DISK);
+    let own = VisibleDiskBindings::declare(
+        &mut pass,
+        Stage::Compute,
+        VisibleDiskResources { frame, disk_mass, coplanar_neighbours: &scene.coplanar_neighbours },
+    );
+    let gbuffer = gbuffer.declare(&mut pass);
+    let surfaces = scene.declare(&mut pass, Stage::Compute);
+    let trace = trace.declare(&mut pass);
+    pass.record(move |ctx| {
+        ctx.dispatch(
+            pipelines.get(&VISIBLE_DISK),
+            &[&own, &gbuffer, &surfaces, &trace],
+            &params,
+            [extent.width, extent.height, 1],
+        )
+    });
 }

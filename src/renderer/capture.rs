@@ -8,6 +8,7 @@ use super::Renderer;
 use crate::error::Result;
 use crate::passes::gbuffer::GBufferHandles;
 use crate::passes::hierarchy::HierarchyHandles;
+use crate::passes::names;
 use crate::passes::photon_order::ORDERED_PHOTONS;
 use crate::passes::photons::{photon_buffer_size, Photon, PHOTON_BUFFER_USAGE};
 use crate::passes::readback;
@@ -46,13 +47,13 @@ fn copy_to_host(g: &mut Graph<'_>, desc: &BufferDesc<'_>, bytes: u64, to: &'stat
         location: MemoryLocation::GpuToCpu,
     };
     let mut dst = g.frame_buffer(&host)?;
-    let mut copy = g.pass("capture copy");
+    let mut copy = g.pass(names::CAPTURE_COPY);
     let (from, into) = (copy.read(&src, Access::TransferRead), copy.write(&mut dst, Access::TransferWrite));
     copy.record(move |ctx| {
         ctx.cmd.copy_buffer(ctx.buffer(from), ctx.buffer(into), bytes);
         Ok(())
     });
-    let mut to_host = g.pass("capture to host");
+    let mut to_host = g.pass(names::CAPTURE_TO_HOST);
     to_host.read(&dst, Access::HostRead);
     to_host.record(|_| Ok(()));
     Ok(())

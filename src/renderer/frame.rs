@@ -9,23 +9,24 @@ use bytemuck::{Pod, Zeroable};
 use leakless_device::{Image, SubmitSync};
 use leakless_graph::{Access, CompletedFrame, Graph, ImageHandle};
 
+use super::plan::{self, FramePlan, PlanState};
 use super::readback::{ReadbackRequest, LAYERS_BUFFER};
 use super::{FrameReport, Pending, Renderer};
 use crate::error::Result;
 use crate::gpu_types::Frame;
-use crate::passes::accumulate::{Accumulated, FrameLayers, Means, Sums};
-use crate::passes::compose::{ComposeImages, ComposeParams};
+use crate::passes::accumulate::{self, Accumulated, FrameLayers, Means, Sums};
+use crate::passes::compose::{self, ComposeImages, ComposeParams};
 use crate::passes::gather::{self, GatherCounters, GatherOutputs};
 use crate::passes::gbuffer::{self, GBufferHandles};
-use crate::passes::luminance::{LuminanceInputs, LuminanceStats};
+use crate::passes::luminance::{self, LuminanceInputs, LuminanceStats};
 use crate::passes::photons::PhotonCounters;
-use crate::passes::reference::ReferenceParams;
+use crate::passes::reference::{self, ReferenceParams};
 use crate::passes::splat::SplatCounters;
 use crate::passes::tonemap::ViewLayer;
-use crate::passes::{instance_vertices, readback, ViewInputs};
+use crate::passes::{direct, instance_vertices, names, readback, ViewInputs};
 use crate::photon_lights::upload_lights;
 use crate::settings::Method;
-use crate::splatting::{self, grown_batch_capacity, SplatFrame, SplatInputsOfFrame, SplatStats, SplattingPasses};
+use crate::splatting::{self, grown_batch_capacity, SplatFrame, SplatInputsOfFrame, SplatStats};
 
 /// Draws over the tonemapped image (the app's overlay): passes added to the frame's graph
 /// after the tonemap, writing `target`.
@@ -72,37 +73,9 @@ impl Renderer {
             self.collect(done)?;
         }
         let method = self.settings.method;
-        // Paused, or the accumulation full: the layers of the last frame are shown again;
-        // nothing new is rendered.
-        let render = !self.paused && !self.accumulation_full();
-        let first = self.accumulated == 0;
+        let FramePlan { render, first, progressive, index, first_batch, frame_batches, samples, accumulated, batches } =
+            plan::plan(&self.plan_state());
         let seed = self.frame_seed();
-        // A frame that adds to an accumulation of photon frames: number `index` (0-based) of
-        // it, with that frame's radius, path offset and pixel jitter. Frame 0 is exactly the
-        // frame without accumulation.
-        let progressive = render && self.accumulating();
-        let index = if progressive { self.accumulated } else { 0 };
-        // Its photons: `frame_batches` batches of `paths` paths, batch `first_batch` onward; a
-        // reference frame's samples: batches of `spp` samples. Both grow alike, so the series
-        // compare methods that share their per-frame work the same way.
-        let first_batch = if progressive { self.batches } else { 0 };
-        let frame_batches = if progressive && method.splats() {
-            let limits = &self.gpu.report().limits;
-            let fits = crate::limits::max_frame_paths(limits, self.settings.max_bounces)
-                / self.settings.splat.paths.max(1) as u64;
-            // Lists grown to what a batch needs: a frame holds no more batches than they take.
-            let lists_hold = match self.settings.splat.list_capacity {
-                None => splatting::batches_the_lists_hold(self.list_capacity, crate::limits::max_list_entries(limits)),
-                Some(_) => u32::MAX, // the user's fixed capacity: drops are reported
-            };
-            splatting::frame_batches(index, self.settings.max_batches)
-                .min(fits.clamp(1, u32::MAX as u64) as u32)
-                .min(lists_hold)
-        } else if progressive && method == Method::Reference {
-            splatting::frame_batches(index, self.settings.max_batches)
-        } else {
-            1
-        };
         let mut splat = None;
         if let Some(mut settings) = self.settings.photon_settings().filter(|_| render) {
             let radius = settings.radius.unwrap_or_else(|| splatting::auto_radius(&self.scene));
@@ -132,24 +105,6 @@ impl Renderer {
                 bounds: self.scene.bounds(),
             });
         }
-        // A reference frame of an accumulation is a whole image of `spp` samples per batch.
-        let samples = match method {
-            Method::Reference if progressive => self.settings.spp.saturating_mul(frame_batches),
-            Method::Reference => self.samples_per_frame,
-            _ => 0,
-        };
-        let accumulated = match (render, method) {
-            (false, _) => self.accumulated,
-            (true, _) if progressive => self.accumulated + 1,
-            (true, Method::Reference) => self.accumulated + samples,
-            (true, _) => 1,
-        };
-        // Photon batches in the image after this frame (frames without photons count one).
-        let batches = match (render, progressive) {
-            (false, _) => self.batches,
-            (true, true) => first_batch + frame_batches,
-            (true, false) => 1,
-        };
         let jitter = if progressive { pixel_jitter(index) } else { glam::Vec2::ZERO };
         let frame_constants = Frame {
             view_proj: self.jittered_view_proj(jitter).to_cols_array_2d(),
@@ -165,8 +120,8 @@ impl Renderer {
         if place_instances {
             self.gpu_scene.placed_version = self.pose.version;
         }
-        let backend = self.backends[self.backend.backend as usize].as_ref().expect("current backend made");
-        let (passes, tracing) = (&self.passes, &backend.passes);
+        let trace_scene = self.traces[self.backend.backend as usize].as_ref().expect("current backend made");
+        let (passes, pipelines) = (&self.passes, self.pipelines.on(self.backend.backend));
         let mut g = self.runner.graph(&self.gpu)?;
 
         // The camera, the lights and the scene of this frame.
@@ -178,7 +133,7 @@ impl Renderer {
             let first_vertex = 3 * self.scene.static_triangle_count();
             instance_vertices::add(&mut g, &self.pose.vertices, first_vertex, &mut scene.vertices)?;
         }
-        let trace = backend.trace.import(&mut g, &self.gpu_scene, &self.pose)?;
+        let trace = trace_scene.import(&mut g, &self.gpu_scene, &self.pose)?;
 
         // View samples and their direct light.
         let mut gbuffer = GBufferHandles::new(&mut g, extent)?;
@@ -192,7 +147,7 @@ impl Renderer {
         let mut direct = layer(&mut g, "direct")?;
         let view =
             ViewInputs { frame: &frame, lights: &lights.lights, scene: &scene, trace: &trace, gbuffer: &gbuffer };
-        tracing.direct.add(&mut g, &view, &mut direct);
+        direct::add(&mut g, pipelines, &view, &mut direct);
 
         // Indirect light: photons splatted and gathered, or path-traced samples accumulated.
         let mut indirect_sum = layer(&mut g, "indirect sum")?;
@@ -202,16 +157,6 @@ impl Renderer {
         let mut gather_counters = gather::counters(&mut g)?;
         let mut splat_counters = None;
         if let Some(splat) = &splat {
-            let splat_passes = SplattingPasses {
-                photons: &tracing.photons,
-                clearance: &passes.clearance,
-                hierarchy: &passes.hierarchy,
-                dispatch: &passes.dispatch,
-                order: &passes.order,
-                splat: &passes.splat,
-                visible_disk: &tracing.visible_disk,
-                gather: &tracing.gather,
-            };
             let input =
                 SplatInputsOfFrame { frame: &frame, scene: &scene, trace: &trace, lights: &lights, gbuffer: &gbuffer };
             let out = GatherOutputs {
@@ -220,7 +165,7 @@ impl Renderer {
                 counts: &mut gather_counts,
                 counters: &mut gather_counters,
             };
-            splat_counters = Some(splatting::add(&mut g, splat_passes, splat, input, out)?);
+            splat_counters = Some(splatting::add(&mut g, pipelines, splat, input, out)?);
         }
         if render && method == Method::Reference {
             // Progressive: frame `index` restarts the sum and continues the sequence.
@@ -241,7 +186,7 @@ impl Renderer {
                 roulette_start: 3,
                 ..Default::default()
             };
-            tracing.reference.add(&mut g, params, &view, &mut reference_sum);
+            reference::add(&mut g, pipelines, params, &view, &mut reference_sum);
         }
 
         // The layers: radiance = direct + indirect.
@@ -263,7 +208,7 @@ impl Renderer {
             gather_counts: &mut gather_counts,
         };
         if render {
-            passes.compose.add(&mut g, params, &frame, images);
+            compose::add(&mut g, pipelines, params, &frame, images);
         }
         // Accumulating: the image is the mean of the frames so far.
         if progressive {
@@ -274,8 +219,9 @@ impl Renderer {
             let mut mean_indirect = layer(&mut g, "mean indirect")?;
             let mut mean_leaked = layer(&mut g, "mean leaked")?;
             let mut mean_radiance = layer(&mut g, "mean radiance")?;
-            passes.accumulate.add(
+            accumulate::add(
                 &mut g,
+                pipelines,
                 Accumulated { frames: accumulated, batches, frame_batches },
                 &frame,
                 FrameLayers { direct: &direct, indirect: &indirect, leaked: &leaked },
@@ -299,7 +245,7 @@ impl Renderer {
             ViewLayer::Candidates | ViewLayer::VisibilityRays => &gather_counts,
         };
         let input = LuminanceInputs { displayed: shown, mode: self.view.mode(), indirect: &indirect, leaked: &leaked };
-        let luminance = passes.luminance.add(&mut g, input)?;
+        let luminance = luminance::add(&mut g, pipelines, input)?;
         let mut sync = SubmitSync::default();
         if let Some(display) = display {
             let stage = ash::vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT;
@@ -311,7 +257,7 @@ impl Renderer {
             if let Some(overlay) = display.overlay {
                 overlay.add(&mut g, &mut target)?;
             }
-            let mut present = g.pass("present");
+            let mut present = g.pass(names::PRESENT);
             present.read(&target, Access::Present);
             present.record(|_| Ok(()));
             sync = display.sync;
@@ -333,7 +279,7 @@ impl Renderer {
         if let Some(s) = &splat_counters {
             counters.extend([&s.photons, &s.lists, &gather_counters]);
         }
-        readback::add_buffers(&mut g, COUNTERS_BUFFER, &counters)?;
+        readback::add_buffers(&mut g, (COUNTERS_BUFFER, names::FRAME_COUNTERS), &counters)?;
 
         if let Some(hang) = &passes.hang {
             hang.add(&mut g);
@@ -357,6 +303,35 @@ impl Renderer {
             self.seed_offset = self.seed_offset.wrapping_add(1);
         }
         Ok(())
+    }
+
+    /// What the next frame's plan depends on.
+    fn plan_state(&self) -> PlanState {
+        let limits = &self.gpu.report().limits;
+        let batches_that_fit = if self.settings.method.splats() {
+            let fits = crate::limits::max_frame_paths(limits, self.settings.max_bounces)
+                / self.settings.splat.paths.max(1) as u64;
+            // Lists grown to what a batch needs: a frame holds no more batches than they take.
+            let lists_hold = match self.settings.splat.list_capacity {
+                None => splatting::batches_the_lists_hold(self.list_capacity, crate::limits::max_list_entries(limits)),
+                Some(_) => u32::MAX, // the user's fixed capacity: drops are reported
+            };
+            (fits.clamp(1, u32::MAX as u64) as u32).min(lists_hold)
+        } else {
+            u32::MAX
+        };
+        PlanState {
+            method: self.settings.method,
+            paused: self.paused,
+            full: self.accumulation_full(),
+            accumulating: self.accumulating(),
+            accumulated: self.accumulated,
+            batches: self.batches,
+            max_batches: self.settings.max_batches,
+            batches_that_fit,
+            spp: self.settings.spp,
+            samples_per_frame: self.samples_per_frame,
+        }
     }
 
     /// Makes the report of a completed frame from its counters, and grows the node lists when

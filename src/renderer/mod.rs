@@ -13,6 +13,7 @@
 mod capture;
 mod frame;
 mod motion;
+mod plan;
 mod readback;
 
 use std::collections::VecDeque;
@@ -30,22 +31,12 @@ pub use readback::RenderedFrame;
 
 use crate::error::Result;
 use crate::gpu_scene::GpuScene;
-use crate::passes::accumulate::AccumulatePass;
-use crate::passes::compose::ComposePass;
-use crate::passes::direct::DirectPass;
-use crate::passes::gather::GatherPass;
 use crate::passes::gbuffer::GBufferPass;
 use crate::passes::hang::HangPass;
-use crate::passes::hierarchy::HierarchyPasses;
-use crate::passes::luminance::{LuminancePass, LuminanceStats};
-use crate::passes::photon_clearance::ClearancePass;
-use crate::passes::photon_dispatch::PhotonDispatchPass;
-use crate::passes::photon_order::PhotonOrderPass;
-use crate::passes::photons::PhotonPass;
-use crate::passes::reference::ReferencePass;
-use crate::passes::splat::SplatPass;
+use crate::passes::luminance::LuminanceStats;
 use crate::passes::tonemap::{TonemapPass, ViewLayer};
-use crate::passes::visible_disk::VisibleDiskPass;
+use crate::passes::FRAME_PASSES;
+use crate::pipelines::Pipelines;
 use crate::scene_pose::ScenePose;
 use crate::settings::{Method, RenderSettings};
 use crate::splatting::{default_list_capacity, SplatFrame, SplatStats};
@@ -54,36 +45,14 @@ use crate::trace::{Backend, BackendChoice, ResolvedBackend, TraceScene, TraceSta
 /// Frames the renderer keeps in flight: the host records one while the GPU runs the other.
 pub const FRAMES_IN_FLIGHT: usize = 2;
 
-/// The passes that do not trace rays (one set per renderer).
+/// The raster passes, and the stall of fault injection; the compute passes are functions
+/// over the graph and the renderer's [`Pipelines`].
 struct Passes {
     gbuffer: GBufferPass,
-    clearance: ClearancePass,
-    hierarchy: HierarchyPasses,
-    dispatch: PhotonDispatchPass,
-    order: PhotonOrderPass,
-    splat: SplatPass,
-    compose: ComposePass,
-    accumulate: AccumulatePass,
-    luminance: LuminancePass,
     /// One per target format (the PNG's, the window's).
     tonemaps: Vec<TonemapPass>,
     /// Debug builds: the stall `LEAKLESS_FAULT_HANG` arms (see passes/hang.rs).
     hang: Option<HangPass>,
-}
-
-/// The passes that trace rays, compiled for one backend.
-struct TracingPasses {
-    direct: DirectPass,
-    reference: ReferencePass,
-    photons: PhotonPass,
-    visible_disk: VisibleDiskPass,
-    gather: GatherPass,
-}
-
-/// One backend's trace structures and passes, made when first used.
-struct BackendState {
-    trace: TraceScene,
-    passes: TracingPasses,
 }
 
 /// What a submitted frame was, to make sense of its counters once it completes.
@@ -137,8 +106,11 @@ pub struct Renderer {
     /// The animated instances at the renderer's time.
     pose: ScenePose,
     backend: ResolvedBackend,
-    backends: [Option<BackendState>; 2],
+    /// Each backend's trace structures, made when first used.
+    traces: [Option<TraceScene>; 2],
     passes: Passes,
+    /// The compute passes' pipelines, for every backend used so far.
+    pipelines: Pipelines,
     view: ViewLayer,
     exposure: Option<f32>,
     /// Node-list entries per frame: grows after a frame that dropped entries, unless fixed.
@@ -173,17 +145,10 @@ impl Renderer {
         let pose = ScenePose::new(scene, &gpu_scene.bvh.bvh);
         let passes = Passes {
             gbuffer: GBufferPass::new(&gpu)?,
-            clearance: ClearancePass::new(&gpu)?,
-            hierarchy: HierarchyPasses::new(&gpu)?,
-            dispatch: PhotonDispatchPass::new(&gpu)?,
-            order: PhotonOrderPass::new(&gpu)?,
-            splat: SplatPass::new(&gpu)?,
-            compose: ComposePass::new(&gpu)?,
-            accumulate: AccumulatePass::new(&gpu)?,
-            luminance: LuminancePass::new(&gpu)?,
             tonemaps: vec![TonemapPass::new(&gpu, readback::DISPLAY_FORMAT)?],
             hang: HangPass::from_env(&gpu)?,
         };
+        let pipelines = Pipelines::new(&gpu, FRAME_PASSES, resolved.backend)?;
         let mut runner = GraphRunner::new(&gpu, FRAMES_IN_FLIGHT)?;
         if let Some(hang) = &passes.hang {
             hang.release_on_device_lost(&mut runner);
@@ -196,8 +161,9 @@ impl Renderer {
             gpu_scene,
             pose,
             backend: resolved,
-            backends: [None, None],
+            traces: [None, None],
             passes,
+            pipelines,
             view: ViewLayer::Final,
             exposure: None,
             accumulated: 0,
@@ -214,27 +180,18 @@ impl Renderer {
             gpu,
         };
         renderer.list_capacity = renderer.default_list_capacity();
-        renderer.backend_state(resolved.backend)?;
+        renderer.prepare_backend(resolved.backend)?;
         renderer.gpu.check_validation()?;
         Ok(renderer)
     }
 
-    /// The trace structures and passes of `backend`, made on first use.
-    fn backend_state(&mut self, backend: Backend) -> Result<&BackendState> {
-        let slot = &mut self.backends[backend as usize];
+    /// Makes the trace structures and pipelines of `backend` on its first use.
+    fn prepare_backend(&mut self, backend: Backend) -> Result<()> {
+        let slot = &mut self.traces[backend as usize];
         if slot.is_none() {
-            let gpu = &self.gpu;
-            let trace = TraceScene::build(gpu, &self.scene, &self.gpu_scene, &self.pose, backend)?;
-            let passes = TracingPasses {
-                direct: DirectPass::new(gpu, backend)?,
-                reference: ReferencePass::new(gpu, backend)?,
-                photons: PhotonPass::new(gpu, backend)?,
-                visible_disk: VisibleDiskPass::new(gpu, backend)?,
-                gather: GatherPass::new(gpu, backend)?,
-            };
-            *slot = Some(BackendState { trace, passes });
+            *slot = Some(TraceScene::build(&self.gpu, &self.scene, &self.gpu_scene, &self.pose, backend)?);
         }
-        Ok(slot.as_ref().expect("made above"))
+        self.pipelines.prepare(&self.gpu, backend)
     }
 
     fn default_list_capacity(&self) -> u32 {
@@ -261,7 +218,7 @@ impl Renderer {
 
     /// What building the current backend's trace structures cost.
     pub fn trace_stats(&self) -> &TraceStats {
-        self.backends[self.backend.backend as usize].as_ref().expect("current backend made").trace.stats()
+        self.traces[self.backend.backend as usize].as_ref().expect("current backend made").stats()
     }
 
     pub fn settings(&self) -> &RenderSettings {
@@ -320,7 +277,7 @@ impl Renderer {
         settings.validate()?;
         let backend = resolve(&self.gpu, settings.backend)?;
         crate::limits::check(&settings, &self.scene, backend.backend, &self.gpu.report().limits)?;
-        self.backend_state(backend.backend)?;
+        self.prepare_backend(backend.backend)?;
         let capacity_inputs =
             |s: &RenderSettings| (s.splat.paths, s.max_bounces, s.width, s.height, s.splat.list_capacity);
         let regrow = capacity_inputs(&settings) != capacity_inputs(&self.settings);

@@ -2,151 +2,35 @@
 //! both trace backends (no GPU needed: this is the build-time reflection against the Rust
 //! declarations that pipeline creation also checks).
 
-use leakless::passes::hierarchy::{build, morton, sample_bounds};
-use leakless::passes::{
-    accumulate, compose, direct, emission_order, gather, gbuffer, hang, luminance, photon_clearance, photon_dispatch,
-    photon_order, photons, raycast, reference, scan, sort, splat, tonemap, view_bindings, visible_disk,
-};
+use leakless::passes::{direct, gather, gbuffer, splat, tonemap, FRAME_PASSES, TOOL_PASSES};
 use leakless::shaders;
 use leakless::Backend;
 use leakless_device::shader::ShaderInfo;
-use leakless_device::{check_bindings, check_push_constants, BindingDecl, GpuStruct, RustLayout};
-
-/// (pass, shader, bindings, push constants) of every compute pass on `backend`.
-fn compute_passes(backend: Backend) -> Vec<(&'static str, &'static ShaderInfo, Vec<BindingDecl>, Option<RustLayout>)> {
-    let pick = |rq, compute| backend.pick(rq, compute);
-    vec![
-        (
-            "direct",
-            pick(&shaders::DIRECT_COMP_RAYQUERY, &shaders::DIRECT_COMP_COMPUTE),
-            view_bindings(backend, direct::DirectBindings::DECLS),
-            None,
-        ),
-        (
-            "reference",
-            pick(&shaders::REFERENCE_COMP_RAYQUERY, &shaders::REFERENCE_COMP_COMPUTE),
-            view_bindings(backend, reference::ReferenceBindings::DECLS),
-            Some(reference::ReferenceParams::LAYOUT),
-        ),
-        (
-            "raycast",
-            pick(&shaders::RAYCAST_COMP_RAYQUERY, &shaders::RAYCAST_COMP_COMPUTE),
-            raycast::bindings(backend),
-            Some(raycast::RaycastParams::LAYOUT),
-        ),
-        (
-            "photons",
-            pick(&shaders::PHOTONS_COMP_RAYQUERY, &shaders::PHOTONS_COMP_COMPUTE),
-            photons::bindings(backend),
-            Some(photons::PhotonPush::LAYOUT),
-        ),
-        (
-            "gather",
-            pick(&shaders::GATHER_COMP_RAYQUERY, &shaders::GATHER_COMP_COMPUTE),
-            gather::bindings(backend),
-            Some(gather::GatherParams::LAYOUT),
-        ),
-        (
-            "visible disk",
-            pick(&shaders::VISIBLE_DISK_COMP_RAYQUERY, &shaders::VISIBLE_DISK_COMP_COMPUTE),
-            visible_disk::bindings(backend),
-            Some(visible_disk::VisibleDiskParams::LAYOUT),
-        ),
-        (
-            "photon clearance",
-            &shaders::PHOTON_CLEARANCE_COMP,
-            [photon_clearance::ClearanceBindings::DECLS, leakless::trace::ComputeTrace::DECLS].concat(),
-            Some(photon_clearance::ClearanceParams::LAYOUT),
-        ),
-        (
-            "accumulate",
-            &shaders::ACCUMULATE_COMP,
-            accumulate::AccumulateBindings::DECLS.to_vec(),
-            Some(accumulate::AccumulateParams::LAYOUT),
-        ),
-        (
-            "compose",
-            &shaders::COMPOSE_COMP,
-            compose::ComposeBindings::DECLS.to_vec(),
-            Some(compose::ComposeParams::LAYOUT),
-        ),
-        ("splat", &shaders::SPLAT_COMP, splat::SplatBindings::DECLS.to_vec(), Some(splat::SplatParams::LAYOUT)),
-        (
-            "hierarchy build",
-            &shaders::HIERARCHY_BUILD_COMP,
-            build::BuildBindings::DECLS.to_vec(),
-            Some(build::BuildParams::LAYOUT),
-        ),
-        ("morton", &shaders::MORTON_COMP, morton::MortonBindings::DECLS.to_vec(), None),
-        ("sample bounds", &shaders::SAMPLE_BOUNDS_COMP, sample_bounds::SampleBoundsBindings::DECLS.to_vec(), None),
-        (
-            "sort histogram",
-            &shaders::SORT_HISTOGRAM_COMP,
-            sort::HistogramBindings::DECLS.to_vec(),
-            Some(sort::SortParams::LAYOUT),
-        ),
-        ("sort scan", &shaders::SORT_SCAN_COMP, scan::ScanBindings::DECLS.to_vec(), Some(sort::SortParams::LAYOUT)),
-        (
-            "photon dispatch",
-            &shaders::PHOTON_DISPATCH_COMP,
-            photon_dispatch::PhotonDispatchBindings::DECLS.to_vec(),
-            Some(photon_dispatch::PhotonDispatchParams::LAYOUT),
-        ),
-        (
-            "photon cells",
-            &shaders::PHOTON_CELLS_COMP,
-            photon_order::CellBindings::DECLS.to_vec(),
-            Some(photon_order::PhotonOrderParams::LAYOUT),
-        ),
-        (
-            "photon order",
-            &shaders::PHOTON_ORDER_COMP,
-            photon_order::OrderBindings::DECLS.to_vec(),
-            Some(photon_order::PhotonOrderParams::LAYOUT),
-        ),
-        (
-            "emission cells",
-            &shaders::EMISSION_CELLS_COMP,
-            emission_order::EmissionCellBindings::DECLS.to_vec(),
-            Some(emission_order::EmissionOrderParams::LAYOUT),
-        ),
-        (
-            "emission order",
-            &shaders::EMISSION_ORDER_COMP,
-            emission_order::EmissionOrderBindings::DECLS.to_vec(),
-            Some(emission_order::EmissionOrderParams::LAYOUT),
-        ),
-        (
-            "sort scatter",
-            &shaders::SORT_SCATTER_COMP,
-            sort::ScatterBindings::DECLS.to_vec(),
-            Some(sort::SortParams::LAYOUT),
-        ),
-        ("sort copy", &shaders::SORT_COPY_COMP, sort::CopyBindings::DECLS.to_vec(), Some(sort::SortParams::LAYOUT)),
-        (
-            "luminance tiles",
-            &shaders::LUMINANCE_COMP,
-            luminance::TileBindings::DECLS.to_vec(),
-            Some(luminance::LuminanceParams::LAYOUT),
-        ),
-        (
-            "luminance total",
-            &shaders::LUMINANCE_TOTAL_COMP,
-            luminance::TotalBindings::DECLS.to_vec(),
-            Some(luminance::TotalParams::LAYOUT),
-        ),
-        ("hang", &shaders::HANG_COMP, hang::HangBindings::DECLS.to_vec(), None),
-    ]
-}
+use leakless_device::{check_bindings, check_push_constants, BindingDecl, GpuStruct};
 
 #[test]
 fn every_compute_pass_matches_its_shader_on_both_backends() {
+    let mut errors = Vec::new();
     for backend in [Backend::Compute, Backend::RayQuery] {
-        for (pass, shader, decls, push) in compute_passes(backend) {
-            check_bindings(shader, pass, &decls).unwrap_or_else(|e| panic!("{backend:?}: {e}"));
-            check_push_constants(shader, pass, push.as_ref()).unwrap_or_else(|e| panic!("{backend:?}: {e}"));
+        for pass in FRAME_PASSES.iter().chain(TOOL_PASSES) {
+            let (shader, name) = (pass.shader(backend), pass.name.label);
+            if let Err(e) = check_bindings(shader, name, &pass.decls(backend)) {
+                errors.push(format!("{backend:?}: {e}"));
+            }
+            if let Err(e) = check_push_constants(shader, name, pass.push.as_ref()) {
+                errors.push(format!("{backend:?}: {e}"));
+            }
+            if let Some(want) = pass.workgroup {
+                if shader.workgroup_size != want {
+                    errors.push(format!(
+                        "{}: workgroup {:?}, the pass wants {want:?}",
+                        shader.name, shader.workgroup_size
+                    ));
+                }
+            }
         }
     }
+    assert!(errors.is_empty(), "{}", errors.join("\n"));
 }
 
 #[test]
@@ -156,7 +40,7 @@ fn raster_passes_match_each_stage() {
         (
             "gbuffer",
             [&shaders::GBUFFER_VERT, &shaders::GBUFFER_FRAG],
-            [gbuffer::GBufferBindings::DECLS, leakless::gpu_scene::SceneBindings::DECLS].concat(),
+            [gbuffer::RasterBindings::DECLS, leakless::gpu_scene::SceneBindings::DECLS].concat(),
         ),
         ("tonemap", [&shaders::TONEMAP_VERT, &shaders::TONEMAP_FRAG], tonemap::TonemapBindings::DECLS.to_vec()),
     ];
@@ -172,12 +56,12 @@ fn raster_passes_match_each_stage() {
 
 #[test]
 fn a_wrong_declaration_names_shader_binding_and_pass() {
-    let mut decls = view_bindings(Backend::Compute, direct::DirectBindings::DECLS);
+    let mut decls = direct::DIRECT.decls(Backend::Compute);
     decls.retain(|d| d.name != "lights");
     let err = check_bindings(&shaders::DIRECT_COMP_COMPUTE, "direct", &decls).unwrap_err().to_string();
     assert!(err.contains("direct.comp:compute") && err.contains("lights") && err.contains("pass direct"), "{err}");
     // A push-constant struct with a member moved fails too, naming the member.
-    let err = check_push_constants(&shaders::GATHER_COMP_COMPUTE, "gather", Some(&splat::SplatParams::LAYOUT))
+    let err = check_push_constants(gather::GATHER.shader(Backend::Compute), "gather", splat::SPLAT.push.as_ref())
         .unwrap_err()
         .to_string();
     assert!(err.contains("push constants") && err.contains("gather"), "{err}");
@@ -197,4 +81,22 @@ fn every_module_is_spirv_and_reflected() {
             assert_eq!(s.push_constants, twin.push_constants, "{}", s.name);
         }
     }
+}
+
+/// Every module that the renderer compiles is some registered pass's (or a raster pass's), so
+/// a new compute shader cannot skip the check above by not being listed.
+#[test]
+fn every_compute_module_belongs_to_a_registered_pass() {
+    let registered: Vec<&str> = [Backend::Compute, Backend::RayQuery]
+        .into_iter()
+        .flat_map(|b| FRAME_PASSES.iter().chain(TOOL_PASSES).map(move |p| p.shader(b).name))
+        .collect();
+    for s in shaders::ALL.iter().filter(|s| s.stage == leakless_device::shader::ShaderStage::Compute) {
+        assert!(registered.contains(&s.name), "{} is no registered pass's shader (passes::FRAME_PASSES)", s.name);
+    }
+    let mut labels: Vec<&str> = FRAME_PASSES.iter().chain(TOOL_PASSES).map(|p| p.name.label).collect();
+    labels.sort();
+    let count = labels.len();
+    labels.dedup();
+    assert_eq!(labels.len(), count, "two passes share a name");
 }

@@ -62,3 +62,32 @@ fn buffer_writes_are_bounds_checked() {
     b.read(0, &mut back).unwrap();
     assert_eq!(back, [1u8; 16]);
 }
+
+/// Two handles of one pool resource would track its hazards apart (no barrier between their
+/// uses): the graph refuses the second, naming the resource.
+#[test]
+fn the_graph_refuses_a_second_handle_to_one_resource() {
+    let Some(gpu) = common::gpu() else { return };
+    let mut runner = leakless_graph::GraphRunner::new(&gpu, 1).unwrap();
+    let mut graph = runner.graph(&gpu).unwrap();
+    let desc = |name| BufferDesc {
+        name,
+        size: 64,
+        usage: vk::BufferUsageFlags::STORAGE_BUFFER,
+        location: MemoryLocation::GpuOnly,
+    };
+    let _first = graph.buffer(&desc("counts")).unwrap();
+    let _other = graph.buffer(&desc("other counts")).expect("another name is another resource");
+    let err = graph.buffer(&desc("counts")).unwrap_err().to_string();
+    assert!(err.contains("\"counts\"") && err.contains("twice"), "{err}");
+    let image = leakless_device::ImageDesc {
+        name: "layer",
+        extent: vk::Extent2D { width: 4, height: 4 },
+        format: vk::Format::R32G32B32A32_SFLOAT,
+        usage: vk::ImageUsageFlags::STORAGE,
+    };
+    let _layer = graph.image(&image).unwrap();
+    assert!(graph.image(&image).is_err());
+    let _upload = graph.upload("params", vk::BufferUsageFlags::UNIFORM_BUFFER, &[0u8; 16]).unwrap();
+    assert!(graph.upload("params", vk::BufferUsageFlags::UNIFORM_BUFFER, &[0u8; 16]).is_err());
+}

@@ -4,7 +4,9 @@
 
 use crate::common;
 
-use leakless::passes::sort::{self, SortPass};
+use leakless::passes::{scan, sort};
+use leakless::pipelines::{ComputePassDef, Pipelines};
+use leakless::Backend;
 use leakless::{shaders, Gpu};
 use leakless_device::{vk, Buffer, BufferDesc, MemoryLocation};
 use leakless_graph::{Access, GraphRunner, PassTiming, Timing};
@@ -30,18 +32,21 @@ impl Rng {
     }
 }
 
+/// The sort's passes (it traces nothing: any backend).
+static SORT_PASSES: &[&ComputePassDef] = &[&sort::SORT_HISTOGRAM, &scan::SCAN, &sort::SORT_SCATTER, &sort::SORT_COPY];
+
 struct Sorter {
     gpu: Gpu,
-    sort: SortPass,
+    pipelines: Pipelines,
     runner: GraphRunner,
 }
 
 impl Sorter {
     fn new() -> Option<Sorter> {
         let gpu = common::gpu_with(false)?;
-        let sort = SortPass::new(&gpu).expect("sort pass");
+        let pipelines = Pipelines::new(&gpu, SORT_PASSES, Backend::Compute).expect("sort pipelines");
         let runner = GraphRunner::new(&gpu, 1).expect("graph runner");
-        Some(Sorter { gpu, sort, runner })
+        Some(Sorter { gpu, pipelines, runner })
     }
 
     fn buffer(&self, name: &str, data: &[u32]) -> Buffer {
@@ -65,11 +70,12 @@ impl Sorter {
         let mut graph = self.runner.graph(&self.gpu).expect("graph");
         let mut keys_h = graph.import_buffer(&key_buffer);
         let mut values_h = graph.import_buffer(&value_buffer);
-        self.sort.add(&mut graph, keys.len() as u32, key_bits, &mut keys_h, &mut values_h).expect("add sort");
+        let pipelines = self.pipelines.on(Backend::Compute);
+        sort::add(&mut graph, pipelines, keys.len() as u32, key_bits, &mut keys_h, &mut values_h).expect("add sort");
         let sort_passes = graph.pass_names().count();
         let expected = if keys.is_empty() { 0 } else { sort::graph_passes(key_bits) as usize };
         assert_eq!(sort_passes, expected);
-        let mut host = graph.pass("to host");
+        let mut host = graph.pass(leakless::passes::names::TO_HOST);
         host.read(&keys_h, Access::HostRead);
         host.read(&values_h, Access::HostRead);
         host.record(|_| Ok(()));
@@ -231,9 +237,13 @@ fn bounds_are_errors() {
     let mut graph = s.runner.graph(&s.gpu).expect("graph");
     let mut keys_h = graph.import_buffer(&keys);
     let mut values_h = graph.import_buffer(&values);
-    let e = s.sort.add(&mut graph, 10, 33, &mut keys_h, &mut values_h).unwrap_err().to_string();
+    let e = sort::add(&mut graph, s.pipelines.on(Backend::Compute), 10, 33, &mut keys_h, &mut values_h)
+        .unwrap_err()
+        .to_string();
     assert!(e.contains("key_bits"), "{e}");
-    let e = s.sort.add(&mut graph, sort::MAX_LEN + 1, 30, &mut keys_h, &mut values_h).unwrap_err().to_string();
+    let e = sort::add(&mut graph, s.pipelines.on(Backend::Compute), sort::MAX_LEN + 1, 30, &mut keys_h, &mut values_h)
+        .unwrap_err()
+        .to_string();
     assert!(e.contains(&format!("at most {}", sort::MAX_LEN)), "{e}");
     assert_eq!(graph.pass_names().count(), 0);
     drop(graph);
@@ -243,7 +253,9 @@ fn bounds_are_errors() {
     let mut graph = s.runner.graph(&s.gpu).expect("graph");
     let mut short_h = graph.import_buffer(&short);
     let mut values_h = graph.import_buffer(&values);
-    let e = s.sort.add(&mut graph, 1000, 30, &mut short_h, &mut values_h).unwrap_err().to_string();
+    let e = sort::add(&mut graph, s.pipelines.on(Backend::Compute), 1000, 30, &mut short_h, &mut values_h)
+        .unwrap_err()
+        .to_string();
     assert!(e.contains("1000 elements") && e.contains(&format!("holds only {} bytes", 4 * GUARD_WORDS)), "{e}");
     drop(graph);
 

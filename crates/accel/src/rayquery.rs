@@ -12,9 +12,17 @@ use leakless_device::{
     accel_build_sizes, accel_instance, accel_instances, accel_scratch, vk, AccelGeometry, AccelSizeQueries,
     AccelerationStructure, Buffer, Gpu,
 };
-use leakless_graph::{Access, BufferHandle, Graph, GraphRunner};
+use leakless_graph::{Access, BufferHandle, Graph, GraphRunner, PassName};
 
 use crate::AccelError;
+
+/// The passes that build and move acceleration structures; their time counts as the scene's.
+const SCENE: &str = "scene";
+pub const BLAS_BUILD: PassName = PassName::new("blas build", SCENE);
+pub const BLAS_COMPACTED_SIZE: PassName = PassName::new("blas compacted size", SCENE);
+pub const BLAS_COMPACT: PassName = PassName::new("blas compact", SCENE);
+pub const TLAS_BUILD: PassName = PassName::new("tlas build", SCENE);
+pub const TLAS_REBUILD: PassName = PassName::new("tlas rebuild", SCENE);
 
 /// What building cost, for `--stats`.
 #[derive(Clone, Debug, Default)]
@@ -96,14 +104,14 @@ impl RayQueryAccel {
             for (index, (blas, geometry)) in built.iter().zip(&geometries).enumerate() {
                 let input = graph.import_buffer(parts[index].vertices);
                 let mut blas_h = graph.import_buffer(blas.buffer());
-                let mut pass = graph.pass("blas build");
+                let mut pass = graph.pass(BLAS_BUILD);
                 pass.read(&input, Access::AccelerationStructureBuildRead);
                 pass.write(&mut blas_h, Access::AccelerationStructureBuildWrite);
                 let scratch_use = pass.write(&mut scratch_h, Access::AccelerationStructureBuildWrite);
                 pass.record(move |ctx| {
                     ctx.cmd.build_acceleration_structure(blas, geometry, ctx.res.buffer(scratch_use), true)
                 });
-                let mut pass = graph.pass("blas compacted size");
+                let mut pass = graph.pass(BLAS_COMPACTED_SIZE);
                 pass.read(&blas_h, Access::AccelerationStructureBuildRead);
                 let queries_ref = &queries;
                 pass.record(move |ctx| ctx.cmd.write_compacted_size(blas, queries_ref, index as u32));
@@ -132,7 +140,7 @@ impl RayQueryAccel {
                 let dst = &blases[*index];
                 let src_h = graph.import_buffer(src.buffer());
                 let mut dst_h = graph.import_buffer(dst.buffer());
-                let mut pass = graph.pass("blas compact");
+                let mut pass = graph.pass(BLAS_COMPACT);
                 pass.read(&src_h, Access::AccelerationStructureBuildRead);
                 pass.write(&mut dst_h, Access::AccelerationStructureBuildWrite);
                 pass.record(move |ctx| ctx.cmd.compact_acceleration_structure(src, dst));
@@ -154,7 +162,7 @@ impl RayQueryAccel {
             let instances_h = graph.import_buffer(&instances);
             let mut tlas_h = graph.import_buffer(tlas.buffer());
             let mut scratch_h = graph.import_buffer(&tlas_scratch);
-            let mut pass = graph.pass("tlas build");
+            let mut pass = graph.pass(TLAS_BUILD);
             for b in &blas_h {
                 pass.read(b, Access::AccelerationStructureBuildRead);
             }
@@ -201,7 +209,7 @@ impl RayQueryAccel {
         let instances = graph.upload("tlas instances", usage, bytes)?;
         let mut scratch = graph.import_buffer(&self.tlas_scratch);
         let count = records.len() as u32;
-        let mut pass = graph.pass("tlas rebuild");
+        let mut pass = graph.pass(TLAS_REBUILD);
         for b in blases {
             pass.read(b, Access::AccelerationStructureBuildRead);
         }

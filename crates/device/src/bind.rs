@@ -5,7 +5,7 @@ use ash::vk;
 
 use crate::error::{DeviceError, Result};
 use crate::layout::{compare, RustLayout};
-use crate::shader::{BindingKind, BlockLayout, ReflectedBinding, ShaderInfo};
+use crate::shader::{BindingAccess, BindingKind, BlockLayout, ReflectedBinding, ShaderInfo};
 use crate::{Buffer, Image};
 
 /// How the data behind a buffer binding is checked.
@@ -24,28 +24,32 @@ pub enum Contents {
 pub struct BindingDecl {
     pub name: &'static str,
     pub kind: BindingKind,
+    /// Whether the pass reads, writes or does both: must be what the shader's qualifiers say.
+    pub access: BindingAccess,
     pub contents: Contents,
 }
 
 impl BindingDecl {
     pub const fn uniform(name: &'static str, layout: RustLayout) -> Self {
-        Self { name, kind: BindingKind::UniformBuffer, contents: Contents::Block(layout) }
+        let (kind, access) = (BindingKind::UniformBuffer, BindingAccess::Read);
+        Self { name, kind, access, contents: Contents::Block(layout) }
     }
-    pub const fn storage_array(name: &'static str, element: RustLayout) -> Self {
-        Self { name, kind: BindingKind::StorageBuffer, contents: Contents::Array(element) }
+    pub const fn storage_array(name: &'static str, access: BindingAccess, element: RustLayout) -> Self {
+        Self { name, kind: BindingKind::StorageBuffer, access, contents: Contents::Array(element) }
     }
     /// A storage buffer holding one fixed-size block (counters, bounds).
-    pub const fn storage_block(name: &'static str, layout: RustLayout) -> Self {
-        Self { name, kind: BindingKind::StorageBuffer, contents: Contents::Block(layout) }
+    pub const fn storage_block(name: &'static str, access: BindingAccess, layout: RustLayout) -> Self {
+        Self { name, kind: BindingKind::StorageBuffer, access, contents: Contents::Block(layout) }
     }
-    pub const fn storage_words(name: &'static str) -> Self {
-        Self { name, kind: BindingKind::StorageBuffer, contents: Contents::Unchecked }
+    pub const fn storage_words(name: &'static str, access: BindingAccess) -> Self {
+        Self { name, kind: BindingKind::StorageBuffer, access, contents: Contents::Unchecked }
     }
-    pub const fn storage_image(name: &'static str) -> Self {
-        Self { name, kind: BindingKind::StorageImage, contents: Contents::Unchecked }
+    pub const fn storage_image(name: &'static str, access: BindingAccess) -> Self {
+        Self { name, kind: BindingKind::StorageImage, access, contents: Contents::Unchecked }
     }
     pub const fn acceleration_structure(name: &'static str) -> Self {
-        Self { name, kind: BindingKind::AccelerationStructure, contents: Contents::Unchecked }
+        let (kind, access) = (BindingKind::AccelerationStructure, BindingAccess::Read);
+        Self { name, kind, access, contents: Contents::Unchecked }
     }
 }
 
@@ -83,6 +87,17 @@ pub fn check_bindings(shader: &ShaderInfo, pass: &str, decls: &[BindingDecl]) ->
             .ok_or_else(|| err(d.name, "declared by the pass but not in the shader".into()))?;
         if r.kind != d.kind {
             return Err(err(d.name, format!("the pass declares {:?}, the shader has {:?}", d.kind, r.kind)));
+        }
+        if r.access != d.access {
+            let qualifier = match r.access {
+                BindingAccess::Read => "readonly",
+                BindingAccess::Write => "writeonly",
+                BindingAccess::ReadWrite => "neither readonly nor writeonly",
+            };
+            return Err(err(
+                d.name,
+                format!("the pass declares {:?} access, the shader's binding is {qualifier}", d.access),
+            ));
         }
         check_contents(d, r.layout).map_err(|p| err(d.name, p))?;
         numbers.push(r.binding);
@@ -169,6 +184,7 @@ mod tests {
         set: 0,
         binding: 3,
         kind: BindingKind::UniformBuffer,
+        access: BindingAccess::Read,
         layout: Some(BlockLayout { size: 32, members: MEMBERS, array_stride: None, element_members: &[] }),
     }];
     const SHADER: ShaderInfo = ShaderInfo {
@@ -188,12 +204,12 @@ mod tests {
 
     #[test]
     fn mismatches_name_shader_binding_and_pass() {
-        let wrong_kind = [BindingDecl::storage_words("frame")];
+        let wrong_kind = [BindingDecl::storage_words("frame", BindingAccess::Read)];
         let e = check_bindings(&SHADER, "direct", &wrong_kind).unwrap_err().to_string();
         assert!(e.contains("t.comp") && e.contains("\"frame\"") && e.contains("direct"), "{e}");
         let missing = [
             BindingDecl::uniform("frame", crate::rust_layout!(Frame { a, b, c, _pad })),
-            BindingDecl::storage_words("extra"),
+            BindingDecl::storage_words("extra", BindingAccess::Read),
         ];
         assert!(check_bindings(&SHADER, "p", &missing).unwrap_err().to_string().contains("not in the shader"));
         assert!(check_bindings(&SHADER, "p", &[]).unwrap_err().to_string().contains("not declared by the pass"));
@@ -207,6 +223,37 @@ mod tests {
         let shifted = [BindingDecl::uniform("frame", crate::rust_layout!(Shifted { a, b, c, _pad }))];
         let e = check_bindings(&SHADER, "p", &shifted).unwrap_err().to_string();
         assert!(e.contains("offset"), "{e}");
+    }
+
+    /// A pass that declares a read of what the shader writes (or the reverse) would get the
+    /// wrong barriers from the graph: the declaration must say what the GLSL qualifiers say.
+    #[test]
+    fn access_must_match_the_shaders_qualifiers() {
+        let image = |access| ReflectedBinding {
+            name: "out",
+            set: 0,
+            binding: 0,
+            kind: BindingKind::StorageImage,
+            access,
+            layout: None,
+        };
+        for (shader_access, qualifier) in [
+            (BindingAccess::Write, "writeonly"),
+            (BindingAccess::Read, "readonly"),
+            (BindingAccess::ReadWrite, "neither"),
+        ] {
+            let reflected = [image(shader_access)];
+            let shader = ShaderInfo { reflection: Ok(Box::leak(Box::new(reflected))), ..SHADER };
+            for declared in [BindingAccess::Read, BindingAccess::Write, BindingAccess::ReadWrite] {
+                let result = check_bindings(&shader, "p", &[BindingDecl::storage_image("out", declared)]);
+                if declared == shader_access {
+                    assert_eq!(result.unwrap(), vec![0]);
+                } else {
+                    let e = result.unwrap_err().to_string();
+                    assert!(e.contains(qualifier) && e.contains(&format!("{declared:?}")), "{e}");
+                }
+            }
+        }
     }
 }
 

@@ -38,4 +38,5 @@ pub use memory::{Buffer, BufferDesc, Image, ImageDesc, MemoryLocation};
 pub use pipeline::{ColorTarget, ComputePipeline, GraphicsDesc, GraphicsPipeline, VertexLayout};
 pub use query::TimestampPool;
 pub use select::{DeviceLimits, DeviceReport, DeviceType};
+pub use shader::BindingAccess;
 pub use swapchain::{Acquired, PresentMode, PresentOutcome, Swapchain};

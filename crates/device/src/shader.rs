@@ -26,6 +26,26 @@ pub enum BindingKind {
     AccelerationStructure,
 }
 
+/// What a binding's shader may do with its data: storage buffers and images as their GLSL
+/// `readonly` / `writeonly` qualifiers say; uniform buffers, sampled images, samplers and
+/// acceleration structures are only read. A pass declares the same of each binding, and the
+/// graph's reads and writes follow from it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum BindingAccess {
+    Read,
+    Write,
+    ReadWrite,
+}
+
+impl BindingAccess {
+    pub fn reads(self) -> bool {
+        self != BindingAccess::Write
+    }
+    pub fn writes(self) -> bool {
+        self != BindingAccess::Read
+    }
+}
+
 /// A member of a block or struct: name, byte offset.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Member {
@@ -54,6 +74,8 @@ pub struct ReflectedBinding {
     pub set: u32,
     pub binding: u32,
     pub kind: BindingKind,
+    /// What the shader's qualifiers allow.
+    pub access: BindingAccess,
     /// Block layout for uniform and storage buffers.
     pub layout: Option<BlockLayout>,
 }

@@ -3,7 +3,8 @@
 //! ([`shader_bindings!`](crate::shader_bindings)). The same struct gives the pipeline its
 //! declarations (checked against reflection) and the dispatch its resources.
 
-use leakless_device::{Bound, Buffer, Cmd, ComputePipeline, GraphicsPipeline, Image, Result};
+use leakless_device::sync::Access;
+use leakless_device::{BindingAccess, Bound, Buffer, Cmd, ComputePipeline, GraphicsPipeline, Image, Result};
 
 use crate::graph::{Buf, Img};
 
@@ -113,38 +114,85 @@ impl<'a> PassContext<'_, '_, 'a> {
     }
 }
 
-/// Declares the bindings of a shader (or a group shared by several) once: a struct whose
-/// fields are named like the shader's bindings and hold their declared uses, its
-/// `DECLS` (the pipeline's declarations, checked against reflection down to member offsets),
-/// and its [`Bindings`] impl (what a dispatch binds, by the same names).
+/// The shader stage a pass's bindings are used in: with a binding's [`BindingAccess`] it
+/// gives the graph's [`Access`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Stage {
+    Compute,
+    Vertex,
+    Fragment,
+}
+
+impl Stage {
+    /// How a binding of this stage uses its resource. Raster stages only read bindings (the
+    /// renderer's raster passes write attachments, declared as such).
+    pub fn access(self, access: BindingAccess, image: bool) -> Access {
+        match (self, access) {
+            (Stage::Compute, BindingAccess::Read) => Access::ComputeRead,
+            (Stage::Compute, BindingAccess::Write) => Access::ComputeWrite,
+            (Stage::Compute, BindingAccess::ReadWrite) => Access::ComputeReadWrite,
+            (Stage::Vertex, BindingAccess::Read) => Access::VertexShaderRead,
+            (Stage::Fragment, BindingAccess::Read) if image => Access::FragmentStorageRead,
+            (Stage::Fragment, BindingAccess::Read) => Access::FragmentRead,
+            (stage, access) => panic!("{stage:?} bindings are read only, not {access:?}"),
+        }
+    }
+}
+
+/// Declares the bindings of a shader (or a group shared by several) once, each with its
+/// access, kind and layout. It makes two structs and what joins them:
 ///
-/// Kinds: `uniform(LAYOUT)`, `block(LAYOUT)` (a storage buffer holding one struct),
-/// `array(LAYOUT)` (a storage buffer of a runtime array), `words` (a storage buffer whose
-/// layout is not checked), `image` (a storage image), `accel` (a top-level acceleration
-/// structure).
+/// * the bindings struct, whose fields are named like the shader's bindings and hold their
+///   declared uses; its `DECLS` (the pipeline's declarations, checked against reflection down
+///   to member offsets and to the GLSL's `readonly` / `writeonly`) and its [`Bindings`] impl
+///   (what a dispatch binds, by the same names);
+/// * the resources struct, the same fields holding the graph's handles: `&` for what is read,
+///   `&mut` for what is written, so a call site shows what a pass changes;
+/// * `Bindings::declare(pass, stage, resources)`, which declares each resource's read or
+///   write on the pass (the graph derives barriers from these) and returns the uses.
+///
+/// Access: `read`, `write`, `read_write`. Kinds: `uniform(LAYOUT)`, `block(LAYOUT)` (a storage
+/// buffer holding one struct), `array(LAYOUT)` (a storage buffer of a runtime array), `words`
+/// (a storage buffer whose layout is not checked), `image` (a storage image), `accel` (a
+/// top-level acceleration structure, bound by its raw handle; the buffers behind it are the
+/// caller's to declare).
 ///
 /// ```ignore
 /// shader_bindings! {
 ///     /// What splat.comp binds.
 ///     pub struct SplatBindings {
-///         photons: array(Photon::LAYOUT),
-///         splat_counters: block(SplatCounters::LAYOUT),
-///         node_heads: words,
+///         photons: read array(Photon::LAYOUT),
+///         splat_counters: read_write block(SplatCounters::LAYOUT),
+///         node_heads: read_write words,
 ///     }
+///     /// The graph's resources behind them.
+///     pub struct SplatResources;
 /// }
 /// ```
 #[macro_export]
 macro_rules! shader_bindings {
     ($(#[$attr:meta])* $vis:vis struct $name:ident {
-        $($field:ident : $kind:ident $(($layout:expr))?),* $(,)?
-    }) => {
+        $($field:ident : $access:ident $kind:ident $(($layout:expr))?),* $(,)?
+    }
+    $(#[$rattr:meta])* $rvis:vis struct $resources:ident;) => {
         $(#[$attr])*
         #[derive(Clone, Copy, Debug)]
-        $vis struct $name { $(pub $field: $crate::shader_bindings!(@type $kind)),* }
+        $vis struct $name { $(pub $field: $crate::shader_bindings!(@use $kind)),* }
+
+        $(#[$rattr])*
+        $rvis struct $resources<'h> { $(pub $field: $crate::shader_bindings!(@handle 'h, $access $kind)),* }
+
         impl $name {
             /// The shader's bindings as this struct declares them.
             pub const DECLS: &'static [$crate::BindingDecl] =
-                &[$($crate::shader_bindings!(@decl $field $kind $(($layout))?)),*];
+                &[$($crate::shader_bindings!(@decl $field $access $kind $(($layout))?)),*];
+
+            /// Declares on `pass` the use of each resource in `stage`, as its binding's access
+            /// says, and returns the uses a dispatch binds.
+            #[allow(unused_variables)]
+            pub fn declare(pass: &mut $crate::PassBuilder<'_, '_>, stage: $crate::Stage, resources: $resources<'_>) -> Self {
+                $name { $($field: $crate::shader_bindings!(@declare pass, stage, resources.$field, $access $kind)),* }
+            }
         }
         impl $crate::Bindings for $name {
             fn bind<'a>(&self, res: $crate::Resolved<'a>, out: &mut Vec<(&'static str, $crate::Bound<'a>)>) {
@@ -152,18 +200,44 @@ macro_rules! shader_bindings {
             }
         }
     };
-    (@type uniform) => { $crate::Buf };
-    (@type block) => { $crate::Buf };
-    (@type array) => { $crate::Buf };
-    (@type words) => { $crate::Buf };
-    (@type image) => { $crate::Img };
-    (@type accel) => { $crate::vk::AccelerationStructureKHR };
-    (@decl $f:ident uniform ($l:expr)) => { $crate::BindingDecl::uniform(stringify!($f), $l) };
-    (@decl $f:ident block ($l:expr)) => { $crate::BindingDecl::storage_block(stringify!($f), $l) };
-    (@decl $f:ident array ($l:expr)) => { $crate::BindingDecl::storage_array(stringify!($f), $l) };
-    (@decl $f:ident words) => { $crate::BindingDecl::storage_words(stringify!($f)) };
-    (@decl $f:ident image) => { $crate::BindingDecl::storage_image(stringify!($f)) };
-    (@decl $f:ident accel) => { $crate::BindingDecl::acceleration_structure(stringify!($f)) };
+    (@use image) => { $crate::Img };
+    (@use accel) => { $crate::vk::AccelerationStructureKHR };
+    (@use $buffer:ident) => { $crate::Buf };
+    (@handle $h:lifetime, read accel) => { $crate::vk::AccelerationStructureKHR };
+    (@handle $h:lifetime, read image) => { &$h $crate::ImageHandle };
+    (@handle $h:lifetime, $access:ident image) => { &$h mut $crate::ImageHandle };
+    (@handle $h:lifetime, read $buffer:ident) => { &$h $crate::BufferHandle };
+    (@handle $h:lifetime, $access:ident $buffer:ident) => { &$h mut $crate::BufferHandle };
+    (@access read) => { $crate::BindingAccess::Read };
+    (@access write) => { $crate::BindingAccess::Write };
+    (@access read_write) => { $crate::BindingAccess::ReadWrite };
+    (@decl $f:ident read uniform ($l:expr)) => { $crate::BindingDecl::uniform(stringify!($f), $l) };
+    (@decl $f:ident read accel) => { $crate::BindingDecl::acceleration_structure(stringify!($f)) };
+    (@decl $f:ident $a:ident block ($l:expr)) => {
+        $crate::BindingDecl::storage_block(stringify!($f), $crate::shader_bindings!(@access $a), $l)
+    };
+    (@decl $f:ident $a:ident array ($l:expr)) => {
+        $crate::BindingDecl::storage_array(stringify!($f), $crate::shader_bindings!(@access $a), $l)
+    };
+    (@decl $f:ident $a:ident words) => {
+        $crate::BindingDecl::storage_words(stringify!($f), $crate::shader_bindings!(@access $a))
+    };
+    (@decl $f:ident $a:ident image) => {
+        $crate::BindingDecl::storage_image(stringify!($f), $crate::shader_bindings!(@access $a))
+    };
+    (@declare $pass:ident, $stage:ident, $v:expr, read accel) => { $v };
+    (@declare $pass:ident, $stage:ident, $v:expr, read image) => {
+        $pass.read($v, $stage.access($crate::BindingAccess::Read, true))
+    };
+    (@declare $pass:ident, $stage:ident, $v:expr, read $buffer:ident) => {
+        $pass.read($v, $stage.access($crate::BindingAccess::Read, false))
+    };
+    (@declare $pass:ident, $stage:ident, $v:expr, $a:ident image) => {
+        $pass.write($v, $stage.access($crate::shader_bindings!(@access $a), true))
+    };
+    (@declare $pass:ident, $stage:ident, $v:expr, $a:ident $buffer:ident) => {
+        $pass.write($v, $stage.access($crate::shader_bindings!(@access $a), false))
+    };
     (@bound $res:ident, $v:expr, image) => { $crate::Bound::Image($res.image($v)) };
     (@bound $res:ident, $v:expr, accel) => { $crate::Bound::Accel($v) };
     (@bound $res:ident, $v:expr, $buffer:ident) => { $crate::Bound::Buffer($res.buffer($v)) };

@@ -2,9 +2,10 @@
 //! uses and hand the graph a closure that records their commands once the frame executes.
 
 use leakless_device::sync::Access;
-use leakless_device::{Buffer, BufferDesc, Gpu, Image, ImageDesc, MemoryLocation, Result};
+use leakless_device::{Buffer, BufferDesc, DeviceError, Gpu, Image, ImageDesc, MemoryLocation, Result};
 
 use crate::bindings::PassContext;
+use crate::name::PassName;
 use crate::pool::PoolKey;
 use crate::runner::GraphRunner;
 use crate::vk;
@@ -69,6 +70,8 @@ type Record<'r> = Box<dyn FnOnce(&mut PassContext<'_, '_, '_>) -> Result<()> + '
 
 pub(crate) struct Pass<'r> {
     pub name: String,
+    /// The group of [`PassName`] it was made with.
+    pub group: &'static str,
     pub uses: Vec<(usize, Access)>,
     pub record: Record<'r>,
 }
@@ -80,6 +83,17 @@ pub struct Graph<'r> {
     pub(crate) runner: &'r mut GraphRunner,
     pub(crate) sources: Vec<Source<'r>>,
     pub(crate) passes: Vec<Pass<'r>>,
+}
+
+/// Why the graph refuses a second handle to a pool resource: two handles of one resource would
+/// track its hazards apart, and the graph would derive no barrier between their uses.
+fn asked_twice(key: &PoolKey) -> DeviceError {
+    let name = match key {
+        PoolKey::Persistent(name) | PoolKey::PerFrame(name, _) => name,
+    };
+    DeviceError::Unsupported(format!(
+        "the frame's graph was asked twice for the resource {name:?}; pass the first handle on instead"
+    ))
 }
 
 impl<'r> Graph<'r> {
@@ -119,6 +133,7 @@ impl<'r> Graph<'r> {
     /// The pool's image named `desc.name`, kept from frame to frame (see [`Graph::buffer`]).
     pub fn image(&mut self, desc: &ImageDesc<'_>) -> Result<ImageHandle> {
         let key = PoolKey::Persistent(desc.name.into());
+        self.check_first(&key)?;
         let frame = self.runner.frame_index();
         self.runner.pool.ensure_image(self.gpu, key.clone(), desc, frame)?;
         self.sources.push(Source::PoolImage(key));
@@ -141,25 +156,43 @@ impl<'r> Graph<'r> {
     }
 
     fn pool_buffer(&mut self, key: PoolKey, desc: &BufferDesc<'_>) -> Result<BufferHandle> {
+        self.check_first(&key)?;
         let frame = self.runner.frame_index();
         self.runner.pool.ensure_buffer(self.gpu, key.clone(), desc, frame)?;
         self.sources.push(Source::PoolBuffer(key));
         Ok(BufferHandle { id: self.sources.len() - 1, size: desc.size })
     }
 
-    /// Starts a pass; `name` is its debug label, timing key and crash marker.
-    pub fn pass<'g>(&'g mut self, name: &str) -> PassBuilder<'g, 'r> {
-        PassBuilder { graph: self, name: name.to_string(), uses: Vec::new(), extends: None }
+    /// Errs when the frame already has a handle to the pool's resource `key`.
+    fn check_first(&self, key: &PoolKey) -> Result<()> {
+        let asked = |s: &Source<'_>| matches!(s, Source::PoolBuffer(k) | Source::PoolImage(k) if k == key);
+        if self.sources.iter().any(asked) {
+            return Err(asked_twice(key));
+        }
+        Ok(())
     }
 
-    /// Continues the last pass named `name`: what the builder declares joins its uses, and what
+    /// Starts a pass; `name` gives its debug label, timing key and crash marker, and the
+    /// group its time counts under.
+    pub fn pass<'g>(&'g mut self, name: PassName) -> PassBuilder<'g, 'r> {
+        let (label, group) = (name.label.to_string(), name.group);
+        PassBuilder { graph: self, name: label, group, uses: Vec::new(), extends: None }
+    }
+
+    /// Starts pass number `index` of a repeated pass ("sort histogram 2").
+    pub fn pass_numbered<'g>(&'g mut self, name: PassName, index: u32) -> PassBuilder<'g, 'r> {
+        let (label, group) = (format!("{} {index}", name.label), name.group);
+        PassBuilder { graph: self, name: label, group, uses: Vec::new(), extends: None }
+    }
+
+    /// Continues the last pass labelled `label`: what the builder declares joins its uses, and what
     /// it records runs after the pass's own commands, inside its label, timestamps and crash
     /// markers. `None` when the graph has no such pass. Fault injection uses it to stall a
     /// named pass.
-    pub fn extend_pass<'g>(&'g mut self, name: &str) -> Option<PassBuilder<'g, 'r>> {
-        let index = self.passes.iter().rposition(|p| p.name == name)?;
-        let uses = self.passes[index].uses.clone();
-        Some(PassBuilder { graph: self, name: name.to_string(), uses, extends: Some(index) })
+    pub fn extend_pass<'g>(&'g mut self, label: &str) -> Option<PassBuilder<'g, 'r>> {
+        let index = self.passes.iter().rposition(|p| p.name == label)?;
+        let (uses, group) = (self.passes[index].uses.clone(), self.passes[index].group);
+        Some(PassBuilder { graph: self, name: label.to_string(), group, uses, extends: Some(index) })
     }
 
     pub fn pass_names(&self) -> impl Iterator<Item = &str> {
@@ -172,6 +205,7 @@ impl<'r> Graph<'r> {
 pub struct PassBuilder<'g, 'r> {
     graph: &'g mut Graph<'r>,
     name: String,
+    group: &'static str,
     uses: Vec<(usize, Access)>,
     /// The pass this builder continues ([`Graph::extend_pass`]).
     extends: Option<usize>,
@@ -242,7 +276,12 @@ impl<'r> PassBuilder<'_, 'r> {
     /// Ends the declaration with the commands the pass records when the frame executes.
     pub fn record(self, record: impl FnOnce(&mut PassContext<'_, '_, '_>) -> Result<()> + 'r) {
         match self.extends {
-            None => self.graph.passes.push(Pass { name: self.name, uses: self.uses, record: Box::new(record) }),
+            None => self.graph.passes.push(Pass {
+                name: self.name,
+                group: self.group,
+                uses: self.uses,
+                record: Box::new(record),
+            }),
             Some(index) => {
                 let pass = &mut self.graph.passes[index];
                 let first = std::mem::replace(&mut pass.record, Box::new(|_| Ok(())));

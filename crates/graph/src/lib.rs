@@ -11,13 +11,17 @@
 
 pub mod barrier;
 mod bindings;
+mod fill;
 mod graph;
+mod name;
 mod pool;
 mod runner;
 
-pub use bindings::{Bindings, PassContext, Resolved};
+pub use bindings::{Bindings, PassContext, Resolved, Stage};
+pub use fill::Fill;
 pub use graph::{Buf, BufferHandle, Graph, Handle, ImageHandle, Img, PassBuilder};
 pub use leakless_device::sync::Access;
-pub use leakless_device::{vk, BindingDecl, Bound};
+pub use leakless_device::{vk, BindingAccess, BindingDecl, Bound};
+pub use name::PassName;
 pub use pool::ResourcePool;
 pub use runner::{CompletedFrame, GraphRunner, PassTiming, Submitted, Timing, MAX_PASSES};

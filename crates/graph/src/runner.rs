@@ -19,6 +19,8 @@ use crate::pool::{PoolKey, ResourcePool};
 #[derive(Clone, Debug)]
 pub struct PassTiming {
     pub name: String,
+    /// The group of the pass's [`PassName`](crate::PassName).
+    pub group: &'static str,
     /// GPU timestamp difference (end − start of the pass).
     pub ms: f64,
     /// Host wall-clock time of the pass's own submission, when the runner submits each pass
@@ -59,7 +61,8 @@ pub const MAX_PASSES: u32 = 256;
 
 struct Running {
     frame: u64,
-    passes: Vec<String>,
+    /// Each pass's label and group.
+    passes: Vec<(String, &'static str)>,
     wall_ms: Vec<Option<f64>>,
 }
 
@@ -241,7 +244,12 @@ impl GraphRunner {
             .into_iter()
             .zip(running.wall_ms)
             .enumerate()
-            .map(|(i, (name, wall_ms))| PassTiming { name, ms: (ns[2 * i + 1] - ns[2 * i]).max(0.0) * 1e-6, wall_ms })
+            .map(|(i, ((name, group), wall_ms))| PassTiming {
+                name,
+                group,
+                ms: (ns[2 * i + 1] - ns[2 * i]).max(0.0) * 1e-6,
+                wall_ms,
+            })
             .collect();
         // A fence covers every earlier submission too: all frames up to this one are done.
         self.pool.collect(running.frame);
@@ -285,7 +293,7 @@ impl Graph<'_> {
                 (Resource::Image(i), _) => ResourceState::image(i.layout()),
             })
             .collect();
-        let names: Vec<String> = passes.iter().map(|p| p.name.clone()).collect();
+        let names: Vec<(String, &'static str)> = passes.iter().map(|p| (p.name.clone(), p.group)).collect();
         let (slot_index, slot_count) = (runner.next, runner.slots.len());
         let slot = &mut runner.slots[slot_index];
         slot.timestamps.reset();
@@ -326,7 +334,7 @@ impl Graph<'_> {
                             if let Some(f) = on_lost {
                                 f();
                             }
-                            DeviceError::DeviceLost { at: format!(" during pass {}", names[index]), cause }
+                            DeviceError::DeviceLost { at: format!(" during pass {}", names[index].0), cause }
                         }
                         e => e,
                     })
@@ -394,7 +402,7 @@ fn passes_reached(markers: &Buffer, passes: usize) -> u64 {
     markers.read_vec::<u32>(2 * passes).map_or(0, |w| w.iter().filter(|&&m| m == 1).count() as u64)
 }
 
-fn last_pass(markers: &Buffer, names: &[String]) -> String {
+fn last_pass(markers: &Buffer, names: &[(String, &'static str)]) -> String {
     let words: Vec<u32> = match markers.read_vec(2 * names.len()) {
         Ok(w) => w,
         Err(_) => return "(pass markers unreadable)".into(),
@@ -402,8 +410,8 @@ fn last_pass(markers: &Buffer, names: &[String]) -> String {
     let started = (0..names.len()).rev().find(|&i| words[2 * i] == 1);
     match started {
         None => "before the first pass started".into(),
-        Some(i) if words[2 * i + 1] == 0 => format!("during pass {}", names[i]),
-        Some(i) => format!("after pass {}", names[i]),
+        Some(i) if words[2 * i + 1] == 0 => format!("during pass {}", names[i].0),
+        Some(i) => format!("after pass {}", names[i].0),
     }
 }
 

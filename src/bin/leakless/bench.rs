@@ -1,5 +1,6 @@
 //! `leakless bench`: ratios measured in one process, printed, never asserted.
 
+use leakless::passes::names::{self, group};
 use std::path::PathBuf;
 
 use anyhow::Context;
@@ -266,9 +267,9 @@ fn photon_order(
         println!(
             "{:<10} {:>9.1} {:>9.1} {:>12.1} {:>9.1} {:>9.1} {:>9}",
             label,
-            r.ms(&["photon cell", "photon order"]),
+            r.group_ms(group::PHOTON_ORDER),
             r.splat_ms(),
-            r.pass_ms("photon clearance"),
+            r.pass_ms(names::PHOTON_CLEARANCE),
             r.gather_ms(),
             r.frame_ms(),
             r.stats().list_entries
@@ -279,7 +280,7 @@ fn photon_order(
     println!(
         "ordered is faster by x{:.2} in the splat, x{:.2} in the clearance, x{:.2} in the gather, x{:.2} over the frame",
         x(|r| r.splat_ms()),
-        x(|r| r.pass_ms("photon clearance")),
+        x(|r| r.pass_ms(names::PHOTON_CLEARANCE)),
         x(|r| r.gather_ms()),
         x(|r| r.frame_ms())
     );

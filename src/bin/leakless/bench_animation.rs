@@ -4,6 +4,7 @@
 //! same frames of the scene frozen at those times, interleaved, in one process: the door half
 //! open lets in more light than the door shut, so only the same frames compare.
 
+use leakless::passes::names;
 use std::path::Path;
 use std::time::Instant;
 
@@ -96,8 +97,8 @@ pub fn run(path: &Path, (w, h): (u32, u32), paths: u32, frames: u32) -> anyhow::
             f / n,
             a / f,
             median(&mut update_ms),
-            show(pass_ms("instance vertices")),
-            show(pass_ms("tlas rebuild"))
+            show(pass_ms(names::INSTANCE_VERTICES.label)),
+            show(pass_ms(leakless_accel::rayquery::TLAS_REBUILD.label))
         );
     }
     Ok(())

@@ -2,12 +2,13 @@
 //! (`hierarchy_build.comp`), with the range of its samples' gather radii.
 
 use bytemuck::{Pod, Zeroable};
-use leakless_device::{gpu_struct, ComputePipeline, Gpu, GpuStruct};
-use leakless_graph::{shader_bindings, Access, Graph, ImageHandle};
+use leakless_device::{gpu_struct, GpuStruct};
+use leakless_graph::{shader_bindings, Graph, ImageHandle, Stage};
 
 use super::{HierarchyHandles, Level, Node, Shape};
-use crate::error::Result;
-use crate::passes::gbuffer::GBufferHandles;
+use crate::passes::gbuffer::{GBufferBindings, GBufferHandles};
+use crate::passes::names;
+use crate::pipelines::{ComputePassDef, PipelineSet};
 use crate::shaders;
 
 gpu_struct! {
@@ -23,56 +24,54 @@ gpu_struct! {
 
 shader_bindings! {
     pub struct BuildBindings {
-        gbuffer_position: image,
-        gbuffer_normal: image,
-        sorted_keys: words,
-        sorted_samples: words,
-        levels: array(Level::LAYOUT),
-        nodes: array(Node::LAYOUT),
-        disk_mass: image,
+        sorted_keys: read words,
+        sorted_samples: read words,
+        levels: read array(Level::LAYOUT),
+        nodes: read_write array(Node::LAYOUT),
+        disk_mass: read image,
     }
+    pub struct BuildResources;
 }
 
-pub struct BuildPass {
-    pipeline: ComputePipeline,
-}
+pub static HIERARCHY_LEVEL: ComputePassDef = ComputePassDef::any(
+    names::HIERARCHY_LEVEL,
+    &shaders::HIERARCHY_BUILD_COMP,
+    &[BuildBindings::DECLS, GBufferBindings::DECLS],
+)
+.push(BuildParams::LAYOUT);
 
-impl BuildPass {
-    pub fn new(gpu: &Gpu) -> Result<Self> {
-        let shader = &shaders::HIERARCHY_BUILD_COMP;
-        let pipeline =
-            ComputePipeline::new(gpu, "hierarchy build", shader, BuildBindings::DECLS, Some(&BuildParams::LAYOUT))?;
-        Ok(BuildPass { pipeline })
-    }
-
-    pub fn add<'r>(
-        &'r self,
-        graph: &mut Graph<'r>,
-        shape: &Shape,
-        gbuffer: &GBufferHandles,
-        disk_mass: &ImageHandle,
-        h: &mut HierarchyHandles,
-    ) {
-        let image_width = gbuffer.position.extent().width;
-        for (index, info) in shape.levels.iter().enumerate() {
-            let params = BuildParams {
-                level: index as u32,
-                branching: shape.branching,
-                sample_count: shape.sample_count,
-                image_width,
-            };
-            let mut pass = graph.pass(&format!("hierarchy level {index}"));
-            let own = BuildBindings {
-                gbuffer_position: pass.read(&gbuffer.position, Access::ComputeRead),
-                gbuffer_normal: pass.read(&gbuffer.normal, Access::ComputeRead),
-                sorted_keys: pass.read(&h.keys, Access::ComputeRead),
-                sorted_samples: pass.read(&h.samples, Access::ComputeRead),
-                levels: pass.read(&h.levels, Access::ComputeRead),
-                nodes: pass.write(&mut h.nodes, Access::ComputeReadWrite),
-                disk_mass: pass.read(disk_mass, Access::ComputeRead),
-            };
-            let count = info.count;
-            pass.record(move |ctx| ctx.dispatch(&self.pipeline, &[&own], &params, [count, 1, 1]));
-        }
+pub fn add<'r>(
+    graph: &mut Graph<'r>,
+    pipelines: PipelineSet<'r>,
+    shape: &Shape,
+    gbuffer: &GBufferHandles,
+    disk_mass: &ImageHandle,
+    h: &mut HierarchyHandles,
+) {
+    let image_width = gbuffer.position.extent().width;
+    for (index, info) in shape.levels.iter().enumerate() {
+        let params = BuildParams {
+            level: index as u32,
+            branching: shape.branching,
+            sample_count: shape.sample_count,
+            image_width,
+        };
+        let mut pass = graph.pass_numbered(names::HIERARCHY_LEVEL, index as u32);
+        let own = BuildBindings::declare(
+            &mut pass,
+            Stage::Compute,
+            BuildResources {
+                sorted_keys: &h.keys,
+                sorted_samples: &h.samples,
+                levels: &h.levels,
+                nodes: &mut h.nodes,
+                disk_mass,
+            },
+        );
+        let gbuffer_uses = gbuffer.declare(&mut pass);
+        let count = info.count;
+        pass.record(move |ctx| {
+            ctx.dispatch(pipelines.get(&HIERARCHY_LEVEL), &[&own, &gbuffer_uses], &params, [count, 1, 1])
+        });
     }
 }

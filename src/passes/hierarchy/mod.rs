@@ -10,15 +10,13 @@ pub mod sample_bounds;
 
 use ash::vk;
 use bytemuck::{Pod, Zeroable};
-use leakless_device::{gpu_struct, BufferDesc, Gpu, MemoryLocation};
+use leakless_device::{gpu_struct, BufferDesc, MemoryLocation};
 use leakless_graph::{BufferHandle, Graph, ImageHandle};
 
 use crate::error::{RenderError, Result};
 use crate::passes::gbuffer::GBufferHandles;
-use crate::passes::sort::SortPass;
-use build::BuildPass;
-use morton::MortonPass;
-use sample_bounds::SampleBoundsPass;
+use crate::passes::sort;
+use crate::pipelines::PipelineSet;
 
 gpu_struct! {
     /// `struct Node` of hierarchy.glsl.
@@ -140,39 +138,20 @@ impl HierarchyHandles {
     }
 }
 
-/// The passes that rebuild the hierarchy from the G-buffer every frame.
-pub struct HierarchyPasses {
-    sample_bounds: SampleBoundsPass,
-    morton: MortonPass,
-    sort: SortPass,
-    build: BuildPass,
-}
-
-impl HierarchyPasses {
-    pub fn new(gpu: &Gpu) -> Result<HierarchyPasses> {
-        Ok(HierarchyPasses {
-            sample_bounds: SampleBoundsPass::new(gpu)?,
-            morton: MortonPass::new(gpu)?,
-            sort: SortPass::new(gpu)?,
-            build: BuildPass::new(gpu)?,
-        })
-    }
-
-    /// Adds the passes that rebuild the hierarchy of `shape` from the G-buffer and each
-    /// sample's gather radius (`disk_mass`'s `.g`, visible_disk.rs).
-    pub fn add<'r>(
-        &'r self,
-        graph: &mut Graph<'r>,
-        frame: &BufferHandle,
-        gbuffer: &GBufferHandles,
-        disk_mass: &ImageHandle,
-        shape: &Shape,
-        h: &mut HierarchyHandles,
-    ) -> Result<()> {
-        self.sample_bounds.add(graph, frame, gbuffer, &mut h.bounds);
-        self.morton.add(graph, frame, gbuffer, &h.bounds, &mut h.keys, &mut h.samples);
-        self.sort.add(graph, shape.sample_count, 30, &mut h.keys, &mut h.samples)?;
-        self.build.add(graph, shape, gbuffer, disk_mass, h);
-        Ok(())
-    }
+/// Adds the passes that rebuild the hierarchy of `shape` from the G-buffer and each sample's
+/// gather radius (`disk_mass`'s `.g`, visible_disk.rs).
+pub fn add<'r>(
+    graph: &mut Graph<'r>,
+    pipelines: PipelineSet<'r>,
+    frame: &BufferHandle,
+    gbuffer: &GBufferHandles,
+    disk_mass: &ImageHandle,
+    shape: &Shape,
+    h: &mut HierarchyHandles,
+) -> Result<()> {
+    sample_bounds::add(graph, pipelines, frame, gbuffer, &mut h.bounds);
+    morton::add(graph, pipelines, frame, gbuffer, &h.bounds, &mut h.keys, &mut h.samples);
+    sort::add(graph, pipelines, shape.sample_count, 30, &mut h.keys, &mut h.samples)?;
+    build::add(graph, pipelines, shape, gbuffer, disk_mass, h);
+    Ok(())
 }

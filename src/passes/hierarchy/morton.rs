@@ -1,52 +1,46 @@
 //! Morton codes: a 30-bit key per pixel from its view sample's position in the sample bounds,
 //! with the pixel index as value (`morton.comp`).
 
-use leakless_device::{ComputePipeline, Gpu, GpuStruct};
-use leakless_graph::{shader_bindings, Access, BufferHandle, Graph};
+use leakless_device::GpuStruct;
+use leakless_graph::{shader_bindings, BufferHandle, Graph, Stage};
 
-use crate::error::Result;
 use crate::gpu_types::Frame;
-use crate::passes::gbuffer::GBufferHandles;
+use crate::passes::gbuffer::{GBufferBindings, GBufferHandles};
+use crate::passes::names;
+use crate::pipelines::{ComputePassDef, PipelineSet};
 use crate::shaders;
 
 shader_bindings! {
     pub struct MortonBindings {
-        frame: uniform(Frame::LAYOUT),
-        gbuffer_position: image,
-        sample_bounds: words,
-        morton_keys: words,
-        morton_values: words,
+        frame: read uniform(Frame::LAYOUT),
+        sample_bounds: read words,
+        morton_keys: write words,
+        morton_values: write words,
     }
+    pub struct MortonResources;
 }
 
-pub struct MortonPass {
-    pipeline: ComputePipeline,
-}
+pub static MORTON: ComputePassDef =
+    ComputePassDef::any(names::MORTON, &shaders::MORTON_COMP, &[MortonBindings::DECLS, GBufferBindings::DECLS]);
 
-impl MortonPass {
-    pub fn new(gpu: &Gpu) -> Result<Self> {
-        let pipeline = ComputePipeline::new(gpu, "morton", &shaders::MORTON_COMP, MortonBindings::DECLS, None)?;
-        Ok(MortonPass { pipeline })
-    }
-
-    pub fn add<'r>(
-        &'r self,
-        graph: &mut Graph<'r>,
-        frame: &BufferHandle,
-        gbuffer: &GBufferHandles,
-        bounds: &BufferHandle,
-        keys: &mut BufferHandle,
-        values: &mut BufferHandle,
-    ) {
-        let extent = gbuffer.position.extent();
-        let mut pass = graph.pass("morton");
-        let own = MortonBindings {
-            frame: pass.read(frame, Access::ComputeRead),
-            gbuffer_position: pass.read(&gbuffer.position, Access::ComputeRead),
-            sample_bounds: pass.read(bounds, Access::ComputeRead),
-            morton_keys: pass.write(keys, Access::ComputeWrite),
-            morton_values: pass.write(values, Access::ComputeWrite),
-        };
-        pass.record(move |ctx| ctx.dispatch(&self.pipeline, &[&own], &(), [extent.width, extent.height, 1]));
-    }
+pub fn add<'r>(
+    graph: &mut Graph<'r>,
+    pipelines: PipelineSet<'r>,
+    frame: &BufferHandle,
+    gbuffer: &GBufferHandles,
+    bounds: &BufferHandle,
+    keys: &mut BufferHandle,
+    values: &mut BufferHandle,
+) {
+    let extent = gbuffer.position.extent();
+    let mut pass = graph.pass(names::MORTON);
+    let own = MortonBindings::declare(
+        &mut pass,
+        Stage::Compute,
+        MortonResources { frame, sample_bounds: bounds, morton_keys: keys, morton_values: values },
+    );
+    let gbuffer = gbuffer.declare(&mut pass);
+    pass.record(move |ctx| {
+        ctx.dispatch(pipelines.get(&MORTON), &[&own, &gbuffer], &(), [extent.width, extent.height, 1])
+    });
 }

@@ -1,56 +1,48 @@
 //! Sample bounds: the box around every valid view sample (`sample_bounds.comp`), which the
 //! Morton codes are quantised to.
 
-use leakless_device::{ComputePipeline, Gpu, GpuStruct};
-use leakless_graph::{shader_bindings, Access, BufferHandle, Graph};
+use leakless_device::GpuStruct;
+use leakless_graph::{shader_bindings, BufferHandle, Fill, Graph, Stage};
 
-use crate::error::Result;
 use crate::gpu_types::Frame;
-use crate::passes::gbuffer::GBufferHandles;
+use crate::passes::gbuffer::{GBufferBindings, GBufferHandles};
+use crate::passes::names;
+use crate::pipelines::{ComputePassDef, PipelineSet};
 use crate::shaders;
 
 shader_bindings! {
     pub struct SampleBoundsBindings {
-        frame: uniform(Frame::LAYOUT),
-        gbuffer_position: image,
-        sample_bounds: words,
+        frame: read uniform(Frame::LAYOUT),
+        sample_bounds: read_write words,
     }
+    pub struct SampleBoundsResources;
 }
 
-pub struct SampleBoundsPass {
-    pipeline: ComputePipeline,
-}
+pub static SAMPLE_BOUNDS: ComputePassDef = ComputePassDef::any(
+    names::SAMPLE_BOUNDS,
+    &shaders::SAMPLE_BOUNDS_COMP,
+    &[SampleBoundsBindings::DECLS, GBufferBindings::DECLS],
+);
 
-impl SampleBoundsPass {
-    pub fn new(gpu: &Gpu) -> Result<Self> {
-        let shader = &shaders::SAMPLE_BOUNDS_COMP;
-        let pipeline = ComputePipeline::new(gpu, "sample bounds", shader, SampleBoundsBindings::DECLS, None)?;
-        Ok(SampleBoundsPass { pipeline })
-    }
-
-    pub fn add<'r>(
-        &'r self,
-        graph: &mut Graph<'r>,
-        frame: &BufferHandle,
-        gbuffer: &GBufferHandles,
-        bounds: &mut BufferHandle,
-    ) {
-        // Start from an empty box: min keys all ones, max keys all zeros.
-        let mut clear = graph.pass("sample bounds clear");
-        let target = clear.write(bounds, Access::TransferWrite);
-        clear.record(move |ctx| {
-            let target = ctx.buffer(target);
-            ctx.cmd.fill_buffer(target, 0, 12, u32::MAX);
-            ctx.cmd.fill_buffer(target, 12, 12, 0);
-            Ok(())
-        });
-        let extent = gbuffer.position.extent();
-        let mut pass = graph.pass("sample bounds");
-        let own = SampleBoundsBindings {
-            frame: pass.read(frame, Access::ComputeRead),
-            gbuffer_position: pass.read(&gbuffer.position, Access::ComputeRead),
-            sample_bounds: pass.write(bounds, Access::ComputeReadWrite),
-        };
-        pass.record(move |ctx| ctx.dispatch(&self.pipeline, &[&own], &(), [extent.width, extent.height, 1]));
-    }
+pub fn add<'r>(
+    graph: &mut Graph<'r>,
+    pipelines: PipelineSet<'r>,
+    frame: &BufferHandle,
+    gbuffer: &GBufferHandles,
+    bounds: &mut BufferHandle,
+) {
+    // Start from an empty box: min keys all ones, max keys all zeros.
+    let empty = [Fill::range(0, 12, u32::MAX), Fill::range(12, 12, 0)];
+    graph.fill(names::SAMPLE_BOUNDS_CLEAR, &mut [(&mut *bounds, &empty)]);
+    let extent = gbuffer.position.extent();
+    let mut pass = graph.pass(names::SAMPLE_BOUNDS);
+    let own = SampleBoundsBindings::declare(
+        &mut pass,
+        Stage::Compute,
+        SampleBoundsResources { frame, sample_bounds: bounds },
+    );
+    let gbuffer = gbuffer.declare(&mut pass);
+    pass.record(move |ctx| {
+        ctx.dispatch(pipelines.get(&SAMPLE_BOUNDS), &[&own, &gbuffer], &(), [extent.width, extent.height, 1])
+    });
 }

@@ -140,7 +140,7 @@ impl leakless::Overlay for Overlay {
             return Ok(());
         }
         let extent = target.extent();
-        let mut pass = graph.pass("overlay");
+        let mut pass = graph.pass(leakless::passes::names::OVERLAY);
         let out = pass.write(target, Access::ColorAttachmentWrite);
         pass.record(move |ctx| {
             let image = ctx.image(out);

@@ -53,20 +53,6 @@ pub struct Sliders {
     pub duration: Option<f32>,
 }
 
-/// Short groups of passes, so the bars stay readable (the sort's 24 passes are one bar). The
-/// passes that order the photon pass's paths (emission_order.rs) count as photon tracing.
-fn group(pass: &str) -> &str {
-    if pass.starts_with("emission") {
-        return "photon";
-    }
-    for prefix in ["sort", "hierarchy", "luminance", "photon", "splat", "gather", "sample bounds"] {
-        if pass.starts_with(prefix) {
-            return prefix;
-        }
-    }
-    pass
-}
-
 pub fn show(ctx: &egui::Context, info: &PanelInfo<'_>, sliders: &mut Sliders, help: &mut bool) {
     // A small window (the default on CPU devices is 640×480) is shorter than the panel: it
     // scrolls within the screen rather than cutting off the sliders (a scrolling egui window
@@ -175,9 +161,9 @@ fn pass_bars(ui: &mut egui::Ui, timings: &[leakless_graph::PassTiming], note: &s
     let mut groups: Vec<(&str, f64)> = Vec::new();
     for t in timings {
         let ms = t.wall_ms.unwrap_or(t.ms);
-        match groups.iter_mut().find(|(g, _)| *g == group(&t.name)) {
+        match groups.iter_mut().find(|(g, _)| *g == t.group) {
             Some((_, total)) => *total += ms,
-            None => groups.push((group(&t.name), ms)),
+            None => groups.push((t.group, ms)),
         }
     }
     let total: f64 = groups.iter().map(|(_, ms)| ms).sum();

@@ -1,0 +1,212 @@
+//! Photon splatting on the view-sample hierarchy (Moreau et al. 2016; docs/architecture.md):
+//! trace photons, rebuild the hierarchy from the G-buffer, splat the photons onto node lists,
+//! gather per view sample. One frame's photon part; its buffers live in the graph's pool,
+//! and its counters are copied out with the frame for the stats.
+//!
+//! Its parts: the method's settings (`settings.rs`), the radius schedule (`radius.rs`), the
+//! node lists' capacity (`capacity.rs`) and the stats (`stats.rs`); this file wires a frame's
+//! passes.
+
+mod capacity;
+mod radius;
+mod settings;
+mod stats;
+
+pub use capacity::{batches_the_lists_hold, default_list_capacity, grown_batch_capacity, MAX_LIST_CAPACITY};
+pub use radius::{
+    auto_radius, frame_batches, largest_gather_radius, partial_radius_exponent, progressive_radius,
+    ACCUMULATION_RADIUS_SCALE, MAX_RADIUS_SHARE, MIN_RADIUS_SHARE, PARTIAL_RADIUS_RAMP_BATCHES, PPM_ALPHA,
+    SINGLE_FRAME_RADIUS_EXPONENT,
+};
+pub use settings::SplatSettings;
+pub use stats::SplatStats;
+
+use leakless_device::{BufferDesc, MemoryLocation};
+use leakless_graph::{BufferHandle, Graph};
+use leakless_scene::Aabb;
+
+use crate::error::{RenderError, Result};
+use crate::gpu_scene::SceneHandles;
+use crate::passes::gather::{self, GatherInputs, GatherOutputs};
+use crate::passes::gbuffer::GBufferHandles;
+use crate::passes::hierarchy::{self, HierarchyHandles, Shape};
+use crate::passes::photon_clearance::{self, Needed};
+use crate::passes::photon_dispatch;
+use crate::passes::photon_order::{self, ORDERED_PHOTONS};
+use crate::passes::photons::{
+    self, photon_buffer_size, PhotonCounters, PhotonParams, COUNTER_BUFFER_USAGE, PHOTON_BUFFER_USAGE,
+};
+use crate::passes::splat::{self, NodeListHandles, SplatInputs};
+use crate::passes::visible_disk::{self, VisibleDiskParams};
+use crate::photon_lights::LightHandles;
+use crate::pipelines::PipelineSet;
+use crate::trace::TraceHandles;
+
+/// What one frame's photon part does: the method's settings resolved for this frame.
+#[derive(Clone, Debug)]
+pub struct SplatFrame {
+    pub settings: SplatSettings,
+    /// The gather radius in scene units.
+    pub radius: f32,
+    pub max_bounces: u32,
+    /// This frame's seed of the photon sequences.
+    pub seed: u32,
+    /// Index of this frame's first path in the sequence (frames that accumulate continue it).
+    pub path_offset: u32,
+    /// Index of this frame's first photon batch in its accumulation (0: a single frame, or
+    /// an accumulation's first).
+    pub first_batch: u32,
+    /// The camera's position (visibility segments leave from samples moved toward it).
+    pub eye: [f32; 3],
+    /// Node-list entries this frame may use.
+    pub list_capacity: u32,
+    /// Photon batches in `settings.paths` (the frames of an accumulation grow).
+    pub batches: u32,
+    /// The scene's bounds, over which the photons are ordered.
+    pub bounds: Aabb,
+}
+
+impl SplatFrame {
+    /// Photons the buffer holds: every path stores at most `max_bounces`, so it cannot
+    /// overflow.
+    pub fn photon_capacity(&self) -> Result<u32> {
+        self.settings.paths.checked_mul(self.max_bounces.max(1)).ok_or_else(|| {
+            RenderError::Settings(format!(
+                "{} paths × {} bounces overflow the photon count",
+                self.settings.paths, self.max_bounces
+            ))
+        })
+    }
+}
+
+/// The counters a frame's photon part leaves (besides the gather's, which the caller passes
+/// in with the gather's outputs), to copy out for the stats.
+pub struct SplatCounterHandles {
+    pub photons: BufferHandle,
+    pub lists: BufferHandle,
+}
+
+/// What the photon part reads from the rest of the frame.
+pub struct SplatInputsOfFrame<'a> {
+    pub frame: &'a BufferHandle,
+    pub scene: &'a SceneHandles,
+    pub trace: &'a TraceHandles,
+    pub lights: &'a LightHandles,
+    pub gbuffer: &'a GBufferHandles,
+}
+
+/// Adds the frame's photon passes: photons, hierarchy, splat, and the gather into `out`.
+pub fn add<'r>(
+    graph: &mut Graph<'r>,
+    pipelines: PipelineSet<'r>,
+    frame: &SplatFrame,
+    input: SplatInputsOfFrame<'_>,
+    out: GatherOutputs<'_>,
+) -> Result<SplatCounterHandles> {
+    let capacity = frame.photon_capacity()?;
+    let photon_buffer = |name, size, usage| BufferDesc { name, size, usage, location: MemoryLocation::GpuOnly };
+    let mut photons = graph.buffer(&photon_buffer("photons", photon_buffer_size(capacity), PHOTON_BUFFER_USAGE))?;
+    let counter_size = std::mem::size_of::<PhotonCounters>() as u64;
+    let mut photon_counters = graph.buffer(&photon_buffer("photon counters", counter_size, COUNTER_BUFFER_USAGE))?;
+    let params = PhotonParams {
+        paths: frame.settings.paths,
+        max_bounces: frame.max_bounces,
+        seed: frame.seed,
+        store_direct: false,
+        path_offset: frame.path_offset,
+        // leakless-capped keeps the first photons of each list: in either order they would
+        // come from one part of the light or of the disk, not from all over it.
+        emission_order: frame.settings.cap.is_none(),
+        paths_per_thread: None,
+    };
+    photons::add(
+        graph,
+        pipelines,
+        &params,
+        input.scene,
+        input.trace,
+        input.lights,
+        &mut photons,
+        capacity,
+        &mut photon_counters,
+    )?;
+
+    let dispatch = photon_dispatch::add(graph, pipelines, &photon_counters, capacity)?;
+    // Not for leakless-capped either: its cap keeps a list's first photons, which in cell order
+    // would come from one side of the disk.
+    if frame.settings.order_photons && frame.settings.cap.is_none() {
+        let desc = photon_buffer(ORDERED_PHOTONS, photon_buffer_size(capacity), PHOTON_BUFFER_USAGE);
+        let mut ordered = graph.buffer(&desc)?;
+        photon_order::add(graph, pipelines, &photons, &photon_counters, &dispatch, &frame.bounds, &mut ordered)?;
+        photons = ordered;
+    }
+
+    let extent = input.gbuffer.position.extent();
+    let shape = Shape::new(extent.width * extent.height, frame.settings.branching)?;
+    // Each sample's visible share of the kernel's disk (leakless), or 1, and its gather radius,
+    // which the hierarchy's nodes bound.
+    let visible_disk = frame.settings.visibility && frame.settings.visible_disk;
+    let partial = visible_disk && frame.settings.partial_disk_radius;
+    let mut disk_mass = visible_disk::image(graph, extent)?;
+    let disk = VisibleDiskParams {
+        radius: frame.radius,
+        seed: frame.seed ^ frame.path_offset.wrapping_mul(0x9e37_79b9),
+        enabled: visible_disk as u32,
+        partial_radius_exponent: if partial { partial_radius_exponent(frame.first_batch) } else { 0.0 },
+        min_radius_share: MIN_RADIUS_SHARE,
+        max_radius_share: MAX_RADIUS_SHARE,
+        walk_faces: frame.settings.walk_faces as u32,
+        ..Default::default()
+    };
+    visible_disk::add(graph, pipelines, disk, input.frame, input.gbuffer, input.scene, input.trace, &mut disk_mass);
+    let largest_radius = largest_gather_radius(frame.radius, frame.first_batch, partial);
+    let mut h = HierarchyHandles::new(graph, &shape)?;
+    hierarchy::add(graph, pipelines, input.frame, input.gbuffer, &disk_mass, &shape, &mut h)?;
+
+    let mut lists = NodeListHandles::new(graph, shape.node_count(), frame.list_capacity, capacity)?;
+    let splat = SplatInputs {
+        photons: &photons,
+        photon_counters: &photon_counters,
+        dispatch: &dispatch,
+        radius: largest_radius,
+        node_radius: frame.settings.node_radius && largest_radius > frame.radius,
+        trivial_accept: frame.settings.trivial_accept,
+    };
+    splat::add(graph, pipelines, &shape, splat, &h, &mut lists);
+
+    // The photons' clearance, for the gather to prove segments clear (visibility only). The
+    // search stops a little beyond the largest radius: a segment is no longer than that plus
+    // both ends' tiny lifts, and one that is gets traced, so the bound only limits the work.
+    let mut clearance = photon_clearance::buffer(graph, capacity)?;
+    if frame.settings.visibility {
+        let max_radius = 1.01 * largest_radius;
+        let needed = Needed::Listed(&lists.listed);
+        photon_clearance::add(
+            graph,
+            pipelines,
+            input.trace,
+            &photons,
+            &photon_counters,
+            &dispatch,
+            max_radius,
+            needed,
+            &mut clearance,
+        )?;
+    }
+    let table = &input.lights.table;
+    let max_flux = table.entries.iter().flat_map(|e| e.flux).fold(0.0f32, f32::max) / frame.settings.paths as f32;
+    let gather_input = GatherInputs {
+        photons: &photons,
+        radius: frame.radius,
+        fixed_scale: gather::fixed_scale(capacity, max_flux, disk.min_radius_share * frame.radius),
+        visibility: frame.settings.visibility,
+        cap: frame.settings.cap,
+        clearance: &clearance,
+        prove_clear: frame.settings.prove_clear,
+        eye: frame.eye,
+        visible_disk,
+        disk_mass: &disk_mass,
+    };
+    gather::add(graph, pipelines, &shape, gather_input, input.gbuffer, input.scene, input.trace, &h, &lists, out);
+    Ok(SplatCounterHandles { photons: photon_counters, lists: lists.counters })
+}
