@@ -1,16 +1,17 @@
-//! Compute pipelines, made from the passes' definitions and kept by shader module: a pass is
-//! a function over the graph and this cache, with no pipeline of its own to construct and no
-//! field to add to the renderer. Every pass of a frame is listed in [`passes::FRAME_PASSES`];
-//! the cache makes them all for a backend when the backend is first used, and the bindings
-//! test checks the same list against reflection.
+//! Compute passes' definitions, and their pipelines made from them: a pass is a function over
+//! the graph, which lends it its pipeline ([`Graph::pipeline`](leakless_graph::Graph::pipeline)),
+//! with no pipeline of its own to construct and no field to add to the renderer. Every pass of a
+//! frame is listed in [`passes::FRAME_PASSES`]; [`Pipelines`] makes them all for a backend when
+//! the backend is first used, and the bindings test checks the same list against reflection.
 //!
 //! [`passes::FRAME_PASSES`]: crate::passes::FRAME_PASSES
 
 use std::collections::HashMap;
+use std::rc::Rc;
 
 use leakless_device::shader::ShaderInfo;
 use leakless_device::{BindingDecl, ComputePipeline, Gpu, RustLayout};
-use leakless_graph::PassName;
+use leakless_graph::{PassName, PipelineTable};
 
 use crate::error::{RenderError, Result};
 use crate::trace::Backend;
@@ -98,57 +99,44 @@ impl ComputePassDef {
     }
 }
 
-/// The pipelines of a set of passes, by shader module, made for each backend when first asked.
+/// The pipelines of a set of passes: one table per backend (what a frame's graph is lent),
+/// each pipeline made once per shader module, so the passes that trace nothing share theirs
+/// between the backends' tables.
 pub struct Pipelines {
     defs: &'static [&'static ComputePassDef],
-    by_module: HashMap<&'static str, ComputePipeline>,
+    by_module: HashMap<&'static str, Rc<ComputePipeline>>,
+    tables: [PipelineTable; 2],
 }
 
 impl Pipelines {
     /// The pipelines of `defs` on `backend`.
     pub fn new(gpu: &Gpu, defs: &'static [&'static ComputePassDef], backend: Backend) -> Result<Pipelines> {
-        let mut pipelines = Pipelines { defs, by_module: HashMap::new() };
+        let mut pipelines = Pipelines { defs, by_module: HashMap::new(), tables: Default::default() };
         pipelines.prepare(gpu, backend)?;
         Ok(pipelines)
     }
 
-    /// Makes what `backend` needs and is not made yet (the tracing passes of a backend used
-    /// for the first time).
+    /// Makes what `backend` needs and is not made yet (a backend used for the first time).
     pub fn prepare(&mut self, gpu: &Gpu, backend: Backend) -> Result<()> {
+        let table = &mut self.tables[backend as usize];
         for def in self.defs {
-            let module = def.shader(backend).name;
-            if !self.by_module.contains_key(module) {
-                self.by_module.insert(module, def.create(gpu, backend)?);
+            if table.contains(def.name) {
+                continue;
             }
+            let module = def.shader(backend).name;
+            let pipeline = match self.by_module.get(module) {
+                Some(made) => made.clone(),
+                None => Rc::new(def.create(gpu, backend)?),
+            };
+            self.by_module.insert(module, pipeline.clone());
+            table.insert(def.name, pipeline);
         }
         Ok(())
     }
 
-    /// The pipelines as the passes of one frame on `backend` use them.
-    pub fn on(&self, backend: Backend) -> PipelineSet<'_> {
-        PipelineSet { pipelines: self, backend }
-    }
-}
-
-/// The pipelines of one backend.
-#[derive(Clone, Copy)]
-pub struct PipelineSet<'a> {
-    pipelines: &'a Pipelines,
-    backend: Backend,
-}
-
-impl<'a> PipelineSet<'a> {
-    /// The pipeline of `def`. Panics when `def` is not among the cache's passes, or the
-    /// backend was not prepared: both are bugs the renderer's tests find at once.
-    pub fn get(&self, def: &ComputePassDef) -> &'a ComputePipeline {
-        let module = def.shader(self.backend).name;
-        self.pipelines
-            .by_module
-            .get(module)
-            .unwrap_or_else(|| panic!("no pipeline for {module} (pass {}): list it in passes::FRAME_PASSES", def.name))
-    }
-
-    pub fn backend(&self) -> Backend {
-        self.backend
+    /// The pipelines of the passes on `backend`, for a frame's graph
+    /// ([`Graph::with_pipelines`](leakless_graph::Graph::with_pipelines)).
+    pub fn table(&self, backend: Backend) -> &PipelineTable {
+        &self.tables[backend as usize]
     }
 }

@@ -70,21 +70,12 @@ impl<'g> RayCaster<'g> {
             location: MemoryLocation::GpuToCpu,
         };
         let hit_buffer = Buffer::new(self.gpu, &desc)?;
-        let mut graph = self.runner.graph(self.gpu)?;
+        let mut graph = self.runner.graph(self.gpu)?.with_pipelines(self.pipelines.table(self.backend));
         let scene = self.scene.import(&mut graph);
         let trace = self.trace.import(&mut graph, &self.scene, &self.pose)?;
         let rays_h = graph.import_buffer(&ray_buffer);
         let mut hits_h = graph.import_buffer(&hit_buffer);
-        raycast::add(
-            &mut graph,
-            self.pipelines.on(self.backend),
-            rays.len() as u32,
-            occlusion,
-            &scene,
-            &trace,
-            &rays_h,
-            &mut hits_h,
-        );
+        raycast::add(&mut graph, rays.len() as u32, occlusion, &scene, &trace, &rays_h, &mut hits_h);
         let mut host = graph.pass(names::TO_HOST);
         host.read(&hits_h, leakless_graph::Access::HostRead);
         host.record(|_| Ok(()));

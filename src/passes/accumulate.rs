@@ -7,7 +7,7 @@ use leakless_graph::{shader_bindings, BufferHandle, Graph, ImageHandle, Stage};
 
 use crate::gpu_types::Frame;
 use crate::passes::names;
-use crate::pipelines::{ComputePassDef, PipelineSet};
+use crate::pipelines::ComputePassDef;
 use crate::shaders;
 
 gpu_struct! {
@@ -83,7 +83,6 @@ pub static ACCUMULATE: ComputePassDef =
 /// writes the means: the direct layer's over frames, the photon layers' over batches.
 pub fn add<'r>(
     graph: &mut Graph<'r>,
-    pipelines: PipelineSet<'r>,
     count: Accumulated,
     frame: &BufferHandle,
     layers: FrameLayers<'_>,
@@ -115,7 +114,6 @@ pub fn add<'r>(
             mean_radiance: means.radiance,
         },
     );
-    pass.record(move |ctx| {
-        ctx.dispatch(pipelines.get(&ACCUMULATE), &[&own], &params, [extent.width, extent.height, 1])
-    });
+    let pipeline = pass.pipeline(ACCUMULATE.name);
+    pass.record(move |ctx| ctx.dispatch(pipeline, &[&own], &params, [extent.width, extent.height, 1]));
 }

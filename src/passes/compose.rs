@@ -7,7 +7,7 @@ use leakless_graph::{shader_bindings, BufferHandle, Graph, ImageHandle, Stage};
 
 use crate::gpu_types::Frame;
 use crate::passes::names;
-use crate::pipelines::{ComputePassDef, PipelineSet};
+use crate::pipelines::ComputePassDef;
 use crate::shaders;
 
 gpu_struct! {
@@ -50,13 +50,7 @@ pub struct ComposeImages<'a> {
     pub gather_counts: &'a mut ImageHandle,
 }
 
-pub fn add<'r>(
-    graph: &mut Graph<'r>,
-    pipelines: PipelineSet<'r>,
-    params: ComposeParams,
-    frame: &BufferHandle,
-    images: ComposeImages<'_>,
-) {
+pub fn add<'r>(graph: &mut Graph<'r>, params: ComposeParams, frame: &BufferHandle, images: ComposeImages<'_>) {
     let extent = images.radiance.extent();
     let mut pass = graph.pass(names::COMPOSE);
     let own = ComposeBindings::declare(
@@ -72,5 +66,6 @@ pub fn add<'r>(
             gather_counts: images.gather_counts,
         },
     );
-    pass.record(move |ctx| ctx.dispatch(pipelines.get(&COMPOSE), &[&own], &params, [extent.width, extent.height, 1]));
+    let pipeline = pass.pipeline(COMPOSE.name);
+    pass.record(move |ctx| ctx.dispatch(pipeline, &[&own], &params, [extent.width, extent.height, 1]));
 }

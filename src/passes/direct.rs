@@ -7,7 +7,7 @@ use crate::gpu_scene::SceneBindings;
 use crate::passes::gbuffer::GBufferBindings;
 use crate::passes::names;
 use crate::passes::{ViewBindings, ViewInputs};
-use crate::pipelines::{ComputePassDef, PipelineSet};
+use crate::pipelines::ComputePassDef;
 use crate::shaders;
 
 shader_bindings! {
@@ -24,12 +24,11 @@ pub static DIRECT: ComputePassDef = ComputePassDef::traced(
     &[ViewBindings::DECLS, GBufferBindings::DECLS, SceneBindings::DECLS, DirectBindings::DECLS],
 );
 
-pub fn add<'r>(graph: &mut Graph<'r>, pipelines: PipelineSet<'r>, view: &ViewInputs<'_>, direct: &mut ImageHandle) {
+pub fn add<'r>(graph: &mut Graph<'r>, view: &ViewInputs<'_>, direct: &mut ImageHandle) {
     let extent = direct.extent();
     let mut pass = graph.pass(names::DIRECT);
     let inputs = view.declare(&mut pass);
     let own = DirectBindings::declare(&mut pass, Stage::Compute, DirectResources { direct });
-    pass.record(move |ctx| {
-        ctx.dispatch(pipelines.get(&DIRECT), &[&inputs, &own], &(), [extent.width, extent.height, 1])
-    });
+    let pipeline = pass.pipeline(DIRECT.name);
+    pass.record(move |ctx| ctx.dispatch(pipeline, &[&inputs, &own], &(), [extent.width, extent.height, 1]));
 }

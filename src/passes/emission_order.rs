@@ -15,7 +15,7 @@ use leakless_graph::{shader_bindings, BufferHandle, Fill, Graph, Stage};
 use crate::error::Result;
 use crate::passes::names;
 use crate::passes::scan;
-use crate::pipelines::{ComputePassDef, PipelineSet};
+use crate::pipelines::ComputePassDef;
 use crate::shaders;
 
 /// Bits per axis of a cell index (`EMISSION_CELL_BITS` in emission_cell.glsl).
@@ -59,7 +59,7 @@ pub static EMISSION_ORDER: ComputePassDef =
 
 /// Adds the passes that order the `params.paths` paths; returns the buffer of path indices
 /// in the order the photon pass takes them.
-pub fn add<'r>(graph: &mut Graph<'r>, pipelines: PipelineSet<'r>, params: EmissionOrderParams) -> Result<BufferHandle> {
+pub fn add<'r>(graph: &mut Graph<'r>, params: EmissionOrderParams) -> Result<BufferHandle> {
     let storage = |name, words: u32, usage| BufferDesc {
         name,
         size: 4 * words.max(1) as u64,
@@ -73,9 +73,10 @@ pub fn add<'r>(graph: &mut Graph<'r>, pipelines: PipelineSet<'r>, params: Emissi
     let mut pass = graph.pass(names::EMISSION_CELLS);
     let own =
         EmissionCellBindings::declare(&mut pass, Stage::Compute, EmissionCellResources { cell_counts: &mut counts });
-    pass.record(move |ctx| ctx.dispatch(pipelines.get(&EMISSION_CELLS), &[&own], &params, threads));
+    let pipeline = pass.pipeline(EMISSION_CELLS.name);
+    pass.record(move |ctx| ctx.dispatch(pipeline, &[&own], &params, threads));
 
-    scan::add(graph, pipelines, (names::EMISSION_CELL_STARTS, None), CELLS, &mut counts)?;
+    scan::add(graph, (names::EMISSION_CELL_STARTS, None), CELLS, &mut counts)?;
 
     let mut pass = graph.pass(names::EMISSION_ORDER);
     let own = EmissionOrderBindings::declare(
@@ -83,6 +84,7 @@ pub fn add<'r>(graph: &mut Graph<'r>, pipelines: PipelineSet<'r>, params: Emissi
         Stage::Compute,
         EmissionOrderResources { cell_starts: &mut counts, path_order: &mut order },
     );
-    pass.record(move |ctx| ctx.dispatch(pipelines.get(&EMISSION_ORDER), &[&own], &params, threads));
+    let pipeline = pass.pipeline(EMISSION_ORDER.name);
+    pass.record(move |ctx| ctx.dispatch(pipeline, &[&own], &params, threads));
     Ok(order)
 }

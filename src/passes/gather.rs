@@ -15,7 +15,7 @@ use crate::passes::names;
 use crate::passes::photon_clearance::Clearance;
 use crate::passes::photons::Photon;
 use crate::passes::splat::{ListEntry, NodeListHandles};
-use crate::pipelines::{ComputePassDef, PipelineSet};
+use crate::pipelines::ComputePassDef;
 use crate::shaders;
 use crate::trace::TraceHandles;
 
@@ -169,7 +169,6 @@ pub fn counters(graph: &mut Graph<'_>) -> Result<BufferHandle> {
 #[allow(clippy::too_many_arguments)]
 pub fn add<'r>(
     graph: &mut Graph<'r>,
-    pipelines: PipelineSet<'r>,
     shape: &Shape,
     input: GatherInputs<'_>,
     gbuffer: &GBufferHandles,
@@ -215,7 +214,6 @@ pub fn add<'r>(
     let surfaces = scene.declare(&mut pass, Stage::Compute);
     let trace = trace.declare(&mut pass);
     let samples = shape.sample_count;
-    pass.record(move |ctx| {
-        ctx.dispatch(pipelines.get(&GATHER), &[&own, &gbuffer, &surfaces, &trace], &params, [samples, 1, 1])
-    });
+    let pipeline = pass.pipeline(GATHER.name);
+    pass.record(move |ctx| ctx.dispatch(pipeline, &[&own, &gbuffer, &surfaces, &trace], &params, [samples, 1, 1]));
 }

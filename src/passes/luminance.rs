@@ -10,7 +10,7 @@ use leakless_graph::{shader_bindings, BufferHandle, Graph, ImageHandle, Stage};
 
 use crate::error::Result;
 use crate::passes::names;
-use crate::pipelines::{ComputePassDef, PipelineSet};
+use crate::pipelines::ComputePassDef;
 use crate::shaders;
 
 const TILE: u32 = 16;
@@ -110,7 +110,7 @@ pub static LUMINANCE_TOTAL: ComputePassDef =
         .push(TotalParams::LAYOUT);
 
 /// Adds both stages; returns the [`LuminanceStats`] buffer (of the graph's pool).
-pub fn add<'r>(graph: &mut Graph<'r>, pipelines: PipelineSet<'r>, input: LuminanceInputs<'_>) -> Result<BufferHandle> {
+pub fn add<'r>(graph: &mut Graph<'r>, input: LuminanceInputs<'_>) -> Result<BufferHandle> {
     let extent = input.displayed.extent();
     let tiles_x = extent.width.div_ceil(TILE);
     let tiles = tiles_x * extent.height.div_ceil(TILE);
@@ -132,14 +132,14 @@ pub fn add<'r>(graph: &mut Graph<'r>, pipelines: PipelineSet<'r>, input: Luminan
             partials: &mut partials,
         },
     );
-    pass.record(move |ctx| {
-        ctx.dispatch(pipelines.get(&LUMINANCE_TILES), &[&own], &params, [extent.width, extent.height, 1])
-    });
+    let pipeline = pass.pipeline(LUMINANCE_TILES.name);
+    pass.record(move |ctx| ctx.dispatch(pipeline, &[&own], &params, [extent.width, extent.height, 1]));
 
     let mut pass = graph.pass(names::LUMINANCE_TOTAL);
     let own =
         TotalBindings::declare(&mut pass, Stage::Compute, TotalResources { partials: &partials, stats: &mut stats });
     let params = TotalParams { tiles, ..Default::default() };
-    pass.record(move |ctx| ctx.dispatch(pipelines.get(&LUMINANCE_TOTAL), &[&own], &params, [256, 1, 1]));
+    let pipeline = pass.pipeline(LUMINANCE_TOTAL.name);
+    pass.record(move |ctx| ctx.dispatch(pipeline, &[&own], &params, [256, 1, 1]));
     Ok(stats)
 }

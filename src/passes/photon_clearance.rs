@@ -11,7 +11,7 @@ use crate::error::Result;
 use crate::passes::names;
 use crate::passes::photon_dispatch::{PhotonDispatch, PHOTON_WORKGROUP};
 use crate::passes::photons::{Photon, PhotonCounters};
-use crate::pipelines::{ComputePassDef, PipelineSet};
+use crate::pipelines::ComputePassDef;
 use crate::shaders;
 use crate::trace::{ComputeTrace, TraceHandles};
 
@@ -80,7 +80,6 @@ pub static PHOTON_CLEARANCE: ComputePassDef = ComputePassDef::any(
 #[allow(clippy::too_many_arguments)]
 pub fn add<'r>(
     graph: &mut Graph<'r>,
-    pipelines: PipelineSet<'r>,
     trace: &TraceHandles,
     photons: &BufferHandle,
     photon_counters: &BufferHandle,
@@ -112,8 +111,7 @@ pub fn add<'r>(
     );
     let bvh = trace.declare_bvh(&mut pass);
     let (args, threads) = (dispatch.declare(&mut pass), dispatch.most_threads());
-    pass.record(move |ctx| {
-        ctx.dispatch_indirect(pipelines.get(&PHOTON_CLEARANCE), &[&own, &bvh], &params, args, threads)
-    });
+    let pipeline = pass.pipeline(PHOTON_CLEARANCE.name);
+    pass.record(move |ctx| ctx.dispatch_indirect(pipeline, &[&own, &bvh], &params, args, threads));
     Ok(())
 }

@@ -13,7 +13,7 @@ use leakless_graph::{shader_bindings, Access, Buf, BufferHandle, Graph, PassBuil
 use crate::error::Result;
 use crate::passes::names;
 use crate::passes::photons::PhotonCounters;
-use crate::pipelines::{ComputePassDef, PipelineSet};
+use crate::pipelines::ComputePassDef;
 use crate::shaders;
 
 /// Threads per workgroup of every per-photon pass, checked when their pipelines are made
@@ -74,12 +74,7 @@ pub static PHOTON_DISPATCH: ComputePassDef =
 
 /// Adds the pass that turns `photon_counters` (of a buffer of `capacity` photons) into the
 /// per-photon passes' dispatch.
-pub fn add<'r>(
-    graph: &mut Graph<'r>,
-    pipelines: PipelineSet<'r>,
-    photon_counters: &BufferHandle,
-    capacity: u32,
-) -> Result<PhotonDispatch> {
+pub fn add<'r>(graph: &mut Graph<'r>, photon_counters: &BufferHandle, capacity: u32) -> Result<PhotonDispatch> {
     let mut args = graph.buffer(&BufferDesc {
         name: "photon dispatch",
         size: std::mem::size_of::<DispatchCommand>() as u64,
@@ -93,6 +88,7 @@ pub fn add<'r>(
         Stage::Compute,
         PhotonDispatchResources { photon_counters, photon_dispatch: &mut args },
     );
-    pass.record(move |ctx| ctx.dispatch(pipelines.get(&PHOTON_DISPATCH), &[&own], &params, [1, 1, 1]));
+    let pipeline = pass.pipeline(PHOTON_DISPATCH.name);
+    pass.record(move |ctx| ctx.dispatch(pipeline, &[&own], &params, [1, 1, 1]));
     Ok(PhotonDispatch { args, capacity })
 }

@@ -23,7 +23,7 @@ use crate::passes::names;
 use crate::passes::photon_dispatch::{PhotonDispatch, PHOTON_WORKGROUP};
 use crate::passes::photons::{Photon, PhotonCounters};
 use crate::passes::scan;
-use crate::pipelines::{ComputePassDef, PipelineSet};
+use crate::pipelines::ComputePassDef;
 use crate::shaders;
 
 /// Bits per axis of a cell index (`PHOTON_CELL_BITS` in photon_cell.glsl): 32 cells a side.
@@ -93,7 +93,6 @@ pub static PHOTON_ORDER: ComputePassDef =
 /// grouped by cell of a grid over `bounds`, and cells in Morton order.
 pub fn add<'r>(
     graph: &mut Graph<'r>,
-    pipelines: PipelineSet<'r>,
     photons: &BufferHandle,
     photon_counters: &BufferHandle,
     dispatch: &PhotonDispatch,
@@ -127,9 +126,10 @@ pub fn add<'r>(
         CellResources { photons, photon_counters, cell_counts: &mut counts, photon_cell_of: &mut cell_of },
     );
     let (args, threads) = (dispatch.declare(&mut pass), dispatch.most_threads());
-    pass.record(move |ctx| ctx.dispatch_indirect(pipelines.get(&PHOTON_CELLS), &[&own], &params, args, threads));
+    let pipeline = pass.pipeline(PHOTON_CELLS.name);
+    pass.record(move |ctx| ctx.dispatch_indirect(pipeline, &[&own], &params, args, threads));
 
-    scan::add(graph, pipelines, (names::PHOTON_CELL_STARTS, None), CELLS, &mut counts)?;
+    scan::add(graph, (names::PHOTON_CELL_STARTS, None), CELLS, &mut counts)?;
 
     let mut pass = graph.pass(names::PHOTON_ORDER);
     let own = OrderBindings::declare(
@@ -144,6 +144,7 @@ pub fn add<'r>(
         },
     );
     let (args, threads) = (dispatch.declare(&mut pass), dispatch.most_threads());
-    pass.record(move |ctx| ctx.dispatch_indirect(pipelines.get(&PHOTON_ORDER), &[&own], &params, args, threads));
+    let pipeline = pass.pipeline(PHOTON_ORDER.name);
+    pass.record(move |ctx| ctx.dispatch_indirect(pipeline, &[&own], &params, args, threads));
     Ok(())
 }

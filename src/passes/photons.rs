@@ -22,7 +22,7 @@ use crate::passes::names;
 use crate::passes::photon_clearance::{self, Clearance, Needed};
 use crate::passes::{photon_dispatch, scan};
 use crate::photon_lights::{upload_lights, LightHandles, LightTable};
-use crate::pipelines::{ComputePassDef, PipelineSet, Pipelines};
+use crate::pipelines::{ComputePassDef, Pipelines};
 use crate::shaders;
 use crate::trace::{Backend, TraceHandles, TraceScene};
 
@@ -192,7 +192,6 @@ pub static PHOTONS: ComputePassDef = ComputePassDef::traced(
 #[allow(clippy::too_many_arguments)]
 pub fn add<'r>(
     graph: &mut Graph<'r>,
-    pipelines: PipelineSet<'r>,
     params: &PhotonParams,
     scene: &SceneHandles,
     trace: &TraceHandles,
@@ -240,7 +239,7 @@ pub fn add<'r>(
     let ordered_paths = if params.emission_order { paths } else { 0 };
     let order =
         EmissionOrderParams { paths: ordered_paths, path_offset: params.path_offset, seed: params.seed, pad0: 0 };
-    let path_order = emission_order::add(graph, pipelines, order)?;
+    let path_order = emission_order::add(graph, order)?;
 
     let mut pass = graph.pass(names::PHOTONS);
     let own = PhotonBindings::declare(
@@ -256,9 +255,8 @@ pub fn add<'r>(
     );
     let surfaces = scene.declare(&mut pass, Stage::Compute);
     let trace = trace.declare(&mut pass);
-    pass.record(move |ctx| {
-        ctx.dispatch(pipelines.get(&PHOTONS), &[&own, &surfaces, &trace], &push, [push.threads, 1, 1])
-    });
+    let pipeline = pass.pipeline(PHOTONS.name);
+    pass.record(move |ctx| ctx.dispatch(pipeline, &[&own, &surfaces, &trace], &push, [push.threads, 1, 1]));
     Ok(())
 }
 
@@ -405,30 +403,19 @@ impl<'g> PhotonTracer<'g> {
             )?),
             None => None,
         };
-        let mut graph = self.runner.graph(self.gpu)?;
+        let mut graph = self.runner.graph(self.gpu)?.with_pipelines(self.pipelines.table(self.backend));
         let scene = self.scene.import(&mut graph);
         let trace = self.trace.import(&mut graph, &self.scene, &self.pose)?;
         let lights = upload_lights(&mut graph, &self.lights, &self.bounds)?;
         let mut photons = graph.import_buffer(&self.photons);
         let mut counters = graph.import_buffer(&self.counters);
         // The pass writes up to the capacity, never into the guard after it.
-        let pipelines = self.pipelines.on(self.backend);
         let params = PhotonParams { paths_per_thread: params.paths_per_thread.or(self.paths_per_thread), ..*params };
-        add(&mut graph, pipelines, &params, &scene, &trace, &lights, &mut photons, capacity, &mut counters)?;
+        add(&mut graph, &params, &scene, &trace, &lights, &mut photons, capacity, &mut counters)?;
         let mut clearance = clearance_buffer.as_ref().map(|b| graph.import_buffer(b));
         if let (Some(out), Some(radius)) = (&mut clearance, clearance_radius) {
-            let dispatch = photon_dispatch::add(&mut graph, pipelines, &counters, capacity)?;
-            photon_clearance::add(
-                &mut graph,
-                pipelines,
-                &trace,
-                &photons,
-                &counters,
-                &dispatch,
-                radius,
-                Needed::All,
-                out,
-            )?;
+            let dispatch = photon_dispatch::add(&mut graph, &counters, capacity)?;
+            photon_clearance::add(&mut graph, &trace, &photons, &counters, &dispatch, radius, Needed::All, out)?;
         }
         let mut host = graph.pass(names::TO_HOST);
         host.read(&photons, Access::HostRead);

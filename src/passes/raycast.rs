@@ -7,7 +7,7 @@ use leakless_graph::{shader_bindings, BufferHandle, Graph, Stage};
 use crate::gpu_scene::{SceneBindings, SceneHandles};
 use crate::gpu_types::{GpuRay, RayHit};
 use crate::passes::names;
-use crate::pipelines::{ComputePassDef, PipelineSet};
+use crate::pipelines::ComputePassDef;
 use crate::shaders;
 use crate::trace::TraceHandles;
 
@@ -41,7 +41,6 @@ pub static RAYCAST: ComputePassDef = ComputePassDef::traced(
 #[allow(clippy::too_many_arguments)]
 pub fn add<'r>(
     graph: &mut Graph<'r>,
-    pipelines: PipelineSet<'r>,
     ray_count: u32,
     occlusion: bool,
     scene: &SceneHandles,
@@ -54,7 +53,6 @@ pub fn add<'r>(
     let own = RaycastBindings::declare(&mut pass, Stage::Compute, RaycastResources { rays, ray_hits: hits });
     let surfaces = scene.declare(&mut pass, Stage::Compute);
     let trace = trace.declare(&mut pass);
-    pass.record(move |ctx| {
-        ctx.dispatch(pipelines.get(&RAYCAST), &[&own, &surfaces, &trace], &params, [ray_count, 1, 1])
-    });
+    let pipeline = pass.pipeline(RAYCAST.name);
+    pass.record(move |ctx| ctx.dispatch(pipeline, &[&own, &surfaces, &trace], &params, [ray_count, 1, 1]));
 }

@@ -9,7 +9,7 @@ use crate::gpu_scene::SceneBindings;
 use crate::passes::gbuffer::GBufferBindings;
 use crate::passes::names;
 use crate::passes::{ViewBindings, ViewInputs};
-use crate::pipelines::{ComputePassDef, PipelineSet};
+use crate::pipelines::ComputePassDef;
 use crate::shaders;
 
 gpu_struct! {
@@ -51,21 +51,14 @@ pub static REFERENCE: ComputePassDef = ComputePassDef::traced(
 /// Adds `params.sample_count` samples per view sample to `accumulated` (overwrites it
 /// when `params.restart` is 1), in passes of about [`PATHS_PER_PASS`] paths each (see
 /// [`dispatches`]).
-pub fn add<'r>(
-    graph: &mut Graph<'r>,
-    pipelines: PipelineSet<'r>,
-    params: ReferenceParams,
-    view: &ViewInputs<'_>,
-    accumulated: &mut ImageHandle,
-) {
+pub fn add<'r>(graph: &mut Graph<'r>, params: ReferenceParams, view: &ViewInputs<'_>, accumulated: &mut ImageHandle) {
     let extent = accumulated.extent();
     for params in dispatches(params, extent.width as u64 * extent.height as u64) {
         let mut pass = graph.pass(names::REFERENCE);
         let inputs = view.declare(&mut pass);
         let own = ReferenceBindings::declare(&mut pass, Stage::Compute, ReferenceResources { accumulated });
-        pass.record(move |ctx| {
-            ctx.dispatch(pipelines.get(&REFERENCE), &[&inputs, &own], &params, [extent.width, extent.height, 1])
-        });
+        let pipeline = pass.pipeline(REFERENCE.name);
+        pass.record(move |ctx| ctx.dispatch(pipeline, &[&inputs, &own], &params, [extent.width, extent.height, 1]));
     }
 }
 

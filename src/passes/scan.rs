@@ -8,7 +8,7 @@ use leakless_graph::{shader_bindings, BufferHandle, Graph, PassName, Stage};
 use crate::error::{RenderError, Result};
 use crate::passes::names;
 use crate::passes::sort::{SortParams, RADIX, WORKGROUP_SIZE};
-use crate::pipelines::{ComputePassDef, PipelineSet};
+use crate::pipelines::ComputePassDef;
 use crate::shaders;
 
 shader_bindings! {
@@ -29,7 +29,6 @@ pub static SCAN: ComputePassDef =
 /// 16 (one per radix digit of a sort workgroup), so `words` must be a multiple of 16.
 pub fn add<'r>(
     graph: &mut Graph<'r>,
-    pipelines: PipelineSet<'r>,
     (name, index): (PassName, Option<u32>),
     words: u32,
     counts: &mut BufferHandle,
@@ -46,6 +45,7 @@ pub fn add<'r>(
         None => graph.pass(name),
     };
     let own = ScanBindings::declare(&mut pass, Stage::Compute, ScanResources { histograms: counts });
-    pass.record(move |ctx| ctx.dispatch(pipelines.get(&SCAN), &[&own], &params, [WORKGROUP_SIZE, 1, 1]));
+    let pipeline = pass.pipeline(SCAN.name);
+    pass.record(move |ctx| ctx.dispatch(pipeline, &[&own], &params, [WORKGROUP_SIZE, 1, 1]));
     Ok(())
 }

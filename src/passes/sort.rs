@@ -32,7 +32,7 @@ use leakless_graph::{shader_bindings, BufferHandle, Graph, Stage};
 use crate::error::{RenderError, Result};
 use crate::passes::names;
 use crate::passes::scan;
-use crate::pipelines::{ComputePassDef, PipelineSet};
+use crate::pipelines::ComputePassDef;
 use crate::shaders;
 
 /// Threads per workgroup of every sort shader (`SORT_WORKGROUP_SIZE` in sort.glsl, checked
@@ -156,7 +156,6 @@ pub static SORT_COPY: ComputePassDef =
 /// passes: drop it.
 pub fn add<'r>(
     graph: &mut Graph<'r>,
-    pipelines: PipelineSet<'r>,
     len: u32,
     key_bits: u32,
     keys: &mut BufferHandle,
@@ -195,7 +194,7 @@ pub fn add<'r>(
     let mut scratch_values = storage("sort scratch values", len as u64)?;
     for digit in 0..digits {
         let params = SortParams { len, shift: DIGIT_BITS * digit, key_limit, group_count };
-        let ctx = DigitPass { pipelines, digit, params };
+        let ctx = DigitPass { digit, params };
         // Even digit passes read the caller's buffers, odd ones the scratch pair.
         if digit % 2 == 0 {
             ctx.add(graph, (&*keys, &*values), (&mut scratch_keys, &mut scratch_values), &mut histograms)?;
@@ -212,34 +211,35 @@ pub fn add<'r>(
             Stage::Compute,
             CopyResources { keys_in: &scratch_keys, values_in: &scratch_values, keys_out: keys, values_out: values },
         );
-        pass.record(move |ctx| ctx.dispatch(pipelines.get(&SORT_COPY), &[&own], &params, [len, 1, 1]));
+        let pipeline = pass.pipeline(SORT_COPY.name);
+        pass.record(move |ctx| ctx.dispatch(pipeline, &[&own], &params, [len, 1, 1]));
     }
     Ok(())
 }
 
 /// What the three dispatches of one digit pass share.
-struct DigitPass<'r> {
-    pipelines: PipelineSet<'r>,
+struct DigitPass {
     digit: u32,
     params: SortParams,
 }
 
-impl<'r> DigitPass<'r> {
-    fn add(
+impl DigitPass {
+    fn add<'r>(
         &self,
         graph: &mut Graph<'r>,
         (keys_in, values_in): (&BufferHandle, &BufferHandle),
         (keys_out, values_out): (&mut BufferHandle, &mut BufferHandle),
         histograms: &mut BufferHandle,
     ) -> Result<()> {
-        let (pipelines, digit, params) = (self.pipelines, self.digit, self.params);
+        let (digit, params) = (self.digit, self.params);
         let threads = [params.group_count * WORKGROUP_SIZE, 1, 1];
 
         let mut pass = graph.pass_numbered(names::SORT_HISTOGRAM, digit);
         let own = HistogramBindings::declare(&mut pass, Stage::Compute, HistogramResources { keys_in, histograms });
-        pass.record(move |ctx| ctx.dispatch(pipelines.get(&SORT_HISTOGRAM), &[&own], &params, threads));
+        let pipeline = pass.pipeline(SORT_HISTOGRAM.name);
+        pass.record(move |ctx| ctx.dispatch(pipeline, &[&own], &params, threads));
 
-        scan::add(graph, pipelines, (names::SORT_SCAN, Some(digit)), RADIX * params.group_count, histograms)?;
+        scan::add(graph, (names::SORT_SCAN, Some(digit)), RADIX * params.group_count, histograms)?;
 
         let mut pass = graph.pass_numbered(names::SORT_SCATTER, digit);
         let own = ScatterBindings::declare(
@@ -247,7 +247,8 @@ impl<'r> DigitPass<'r> {
             Stage::Compute,
             ScatterResources { keys_in, values_in, histograms, keys_out, values_out },
         );
-        pass.record(move |ctx| ctx.dispatch(pipelines.get(&SORT_SCATTER), &[&own], &params, threads));
+        let pipeline = pass.pipeline(SORT_SCATTER.name);
+        pass.record(move |ctx| ctx.dispatch(pipeline, &[&own], &params, threads));
         Ok(())
     }
 }

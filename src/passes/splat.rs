@@ -12,7 +12,7 @@ use crate::passes::hierarchy::{HierarchyHandles, Level, Node, Shape};
 use crate::passes::names;
 use crate::passes::photon_dispatch::{PhotonDispatch, PHOTON_WORKGROUP};
 use crate::passes::photons::{Photon, PhotonCounters};
-use crate::pipelines::{ComputePassDef, PipelineSet};
+use crate::pipelines::ComputePassDef;
 use crate::shaders;
 
 gpu_struct! {
@@ -121,7 +121,6 @@ pub static SPLAT: ComputePassDef = ComputePassDef::any(names::SPLAT, &shaders::S
 
 pub fn add<'r>(
     graph: &mut Graph<'r>,
-    pipelines: PipelineSet<'r>,
     shape: &Shape,
     input: SplatInputs<'_>,
     hierarchy: &HierarchyHandles,
@@ -154,5 +153,6 @@ pub fn add<'r>(
         },
     );
     let (args, threads) = (input.dispatch.declare(&mut pass), input.dispatch.most_threads());
-    pass.record(move |ctx| ctx.dispatch_indirect(pipelines.get(&SPLAT), &[&own], &params, args, threads));
+    let pipeline = pass.pipeline(SPLAT.name);
+    pass.record(move |ctx| ctx.dispatch_indirect(pipeline, &[&own], &params, args, threads));
 }

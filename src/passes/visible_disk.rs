@@ -16,7 +16,7 @@ use crate::gpu_scene::{SceneBindings, SceneHandles};
 use crate::gpu_types::Frame;
 use crate::passes::gbuffer::{self, GBufferBindings, GBufferHandles};
 use crate::passes::names;
-use crate::pipelines::{ComputePassDef, PipelineSet};
+use crate::pipelines::ComputePassDef;
 use crate::shaders;
 use crate::trace::TraceHandles;
 
@@ -79,7 +79,6 @@ pub static VISIBLE_DISK: ComputePassDef = ComputePassDef::traced(
 #[allow(clippy::too_many_arguments)]
 pub fn add<'r>(
     graph: &mut Graph<'r>,
-    pipelines: PipelineSet<'r>,
     params: VisibleDiskParams,
     frame: &BufferHandle,
     gbuffer: &GBufferHandles,
@@ -97,12 +96,8 @@ pub fn add<'r>(
     let gbuffer = gbuffer.declare(&mut pass);
     let surfaces = scene.declare(&mut pass, Stage::Compute);
     let trace = trace.declare(&mut pass);
+    let pipeline = pass.pipeline(VISIBLE_DISK.name);
     pass.record(move |ctx| {
-        ctx.dispatch(
-            pipelines.get(&VISIBLE_DISK),
-            &[&own, &gbuffer, &surfaces, &trace],
-            &params,
-            [extent.width, extent.height, 1],
-        )
+        ctx.dispatch(pipeline, &[&own, &gbuffer, &surfaces, &trace], &params, [extent.width, extent.height, 1])
     });
 }

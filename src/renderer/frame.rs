@@ -121,8 +121,8 @@ impl Renderer {
             self.gpu_scene.placed_version = self.pose.version;
         }
         let trace_scene = self.traces[self.backend.backend as usize].as_ref().expect("current backend made");
-        let (passes, pipelines) = (&self.passes, self.pipelines.on(self.backend.backend));
-        let mut g = self.runner.graph(&self.gpu)?;
+        let passes = &self.passes;
+        let mut g = self.runner.graph(&self.gpu)?.with_pipelines(self.pipelines.table(self.backend.backend));
 
         // The camera, the lights and the scene of this frame.
         let frame =
@@ -147,7 +147,7 @@ impl Renderer {
         let mut direct = layer(&mut g, "direct")?;
         let view =
             ViewInputs { frame: &frame, lights: &lights.lights, scene: &scene, trace: &trace, gbuffer: &gbuffer };
-        direct::add(&mut g, pipelines, &view, &mut direct);
+        direct::add(&mut g, &view, &mut direct);
 
         // Indirect light: photons splatted and gathered, or path-traced samples accumulated.
         let mut indirect_sum = layer(&mut g, "indirect sum")?;
@@ -165,7 +165,7 @@ impl Renderer {
                 counts: &mut gather_counts,
                 counters: &mut gather_counters,
             };
-            splat_counters = Some(splatting::add(&mut g, pipelines, splat, input, out)?);
+            splat_counters = Some(splatting::add(&mut g, splat, input, out)?);
         }
         if render && method == Method::Reference {
             // Progressive: frame `index` restarts the sum and continues the sequence.
@@ -186,7 +186,7 @@ impl Renderer {
                 roulette_start: 3,
                 ..Default::default()
             };
-            reference::add(&mut g, pipelines, params, &view, &mut reference_sum);
+            reference::add(&mut g, params, &view, &mut reference_sum);
         }
 
         // The layers: radiance = direct + indirect.
@@ -208,7 +208,7 @@ impl Renderer {
             gather_counts: &mut gather_counts,
         };
         if render {
-            compose::add(&mut g, pipelines, params, &frame, images);
+            compose::add(&mut g, params, &frame, images);
         }
         // Accumulating: the image is the mean of the frames so far.
         if progressive {
@@ -221,7 +221,6 @@ impl Renderer {
             let mut mean_radiance = layer(&mut g, "mean radiance")?;
             accumulate::add(
                 &mut g,
-                pipelines,
                 Accumulated { frames: accumulated, batches, frame_batches },
                 &frame,
                 FrameLayers { direct: &direct, indirect: &indirect, leaked: &leaked },
@@ -245,7 +244,7 @@ impl Renderer {
             ViewLayer::Candidates | ViewLayer::VisibilityRays => &gather_counts,
         };
         let input = LuminanceInputs { displayed: shown, mode: self.view.mode(), indirect: &indirect, leaked: &leaked };
-        let luminance = luminance::add(&mut g, pipelines, input)?;
+        let luminance = luminance::add(&mut g, input)?;
         let mut sync = SubmitSync::default();
         if let Some(display) = display {
             let stage = ash::vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT;

@@ -39,7 +39,6 @@ use crate::passes::photons::{
 use crate::passes::splat::{self, NodeListHandles, SplatInputs};
 use crate::passes::visible_disk::{self, VisibleDiskParams};
 use crate::photon_lights::LightHandles;
-use crate::pipelines::PipelineSet;
 use crate::trace::TraceHandles;
 
 /// What one frame's photon part does: the method's settings resolved for this frame.
@@ -98,7 +97,6 @@ pub struct SplatInputsOfFrame<'a> {
 /// Adds the frame's photon passes: photons, hierarchy, splat, and the gather into `out`.
 pub fn add<'r>(
     graph: &mut Graph<'r>,
-    pipelines: PipelineSet<'r>,
     frame: &SplatFrame,
     input: SplatInputsOfFrame<'_>,
     out: GatherOutputs<'_>,
@@ -119,25 +117,15 @@ pub fn add<'r>(
         emission_order: frame.settings.cap.is_none(),
         paths_per_thread: None,
     };
-    photons::add(
-        graph,
-        pipelines,
-        &params,
-        input.scene,
-        input.trace,
-        input.lights,
-        &mut photons,
-        capacity,
-        &mut photon_counters,
-    )?;
+    photons::add(graph, &params, input.scene, input.trace, input.lights, &mut photons, capacity, &mut photon_counters)?;
 
-    let dispatch = photon_dispatch::add(graph, pipelines, &photon_counters, capacity)?;
+    let dispatch = photon_dispatch::add(graph, &photon_counters, capacity)?;
     // Not for leakless-capped either: its cap keeps a list's first photons, which in cell order
     // would come from one side of the disk.
     if frame.settings.order_photons && frame.settings.cap.is_none() {
         let desc = photon_buffer(ORDERED_PHOTONS, photon_buffer_size(capacity), PHOTON_BUFFER_USAGE);
         let mut ordered = graph.buffer(&desc)?;
-        photon_order::add(graph, pipelines, &photons, &photon_counters, &dispatch, &frame.bounds, &mut ordered)?;
+        photon_order::add(graph, &photons, &photon_counters, &dispatch, &frame.bounds, &mut ordered)?;
         photons = ordered;
     }
 
@@ -158,10 +146,10 @@ pub fn add<'r>(
         walk_faces: frame.settings.walk_faces as u32,
         ..Default::default()
     };
-    visible_disk::add(graph, pipelines, disk, input.frame, input.gbuffer, input.scene, input.trace, &mut disk_mass);
+    visible_disk::add(graph, disk, input.frame, input.gbuffer, input.scene, input.trace, &mut disk_mass);
     let largest_radius = largest_gather_radius(frame.radius, frame.first_batch, partial);
     let mut h = HierarchyHandles::new(graph, &shape)?;
-    hierarchy::add(graph, pipelines, input.frame, input.gbuffer, &disk_mass, &shape, &mut h)?;
+    hierarchy::add(graph, input.frame, input.gbuffer, &disk_mass, &shape, &mut h)?;
 
     let mut lists = NodeListHandles::new(graph, shape.node_count(), frame.list_capacity, capacity)?;
     let splat = SplatInputs {
@@ -172,7 +160,7 @@ pub fn add<'r>(
         node_radius: frame.settings.node_radius && largest_radius > frame.radius,
         trivial_accept: frame.settings.trivial_accept,
     };
-    splat::add(graph, pipelines, &shape, splat, &h, &mut lists);
+    splat::add(graph, &shape, splat, &h, &mut lists);
 
     // The photons' clearance, for the gather to prove segments clear (visibility only). The
     // search stops a little beyond the largest radius: a segment is no longer than that plus
@@ -183,7 +171,6 @@ pub fn add<'r>(
         let needed = Needed::Listed(&lists.listed);
         photon_clearance::add(
             graph,
-            pipelines,
             input.trace,
             &photons,
             &photon_counters,
@@ -207,6 +194,6 @@ pub fn add<'r>(
         visible_disk,
         disk_mass: &disk_mass,
     };
-    gather::add(graph, pipelines, &shape, gather_input, input.gbuffer, input.scene, input.trace, &h, &lists, out);
+    gather::add(graph, &shape, gather_input, input.gbuffer, input.scene, input.trace, &h, &lists, out);
     Ok(SplatCounterHandles { photons: photon_counters, lists: lists.counters })
 }

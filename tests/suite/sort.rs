@@ -67,11 +67,11 @@ impl Sorter {
     fn sort(&mut self, keys: &[u32], values: &[u32], key_bits: u32) -> (Vec<u32>, Vec<u32>, Vec<PassTiming>) {
         assert_eq!(keys.len(), values.len());
         let (key_buffer, value_buffer) = (self.buffer("keys", keys), self.buffer("values", values));
-        let mut graph = self.runner.graph(&self.gpu).expect("graph");
+        let table = self.pipelines.table(Backend::Compute);
+        let mut graph = self.runner.graph(&self.gpu).expect("graph").with_pipelines(table);
         let mut keys_h = graph.import_buffer(&key_buffer);
         let mut values_h = graph.import_buffer(&value_buffer);
-        let pipelines = self.pipelines.on(Backend::Compute);
-        sort::add(&mut graph, pipelines, keys.len() as u32, key_bits, &mut keys_h, &mut values_h).expect("add sort");
+        sort::add(&mut graph, keys.len() as u32, key_bits, &mut keys_h, &mut values_h).expect("add sort");
         let sort_passes = graph.pass_names().count();
         let expected = if keys.is_empty() { 0 } else { sort::graph_passes(key_bits) as usize };
         assert_eq!(sort_passes, expected);
@@ -237,13 +237,9 @@ fn bounds_are_errors() {
     let mut graph = s.runner.graph(&s.gpu).expect("graph");
     let mut keys_h = graph.import_buffer(&keys);
     let mut values_h = graph.import_buffer(&values);
-    let e = sort::add(&mut graph, s.pipelines.on(Backend::Compute), 10, 33, &mut keys_h, &mut values_h)
-        .unwrap_err()
-        .to_string();
+    let e = sort::add(&mut graph, 10, 33, &mut keys_h, &mut values_h).unwrap_err().to_string();
     assert!(e.contains("key_bits"), "{e}");
-    let e = sort::add(&mut graph, s.pipelines.on(Backend::Compute), sort::MAX_LEN + 1, 30, &mut keys_h, &mut values_h)
-        .unwrap_err()
-        .to_string();
+    let e = sort::add(&mut graph, sort::MAX_LEN + 1, 30, &mut keys_h, &mut values_h).unwrap_err().to_string();
     assert!(e.contains(&format!("at most {}", sort::MAX_LEN)), "{e}");
     assert_eq!(graph.pass_names().count(), 0);
     drop(graph);
@@ -253,9 +249,7 @@ fn bounds_are_errors() {
     let mut graph = s.runner.graph(&s.gpu).expect("graph");
     let mut short_h = graph.import_buffer(&short);
     let mut values_h = graph.import_buffer(&values);
-    let e = sort::add(&mut graph, s.pipelines.on(Backend::Compute), 1000, 30, &mut short_h, &mut values_h)
-        .unwrap_err()
-        .to_string();
+    let e = sort::add(&mut graph, 1000, 30, &mut short_h, &mut values_h).unwrap_err().to_string();
     assert!(e.contains("1000 elements") && e.contains(&format!("holds only {} bytes", 4 * GUARD_WORDS)), "{e}");
     drop(graph);
 

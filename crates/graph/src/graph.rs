@@ -2,10 +2,13 @@
 //! uses and hand the graph a closure that records their commands once the frame executes.
 
 use leakless_device::sync::Access;
-use leakless_device::{Buffer, BufferDesc, DeviceError, Gpu, Image, ImageDesc, MemoryLocation, Result};
+use leakless_device::{
+    Buffer, BufferDesc, ComputePipeline, DeviceError, Gpu, Image, ImageDesc, MemoryLocation, Result,
+};
 
 use crate::bindings::PassContext;
 use crate::name::PassName;
+use crate::pipelines::PipelineTable;
 use crate::pool::PoolKey;
 use crate::runner::GraphRunner;
 use crate::vk;
@@ -83,6 +86,8 @@ pub struct Graph<'r> {
     pub(crate) runner: &'r mut GraphRunner,
     pub(crate) sources: Vec<Source<'r>>,
     pub(crate) passes: Vec<Pass<'r>>,
+    /// The pipelines passes ask for ([`Graph::pipeline`]).
+    pub(crate) pipelines: Option<&'r PipelineTable>,
 }
 
 /// Why the graph refuses a second handle to a pool resource: two handles of one resource would
@@ -99,6 +104,19 @@ fn asked_twice(key: &PoolKey) -> DeviceError {
 impl<'r> Graph<'r> {
     pub fn gpu(&self) -> &'r Gpu {
         self.gpu
+    }
+
+    /// Lends the graph the pipelines its passes ask for.
+    pub fn with_pipelines(mut self, pipelines: &'r PipelineTable) -> Self {
+        self.pipelines = Some(pipelines);
+        self
+    }
+
+    /// The compute pipeline of the pass `name`. Panics when the graph's table has none: a pass
+    /// missing from the renderer's list, which every test of that pass finds at once.
+    pub fn pipeline(&self, name: PassName) -> &'r ComputePipeline {
+        let table = self.pipelines.unwrap_or_else(|| panic!("pass {name}: the graph was lent no pipelines"));
+        table.get(name).unwrap_or_else(|| panic!("pass {name}: no pipeline in the graph's table (list it)"))
     }
 
     /// The frames the runner keeps in flight; per-frame resources have this many copies.
@@ -271,6 +289,11 @@ impl<'r> PassBuilder<'_, 'r> {
     pub fn write<H: Handle>(&mut self, handle: &mut H, access: Access) -> H::Use {
         assert!(access.info().writes, "pass {}: write() with read-only access {access:?}", self.name);
         self.declare(handle, access)
+    }
+
+    /// The compute pipeline of the pass `name` ([`Graph::pipeline`]).
+    pub fn pipeline(&self, name: PassName) -> &'r ComputePipeline {
+        self.graph.pipeline(name)
     }
 
     /// Ends the declaration with the commands the pass records when the frame executes.

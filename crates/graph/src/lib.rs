@@ -14,6 +14,7 @@ mod bindings;
 mod fill;
 mod graph;
 mod name;
+mod pipelines;
 mod pool;
 mod runner;
 
@@ -23,5 +24,6 @@ pub use graph::{Buf, BufferHandle, Graph, Handle, ImageHandle, Img, PassBuilder}
 pub use leakless_device::sync::Access;
 pub use leakless_device::{vk, BindingAccess, BindingDecl, Bound};
 pub use name::PassName;
+pub use pipelines::PipelineTable;
 pub use pool::ResourcePool;
 pub use runner::{CompletedFrame, GraphRunner, PassTiming, Submitted, Timing, MAX_PASSES};

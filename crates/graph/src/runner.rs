@@ -181,7 +181,7 @@ impl GraphRunner {
     /// Starts the next frame's graph (waiting for its slot if needed).
     pub fn graph<'r>(&'r mut self, gpu: &'r Gpu) -> Result<Graph<'r>> {
         self.acquire_slot(gpu)?;
-        Ok(Graph { gpu, runner: self, sources: Vec::new(), passes: Vec::new() })
+        Ok(Graph { gpu, runner: self, sources: Vec::new(), passes: Vec::new(), pipelines: None })
     }
 
     /// Waits for every frame in flight, oldest first, and returns them.
@@ -261,7 +261,7 @@ impl Graph<'_> {
     /// Records every pass in order with derived barriers into this frame's slot and submits
     /// it, waiting for `sync`'s semaphores and signalling its own; does not wait for the GPU.
     pub fn submit(self, sync: &SubmitSync<'_>) -> Result<Submitted> {
-        let Graph { gpu, runner, sources, passes } = self;
+        let Graph { gpu, runner, sources, passes, .. } = self;
         let on_lost = runner.on_lost.as_deref();
         if passes.len() as u32 > MAX_PASSES {
             return Err(DeviceError::Capacity {

@@ -8,7 +8,7 @@ use leakless_graph::{shader_bindings, Graph, ImageHandle, Stage};
 use super::{HierarchyHandles, Level, Node, Shape};
 use crate::passes::gbuffer::{GBufferBindings, GBufferHandles};
 use crate::passes::names;
-use crate::pipelines::{ComputePassDef, PipelineSet};
+use crate::pipelines::ComputePassDef;
 use crate::shaders;
 
 gpu_struct! {
@@ -42,7 +42,6 @@ pub static HIERARCHY_LEVEL: ComputePassDef = ComputePassDef::any(
 
 pub fn add<'r>(
     graph: &mut Graph<'r>,
-    pipelines: PipelineSet<'r>,
     shape: &Shape,
     gbuffer: &GBufferHandles,
     disk_mass: &ImageHandle,
@@ -70,8 +69,7 @@ pub fn add<'r>(
         );
         let gbuffer_uses = gbuffer.declare(&mut pass);
         let count = info.count;
-        pass.record(move |ctx| {
-            ctx.dispatch(pipelines.get(&HIERARCHY_LEVEL), &[&own, &gbuffer_uses], &params, [count, 1, 1])
-        });
+        let pipeline = pass.pipeline(HIERARCHY_LEVEL.name);
+        pass.record(move |ctx| ctx.dispatch(pipeline, &[&own, &gbuffer_uses], &params, [count, 1, 1]));
     }
 }

@@ -16,7 +16,6 @@ use leakless_graph::{BufferHandle, Graph, ImageHandle};
 use crate::error::{RenderError, Result};
 use crate::passes::gbuffer::GBufferHandles;
 use crate::passes::sort;
-use crate::pipelines::PipelineSet;
 
 gpu_struct! {
     /// `struct Node` of hierarchy.glsl.
@@ -142,16 +141,15 @@ impl HierarchyHandles {
 /// gather radius (`disk_mass`'s `.g`, visible_disk.rs).
 pub fn add<'r>(
     graph: &mut Graph<'r>,
-    pipelines: PipelineSet<'r>,
     frame: &BufferHandle,
     gbuffer: &GBufferHandles,
     disk_mass: &ImageHandle,
     shape: &Shape,
     h: &mut HierarchyHandles,
 ) -> Result<()> {
-    sample_bounds::add(graph, pipelines, frame, gbuffer, &mut h.bounds);
-    morton::add(graph, pipelines, frame, gbuffer, &h.bounds, &mut h.keys, &mut h.samples);
-    sort::add(graph, pipelines, shape.sample_count, 30, &mut h.keys, &mut h.samples)?;
-    build::add(graph, pipelines, shape, gbuffer, disk_mass, h);
+    sample_bounds::add(graph, frame, gbuffer, &mut h.bounds);
+    morton::add(graph, frame, gbuffer, &h.bounds, &mut h.keys, &mut h.samples);
+    sort::add(graph, shape.sample_count, 30, &mut h.keys, &mut h.samples)?;
+    build::add(graph, shape, gbuffer, disk_mass, h);
     Ok(())
 }

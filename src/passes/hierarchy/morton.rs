@@ -7,7 +7,7 @@ use leakless_graph::{shader_bindings, BufferHandle, Graph, Stage};
 use crate::gpu_types::Frame;
 use crate::passes::gbuffer::{GBufferBindings, GBufferHandles};
 use crate::passes::names;
-use crate::pipelines::{ComputePassDef, PipelineSet};
+use crate::pipelines::ComputePassDef;
 use crate::shaders;
 
 shader_bindings! {
@@ -25,7 +25,6 @@ pub static MORTON: ComputePassDef =
 
 pub fn add<'r>(
     graph: &mut Graph<'r>,
-    pipelines: PipelineSet<'r>,
     frame: &BufferHandle,
     gbuffer: &GBufferHandles,
     bounds: &BufferHandle,
@@ -40,7 +39,6 @@ pub fn add<'r>(
         MortonResources { frame, sample_bounds: bounds, morton_keys: keys, morton_values: values },
     );
     let gbuffer = gbuffer.declare(&mut pass);
-    pass.record(move |ctx| {
-        ctx.dispatch(pipelines.get(&MORTON), &[&own, &gbuffer], &(), [extent.width, extent.height, 1])
-    });
+    let pipeline = pass.pipeline(MORTON.name);
+    pass.record(move |ctx| ctx.dispatch(pipeline, &[&own, &gbuffer], &(), [extent.width, extent.height, 1]));
 }

@@ -7,7 +7,7 @@ use leakless_graph::{shader_bindings, BufferHandle, Fill, Graph, Stage};
 use crate::gpu_types::Frame;
 use crate::passes::gbuffer::{GBufferBindings, GBufferHandles};
 use crate::passes::names;
-use crate::pipelines::{ComputePassDef, PipelineSet};
+use crate::pipelines::ComputePassDef;
 use crate::shaders;
 
 shader_bindings! {
@@ -24,13 +24,7 @@ pub static SAMPLE_BOUNDS: ComputePassDef = ComputePassDef::any(
     &[SampleBoundsBindings::DECLS, GBufferBindings::DECLS],
 );
 
-pub fn add<'r>(
-    graph: &mut Graph<'r>,
-    pipelines: PipelineSet<'r>,
-    frame: &BufferHandle,
-    gbuffer: &GBufferHandles,
-    bounds: &mut BufferHandle,
-) {
+pub fn add<'r>(graph: &mut Graph<'r>, frame: &BufferHandle, gbuffer: &GBufferHandles, bounds: &mut BufferHandle) {
     // Start from an empty box: min keys all ones, max keys all zeros.
     let empty = [Fill::range(0, 12, u32::MAX), Fill::range(12, 12, 0)];
     graph.fill(names::SAMPLE_BOUNDS_CLEAR, &mut [(&mut *bounds, &empty)]);
@@ -42,7 +36,6 @@ pub fn add<'r>(
         SampleBoundsResources { frame, sample_bounds: bounds },
     );
     let gbuffer = gbuffer.declare(&mut pass);
-    pass.record(move |ctx| {
-        ctx.dispatch(pipelines.get(&SAMPLE_BOUNDS), &[&own, &gbuffer], &(), [extent.width, extent.height, 1])
-    });
+    let pipeline = pass.pipeline(SAMPLE_BOUNDS.name);
+    pass.record(move |ctx| ctx.dispatch(pipeline, &[&own, &gbuffer], &(), [extent.width, extent.height, 1]));
 }
