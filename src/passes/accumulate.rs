@@ -114,6 +114,5 @@ pub fn add<'r>(
             mean_radiance: means.radiance,
         },
     );
-    let pipeline = pass.pipeline(ACCUMULATE.name);
-    pass.record(move |ctx| ctx.dispatch(pipeline, &[&own], &params, [extent.width, extent.height, 1]));
+    pass.dispatch(ACCUMULATE.name, own, params, [extent.width, extent.height, 1]);
 }

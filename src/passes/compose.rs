@@ -66,6 +66,5 @@ pub fn add<'r>(graph: &mut Graph<'r>, params: ComposeParams, frame: &BufferHandl
             gather_counts: images.gather_counts,
         },
     );
-    let pipeline = pass.pipeline(COMPOSE.name);
-    pass.record(move |ctx| ctx.dispatch(pipeline, &[&own], &params, [extent.width, extent.height, 1]));
+    pass.dispatch(COMPOSE.name, own, params, [extent.width, extent.height, 1]);
 }

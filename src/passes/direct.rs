@@ -29,6 +29,5 @@ pub fn add<'r>(graph: &mut Graph<'r>, view: &ViewInputs<'_>, direct: &mut ImageH
     let mut pass = graph.pass(names::DIRECT);
     let inputs = view.declare(&mut pass);
     let own = DirectBindings::declare(&mut pass, Stage::Compute, DirectResources { direct });
-    let pipeline = pass.pipeline(DIRECT.name);
-    pass.record(move |ctx| ctx.dispatch(pipeline, &[&inputs, &own], &(), [extent.width, extent.height, 1]));
+    pass.dispatch(DIRECT.name, (inputs, own), (), [extent.width, extent.height, 1]);
 }

@@ -73,8 +73,7 @@ pub fn add<'r>(graph: &mut Graph<'r>, params: EmissionOrderParams) -> Result<Buf
     let mut pass = graph.pass(names::EMISSION_CELLS);
     let own =
         EmissionCellBindings::declare(&mut pass, Stage::Compute, EmissionCellResources { cell_counts: &mut counts });
-    let pipeline = pass.pipeline(EMISSION_CELLS.name);
-    pass.record(move |ctx| ctx.dispatch(pipeline, &[&own], &params, threads));
+    pass.dispatch(EMISSION_CELLS.name, own, params, threads);
 
     scan::add(graph, (names::EMISSION_CELL_STARTS, None), CELLS, &mut counts)?;
 
@@ -84,7 +83,6 @@ pub fn add<'r>(graph: &mut Graph<'r>, params: EmissionOrderParams) -> Result<Buf
         Stage::Compute,
         EmissionOrderResources { cell_starts: &mut counts, path_order: &mut order },
     );
-    let pipeline = pass.pipeline(EMISSION_ORDER.name);
-    pass.record(move |ctx| ctx.dispatch(pipeline, &[&own], &params, threads));
+    pass.dispatch(EMISSION_ORDER.name, own, params, threads);
     Ok(order)
 }

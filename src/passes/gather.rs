@@ -214,6 +214,5 @@ pub fn add<'r>(
     let surfaces = scene.declare(&mut pass, Stage::Compute);
     let trace = trace.declare(&mut pass);
     let samples = shape.sample_count;
-    let pipeline = pass.pipeline(GATHER.name);
-    pass.record(move |ctx| ctx.dispatch(pipeline, &[&own, &gbuffer, &surfaces, &trace], &params, [samples, 1, 1]));
+    pass.dispatch(GATHER.name, (own, gbuffer, surfaces, trace), params, [samples, 1, 1]);
 }

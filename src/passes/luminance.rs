@@ -132,14 +132,12 @@ pub fn add<'r>(graph: &mut Graph<'r>, input: LuminanceInputs<'_>) -> Result<Buff
             partials: &mut partials,
         },
     );
-    let pipeline = pass.pipeline(LUMINANCE_TILES.name);
-    pass.record(move |ctx| ctx.dispatch(pipeline, &[&own], &params, [extent.width, extent.height, 1]));
+    pass.dispatch(LUMINANCE_TILES.name, own, params, [extent.width, extent.height, 1]);
 
     let mut pass = graph.pass(names::LUMINANCE_TOTAL);
     let own =
         TotalBindings::declare(&mut pass, Stage::Compute, TotalResources { partials: &partials, stats: &mut stats });
     let params = TotalParams { tiles, ..Default::default() };
-    let pipeline = pass.pipeline(LUMINANCE_TOTAL.name);
-    pass.record(move |ctx| ctx.dispatch(pipeline, &[&own], &params, [256, 1, 1]));
+    pass.dispatch(LUMINANCE_TOTAL.name, own, params, [256, 1, 1]);
     Ok(stats)
 }

@@ -26,8 +26,8 @@ pub mod splat;
 pub mod tonemap;
 pub mod visible_disk;
 
-use leakless_device::{Bound, GpuStruct};
-use leakless_graph::{shader_bindings, Bindings, BufferHandle, PassBuilder, Resolved, Stage};
+use leakless_device::GpuStruct;
+use leakless_graph::{shader_bindings, BufferHandle, PassBuilder, Stage};
 
 use crate::gpu_scene::{SceneBindings, SceneHandles};
 use crate::gpu_types::{Frame, Light};
@@ -88,32 +88,17 @@ shader_bindings! {
 }
 
 /// What a view-sample pass binds of [`ViewInputs`].
-#[derive(Clone, Copy)]
-pub struct ViewUses {
-    view: ViewBindings,
-    gbuffer: GBufferBindings,
-    scene: SceneBindings,
-    trace: TraceBindings,
-}
-
-impl Bindings for ViewUses {
-    fn bind<'a>(&self, res: Resolved<'a>, out: &mut Vec<(&'static str, Bound<'a>)>) {
-        self.view.bind(res, out);
-        self.gbuffer.bind(res, out);
-        self.scene.bind(res, out);
-        self.trace.bind(res, out);
-    }
-}
+pub type ViewUses = (ViewBindings, GBufferBindings, SceneBindings, TraceBindings);
 
 impl ViewInputs<'_> {
     /// Declares the compute reads of [`ViewInputs`].
     pub fn declare(&self, pass: &mut PassBuilder<'_, '_>) -> ViewUses {
         let resources = ViewResources { frame: self.frame, lights: self.lights };
-        ViewUses {
-            view: ViewBindings::declare(pass, Stage::Compute, resources),
-            gbuffer: self.gbuffer.declare(pass),
-            scene: self.scene.declare(pass, Stage::Compute),
-            trace: self.trace.declare(pass),
-        }
+        (
+            ViewBindings::declare(pass, Stage::Compute, resources),
+            self.gbuffer.declare(pass),
+            self.scene.declare(pass, Stage::Compute),
+            self.trace.declare(pass),
+        )
     }
 }

@@ -111,7 +111,6 @@ pub fn add<'r>(
     );
     let bvh = trace.declare_bvh(&mut pass);
     let (args, threads) = (dispatch.declare(&mut pass), dispatch.most_threads());
-    let pipeline = pass.pipeline(PHOTON_CLEARANCE.name);
-    pass.record(move |ctx| ctx.dispatch_indirect(pipeline, &[&own, &bvh], &params, args, threads));
+    pass.dispatch_indirect(PHOTON_CLEARANCE.name, (own, bvh), params, args, threads);
     Ok(())
 }

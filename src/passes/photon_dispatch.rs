@@ -88,7 +88,6 @@ pub fn add<'r>(graph: &mut Graph<'r>, photon_counters: &BufferHandle, capacity: 
         Stage::Compute,
         PhotonDispatchResources { photon_counters, photon_dispatch: &mut args },
     );
-    let pipeline = pass.pipeline(PHOTON_DISPATCH.name);
-    pass.record(move |ctx| ctx.dispatch(pipeline, &[&own], &params, [1, 1, 1]));
+    pass.dispatch(PHOTON_DISPATCH.name, own, params, [1, 1, 1]);
     Ok(PhotonDispatch { args, capacity })
 }

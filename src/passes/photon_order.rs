@@ -14,8 +14,9 @@
 
 use ash::vk;
 use bytemuck::{Pod, Zeroable};
-use leakless_device::{gpu_struct, BufferDesc, GpuStruct, MemoryLocation};
-use leakless_graph::{shader_bindings, BufferHandle, Fill, Graph, Stage};
+use leakless_device::shader::ShaderInfo;
+use leakless_device::{gpu_struct, BindingDecl, BufferDesc, GpuStruct, MemoryLocation};
+use leakless_graph::{shader_bindings, BufferHandle, Fill, Graph, PassName, Stage};
 use leakless_scene::Aabb;
 
 use crate::error::Result;
@@ -79,15 +80,19 @@ shader_bindings! {
     pub struct OrderResources;
 }
 
-pub static PHOTON_CELLS: ComputePassDef =
-    ComputePassDef::any(names::PHOTON_CELLS, &shaders::PHOTON_CELLS_COMP, &[CellBindings::DECLS])
-        .push(PhotonOrderParams::LAYOUT)
-        .workgroup([PHOTON_WORKGROUP, 1, 1]);
+/// The two per-photon passes of the order.
+const fn order_pass(
+    name: PassName,
+    shader: &'static ShaderInfo,
+    bindings: &'static [&'static [BindingDecl]],
+) -> ComputePassDef {
+    ComputePassDef::any(name, shader, bindings).push(PhotonOrderParams::LAYOUT).workgroup([PHOTON_WORKGROUP, 1, 1])
+}
 
+pub static PHOTON_CELLS: ComputePassDef =
+    order_pass(names::PHOTON_CELLS, &shaders::PHOTON_CELLS_COMP, &[CellBindings::DECLS]);
 pub static PHOTON_ORDER: ComputePassDef =
-    ComputePassDef::any(names::PHOTON_ORDER, &shaders::PHOTON_ORDER_COMP, &[OrderBindings::DECLS])
-        .push(PhotonOrderParams::LAYOUT)
-        .workgroup([PHOTON_WORKGROUP, 1, 1]);
+    order_pass(names::PHOTON_ORDER, &shaders::PHOTON_ORDER_COMP, &[OrderBindings::DECLS]);
 
 /// Copies the stored photons of `photons` (at most the dispatch's capacity) into `ordered`,
 /// grouped by cell of a grid over `bounds`, and cells in Morton order.
@@ -126,8 +131,7 @@ pub fn add<'r>(
         CellResources { photons, photon_counters, cell_counts: &mut counts, photon_cell_of: &mut cell_of },
     );
     let (args, threads) = (dispatch.declare(&mut pass), dispatch.most_threads());
-    let pipeline = pass.pipeline(PHOTON_CELLS.name);
-    pass.record(move |ctx| ctx.dispatch_indirect(pipeline, &[&own], &params, args, threads));
+    pass.dispatch_indirect(PHOTON_CELLS.name, own, params, args, threads);
 
     scan::add(graph, (names::PHOTON_CELL_STARTS, None), CELLS, &mut counts)?;
 
@@ -144,7 +148,6 @@ pub fn add<'r>(
         },
     );
     let (args, threads) = (dispatch.declare(&mut pass), dispatch.most_threads());
-    let pipeline = pass.pipeline(PHOTON_ORDER.name);
-    pass.record(move |ctx| ctx.dispatch_indirect(pipeline, &[&own], &params, args, threads));
+    pass.dispatch_indirect(PHOTON_ORDER.name, own, params, args, threads);
     Ok(())
 }

@@ -255,8 +255,7 @@ pub fn add<'r>(
     );
     let surfaces = scene.declare(&mut pass, Stage::Compute);
     let trace = trace.declare(&mut pass);
-    let pipeline = pass.pipeline(PHOTONS.name);
-    pass.record(move |ctx| ctx.dispatch(pipeline, &[&own, &surfaces, &trace], &push, [push.threads, 1, 1]));
+    pass.dispatch(PHOTONS.name, (own, surfaces, trace), push, [push.threads, 1, 1]);
     Ok(())
 }
 

@@ -53,6 +53,5 @@ pub fn add<'r>(
     let own = RaycastBindings::declare(&mut pass, Stage::Compute, RaycastResources { rays, ray_hits: hits });
     let surfaces = scene.declare(&mut pass, Stage::Compute);
     let trace = trace.declare(&mut pass);
-    let pipeline = pass.pipeline(RAYCAST.name);
-    pass.record(move |ctx| ctx.dispatch(pipeline, &[&own, &surfaces, &trace], &params, [ray_count, 1, 1]));
+    pass.dispatch(RAYCAST.name, (own, surfaces, trace), params, [ray_count, 1, 1]);
 }

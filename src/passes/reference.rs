@@ -57,8 +57,7 @@ pub fn add<'r>(graph: &mut Graph<'r>, params: ReferenceParams, view: &ViewInputs
         let mut pass = graph.pass(names::REFERENCE);
         let inputs = view.declare(&mut pass);
         let own = ReferenceBindings::declare(&mut pass, Stage::Compute, ReferenceResources { accumulated });
-        let pipeline = pass.pipeline(REFERENCE.name);
-        pass.record(move |ctx| ctx.dispatch(pipeline, &[&inputs, &own], &params, [extent.width, extent.height, 1]));
+        pass.dispatch(REFERENCE.name, (inputs, own), params, [extent.width, extent.height, 1]);
     }
 }
 

@@ -7,7 +7,7 @@ use leakless_graph::{shader_bindings, BufferHandle, Graph, PassName, Stage};
 
 use crate::error::{RenderError, Result};
 use crate::passes::names;
-use crate::passes::sort::{SortParams, RADIX, WORKGROUP_SIZE};
+use crate::passes::sort::{sort_pass, SortParams, RADIX, WORKGROUP_SIZE};
 use crate::pipelines::ComputePassDef;
 use crate::shaders;
 
@@ -19,10 +19,7 @@ shader_bindings! {
 }
 
 /// The scan is one workgroup of the sort's size.
-pub static SCAN: ComputePassDef =
-    ComputePassDef::any(names::SORT_SCAN, &shaders::SORT_SCAN_COMP, &[ScanBindings::DECLS])
-        .push(SortParams::LAYOUT)
-        .workgroup([WORKGROUP_SIZE, 1, 1]);
+pub static SCAN: ComputePassDef = sort_pass(names::SORT_SCAN, &shaders::SORT_SCAN_COMP, &[ScanBindings::DECLS]);
 
 /// Adds a pass named `name` (number `index` of a repeated pass) that turns the first
 /// `words` counts of `counts` into exclusive prefix sums. The scan walks counts in groups of
@@ -45,7 +42,6 @@ pub fn add<'r>(
         None => graph.pass(name),
     };
     let own = ScanBindings::declare(&mut pass, Stage::Compute, ScanResources { histograms: counts });
-    let pipeline = pass.pipeline(SCAN.name);
-    pass.record(move |ctx| ctx.dispatch(pipeline, &[&own], &params, [WORKGROUP_SIZE, 1, 1]));
+    pass.dispatch(SCAN.name, own, params, [WORKGROUP_SIZE, 1, 1]);
     Ok(())
 }

@@ -26,8 +26,9 @@
 
 use ash::vk;
 use bytemuck::{Pod, Zeroable};
-use leakless_device::{gpu_struct, BufferDesc, GpuStruct, MemoryLocation};
-use leakless_graph::{shader_bindings, BufferHandle, Graph, Stage};
+use leakless_device::shader::ShaderInfo;
+use leakless_device::{gpu_struct, BindingDecl, BufferDesc, GpuStruct, MemoryLocation};
+use leakless_graph::{shader_bindings, BufferHandle, Graph, PassName, Stage};
 
 use crate::error::{RenderError, Result};
 use crate::passes::names;
@@ -132,20 +133,20 @@ fn key_limit(key_bits: u32) -> u32 {
     }
 }
 
+/// A pass of the sort (or its scan): one workgroup size, the sort's push constants.
+pub(crate) const fn sort_pass(
+    name: PassName,
+    shader: &'static ShaderInfo,
+    bindings: &'static [&'static [BindingDecl]],
+) -> ComputePassDef {
+    ComputePassDef::any(name, shader, bindings).push(SortParams::LAYOUT).workgroup([WORKGROUP_SIZE, 1, 1])
+}
+
 pub static SORT_HISTOGRAM: ComputePassDef =
-    ComputePassDef::any(names::SORT_HISTOGRAM, &shaders::SORT_HISTOGRAM_COMP, &[HistogramBindings::DECLS])
-        .push(SortParams::LAYOUT)
-        .workgroup([WORKGROUP_SIZE, 1, 1]);
-
+    sort_pass(names::SORT_HISTOGRAM, &shaders::SORT_HISTOGRAM_COMP, &[HistogramBindings::DECLS]);
 pub static SORT_SCATTER: ComputePassDef =
-    ComputePassDef::any(names::SORT_SCATTER, &shaders::SORT_SCATTER_COMP, &[ScatterBindings::DECLS])
-        .push(SortParams::LAYOUT)
-        .workgroup([WORKGROUP_SIZE, 1, 1]);
-
-pub static SORT_COPY: ComputePassDef =
-    ComputePassDef::any(names::SORT_COPY, &shaders::SORT_COPY_COMP, &[CopyBindings::DECLS])
-        .push(SortParams::LAYOUT)
-        .workgroup([WORKGROUP_SIZE, 1, 1]);
+    sort_pass(names::SORT_SCATTER, &shaders::SORT_SCATTER_COMP, &[ScatterBindings::DECLS]);
+pub static SORT_COPY: ComputePassDef = sort_pass(names::SORT_COPY, &shaders::SORT_COPY_COMP, &[CopyBindings::DECLS]);
 
 /// Sorts the first `len` (key, value) pairs of `keys` / `values` by key, stably, and leaves
 /// them there (elements past `len` are untouched). Keys at or above `2^key_bits` sort last,
@@ -211,8 +212,7 @@ pub fn add<'r>(
             Stage::Compute,
             CopyResources { keys_in: &scratch_keys, values_in: &scratch_values, keys_out: keys, values_out: values },
         );
-        let pipeline = pass.pipeline(SORT_COPY.name);
-        pass.record(move |ctx| ctx.dispatch(pipeline, &[&own], &params, [len, 1, 1]));
+        pass.dispatch(SORT_COPY.name, own, params, [len, 1, 1]);
     }
     Ok(())
 }
@@ -236,8 +236,7 @@ impl DigitPass {
 
         let mut pass = graph.pass_numbered(names::SORT_HISTOGRAM, digit);
         let own = HistogramBindings::declare(&mut pass, Stage::Compute, HistogramResources { keys_in, histograms });
-        let pipeline = pass.pipeline(SORT_HISTOGRAM.name);
-        pass.record(move |ctx| ctx.dispatch(pipeline, &[&own], &params, threads));
+        pass.dispatch(SORT_HISTOGRAM.name, own, params, threads);
 
         scan::add(graph, (names::SORT_SCAN, Some(digit)), RADIX * params.group_count, histograms)?;
 
@@ -247,8 +246,7 @@ impl DigitPass {
             Stage::Compute,
             ScatterResources { keys_in, values_in, histograms, keys_out, values_out },
         );
-        let pipeline = pass.pipeline(SORT_SCATTER.name);
-        pass.record(move |ctx| ctx.dispatch(pipeline, &[&own], &params, threads));
+        pass.dispatch(SORT_SCATTER.name, own, params, threads);
         Ok(())
     }
 }

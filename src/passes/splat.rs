@@ -153,6 +153,5 @@ pub fn add<'r>(
         },
     );
     let (args, threads) = (input.dispatch.declare(&mut pass), input.dispatch.most_threads());
-    let pipeline = pass.pipeline(SPLAT.name);
-    pass.record(move |ctx| ctx.dispatch_indirect(pipeline, &[&own], &params, args, threads));
+    pass.dispatch_indirect(SPLAT.name, own, params, args, threads);
 }

@@ -96,8 +96,5 @@ pub fn add<'r>(
     let gbuffer = gbuffer.declare(&mut pass);
     let surfaces = scene.declare(&mut pass, Stage::Compute);
     let trace = trace.declare(&mut pass);
-    let pipeline = pass.pipeline(VISIBLE_DISK.name);
-    pass.record(move |ctx| {
-        ctx.dispatch(pipeline, &[&own, &gbuffer, &surfaces, &trace], &params, [extent.width, extent.height, 1])
-    });
+    pass.dispatch(VISIBLE_DISK.name, (own, gbuffer, surfaces, trace), params, [extent.width, extent.height, 1]);
 }

@@ -26,7 +26,7 @@ use crate::passes::tonemap::ViewLayer;
 use crate::passes::{direct, instance_vertices, names, readback, ViewInputs};
 use crate::photon_lights::upload_lights;
 use crate::settings::Method;
-use crate::splatting::{self, grown_batch_capacity, SplatFrame, SplatInputsOfFrame, SplatStats};
+use crate::splatting::{self, grown_batch_capacity, SplatFrame, SplatStats};
 
 /// Draws over the tonemapped image (the app's overlay): passes added to the frame's graph
 /// after the tonemap, writing `target`.
@@ -157,15 +157,13 @@ impl Renderer {
         let mut gather_counters = gather::counters(&mut g)?;
         let mut splat_counters = None;
         if let Some(splat) = &splat {
-            let input =
-                SplatInputsOfFrame { frame: &frame, scene: &scene, trace: &trace, lights: &lights, gbuffer: &gbuffer };
             let out = GatherOutputs {
                 indirect_sum: &mut indirect_sum,
                 leaked: &mut leaked,
                 counts: &mut gather_counts,
                 counters: &mut gather_counters,
             };
-            splat_counters = Some(splatting::add(&mut g, splat, input, out)?);
+            splat_counters = Some(splatting::add(&mut g, splat, &view, &lights, out)?);
         }
         if render && method == Method::Reference {
             // Progressive: frame `index` restarts the sum and continues the sequence.

@@ -26,9 +26,7 @@ use leakless_graph::{BufferHandle, Graph};
 use leakless_scene::Aabb;
 
 use crate::error::{RenderError, Result};
-use crate::gpu_scene::SceneHandles;
 use crate::passes::gather::{self, GatherInputs, GatherOutputs};
-use crate::passes::gbuffer::GBufferHandles;
 use crate::passes::hierarchy::{self, HierarchyHandles, Shape};
 use crate::passes::photon_clearance::{self, Needed};
 use crate::passes::photon_dispatch;
@@ -38,8 +36,8 @@ use crate::passes::photons::{
 };
 use crate::passes::splat::{self, NodeListHandles, SplatInputs};
 use crate::passes::visible_disk::{self, VisibleDiskParams};
+use crate::passes::ViewInputs;
 use crate::photon_lights::LightHandles;
-use crate::trace::TraceHandles;
 
 /// What one frame's photon part does: the method's settings resolved for this frame.
 #[derive(Clone, Debug)]
@@ -85,20 +83,13 @@ pub struct SplatCounterHandles {
     pub lists: BufferHandle,
 }
 
-/// What the photon part reads from the rest of the frame.
-pub struct SplatInputsOfFrame<'a> {
-    pub frame: &'a BufferHandle,
-    pub scene: &'a SceneHandles,
-    pub trace: &'a TraceHandles,
-    pub lights: &'a LightHandles,
-    pub gbuffer: &'a GBufferHandles,
-}
-
-/// Adds the frame's photon passes: photons, hierarchy, splat, and the gather into `out`.
+/// Adds the frame's photon passes: photons (emitted from `lights`), hierarchy, splat, and the
+/// gather of the view samples of `input` into `out`.
 pub fn add<'r>(
     graph: &mut Graph<'r>,
     frame: &SplatFrame,
-    input: SplatInputsOfFrame<'_>,
+    input: &ViewInputs<'_>,
+    lights: &LightHandles,
     out: GatherOutputs<'_>,
 ) -> Result<SplatCounterHandles> {
     let capacity = frame.photon_capacity()?;
@@ -117,7 +108,7 @@ pub fn add<'r>(
         emission_order: frame.settings.cap.is_none(),
         paths_per_thread: None,
     };
-    photons::add(graph, &params, input.scene, input.trace, input.lights, &mut photons, capacity, &mut photon_counters)?;
+    photons::add(graph, &params, input.scene, input.trace, lights, &mut photons, capacity, &mut photon_counters)?;
 
     let dispatch = photon_dispatch::add(graph, &photon_counters, capacity)?;
     // Not for leakless-capped either: its cap keeps a list's first photons, which in cell order
@@ -180,7 +171,7 @@ pub fn add<'r>(
             &mut clearance,
         )?;
     }
-    let table = &input.lights.table;
+    let table = &lights.table;
     let max_flux = table.entries.iter().flat_map(|e| e.flux).fold(0.0f32, f32::max) / frame.settings.paths as f32;
     let gather_input = GatherInputs {
         photons: &photons,

@@ -42,6 +42,22 @@ pub trait Bindings {
     fn bind<'a>(&self, res: Resolved<'a>, out: &mut Vec<(&'static str, Bound<'a>)>);
 }
 
+/// Several groups bound together, in order.
+macro_rules! tuple_bindings {
+    ($($g:ident),+) => {
+        impl<$($g: Bindings),+> Bindings for ($($g,)+) {
+            #[allow(non_snake_case)]
+            fn bind<'a>(&self, res: Resolved<'a>, out: &mut Vec<(&'static str, Bound<'a>)>) {
+                let ($($g,)+) = self;
+                $($g.bind(res, out);)+
+            }
+        }
+    };
+}
+tuple_bindings!(A, B);
+tuple_bindings!(A, B, C);
+tuple_bindings!(A, B, C, D);
+
 /// What a pass's recording closure gets: the command buffer and its resources.
 pub struct PassContext<'c, 'g, 'a> {
     pub cmd: &'c mut Cmd<'g>,

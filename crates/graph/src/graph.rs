@@ -6,7 +6,7 @@ use leakless_device::{
     Buffer, BufferDesc, ComputePipeline, DeviceError, Gpu, Image, ImageDesc, MemoryLocation, Result,
 };
 
-use crate::bindings::PassContext;
+use crate::bindings::{Bindings, PassContext};
 use crate::name::PassName;
 use crate::pipelines::PipelineTable;
 use crate::pool::PoolKey;
@@ -294,6 +294,29 @@ impl<'r> PassBuilder<'_, 'r> {
     /// The compute pipeline of the pass `name` ([`Graph::pipeline`]).
     pub fn pipeline(&self, name: PassName) -> &'r ComputePipeline {
         self.graph.pipeline(name)
+    }
+
+    /// Ends the declaration with one dispatch of the pass `name`'s pipeline over `threads`
+    /// invocations, binding `groups` (a bindings struct, or a tuple of them) and pushing `push`
+    /// (`()` when the shader has no push constants).
+    pub fn dispatch<G, P>(self, name: PassName, groups: G, push: P, threads: [u32; 3])
+    where
+        G: Bindings + 'r,
+        P: bytemuck::NoUninit + 'r,
+    {
+        let pipeline = self.pipeline(name);
+        self.record(move |ctx| ctx.dispatch(pipeline, &[&groups], &push, threads));
+    }
+
+    /// Like [`PassBuilder::dispatch`], with the workgroup counts in `args` (see
+    /// [`PassContext::dispatch_indirect`]).
+    pub fn dispatch_indirect<G, P>(self, name: PassName, groups: G, push: P, args: (Buf, u64), most_threads: [u32; 3])
+    where
+        G: Bindings + 'r,
+        P: bytemuck::NoUninit + 'r,
+    {
+        let pipeline = self.pipeline(name);
+        self.record(move |ctx| ctx.dispatch_indirect(pipeline, &[&groups], &push, args, most_threads));
     }
 
     /// Ends the declaration with the commands the pass records when the frame executes.

@@ -69,7 +69,6 @@ pub fn add<'r>(
         );
         let gbuffer_uses = gbuffer.declare(&mut pass);
         let count = info.count;
-        let pipeline = pass.pipeline(HIERARCHY_LEVEL.name);
-        pass.record(move |ctx| ctx.dispatch(pipeline, &[&own, &gbuffer_uses], &params, [count, 1, 1]));
+        pass.dispatch(HIERARCHY_LEVEL.name, (own, gbuffer_uses), params, [count, 1, 1]);
     }
 }

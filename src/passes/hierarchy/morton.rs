@@ -39,6 +39,5 @@ pub fn add<'r>(
         MortonResources { frame, sample_bounds: bounds, morton_keys: keys, morton_values: values },
     );
     let gbuffer = gbuffer.declare(&mut pass);
-    let pipeline = pass.pipeline(MORTON.name);
-    pass.record(move |ctx| ctx.dispatch(pipeline, &[&own, &gbuffer], &(), [extent.width, extent.height, 1]));
+    pass.dispatch(MORTON.name, (own, gbuffer), (), [extent.width, extent.height, 1]);
 }

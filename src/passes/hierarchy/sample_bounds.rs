@@ -36,6 +36,5 @@ pub fn add<'r>(graph: &mut Graph<'r>, frame: &BufferHandle, gbuffer: &GBufferHan
         SampleBoundsResources { frame, sample_bounds: bounds },
     );
     let gbuffer = gbuffer.declare(&mut pass);
-    let pipeline = pass.pipeline(SAMPLE_BOUNDS.name);
-    pass.record(move |ctx| ctx.dispatch(pipeline, &[&own, &gbuffer], &(), [extent.width, extent.height, 1]));
+    pass.dispatch(SAMPLE_BOUNDS.name, (own, gbuffer), (), [extent.width, extent.height, 1]);
 }
