@@ -3,13 +3,13 @@
 //! The frame, top to bottom, is `renderer/frame.rs`; docs/architecture.md walks through it.
 //! Each pass lives in `passes/`, one file per pass, next to its shader in `shaders-glsl/`.
 
-pub mod bench;
-pub mod chart;
 pub mod error;
+pub mod extras;
 pub mod flicker;
 pub mod gpu_scene;
 pub mod gpu_types;
 pub mod limits;
+pub mod metrics;
 pub mod output;
 pub mod passes;
 pub mod photon_lights;
@@ -21,7 +21,6 @@ pub mod scene_pose;
 pub mod settings;
 pub mod shaders;
 pub mod splatting;
-pub mod stability;
 pub mod trace;
 
 pub use error::{RenderError, Result};

@@ -16,7 +16,7 @@ pub const PPM_ALPHA: f64 = 2.0 / 3.0;
 /// How much larger than the single frame's radius the shrinking sequence of an accumulation
 /// starts. Batch 0 is the single frame the app shows while the view moves, at the radius chosen
 /// for one frame; the batches after it are averaged, so their noise matters less than their
-/// bias, and a larger start trades the one for the other. Measured at equal wall time (README,
+/// bias, and a larger start trades the one for the other. Measured at equal wall time (docs/results.md,
 /// "Converging while the view is still"): 2 lowers relMSE at 1 s and 10 s in the atrium, the
 /// doorway and the Cornell box, and HDR-FLIP in the first two and the Cornell box at 10 s (at
 /// 1 s it stays within a run's spread); 4, measured on the atrium with the single frame at 4×

@@ -4,7 +4,7 @@
 
 use crate::common;
 
-use leakless::chart::metrics;
+use leakless::metrics;
 use leakless::{BackendChoice, Method, RenderSettings, RenderedFrame, Renderer, Scene};
 
 fn settings(method: Method, backend: BackendChoice) -> RenderSettings {

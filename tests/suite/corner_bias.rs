@@ -4,7 +4,7 @@
 
 use crate::common;
 
-use leakless::chart::metrics;
+use leakless::metrics;
 use leakless::{Method, RenderSettings, RenderedFrame, Renderer, SplatSettings};
 
 const WIDTH: u32 = 64;

@@ -3,7 +3,7 @@
 
 use crate::common;
 
-use leakless::chart::metrics;
+use leakless::metrics;
 use leakless::{BackendChoice, Method, RenderSettings, RenderedFrame, Scene};
 use leakless_scene::LightKind;
 

@@ -12,6 +12,7 @@ mod cli;
 mod corner_bias;
 mod device;
 mod direct_light;
+mod docs;
 mod identity;
 mod leak;
 mod leak_scenes;

@@ -6,7 +6,7 @@ use crate::common;
 
 use std::f64::consts::PI;
 
-use leakless::chart::metrics;
+use leakless::metrics;
 use leakless::{Method, RenderSettings, RenderedFrame, Renderer, SplatSettings};
 
 fn settings(width: u32, height: u32, paths: u32, radius: f32, max_bounces: u32, frames: u32) -> RenderSettings {

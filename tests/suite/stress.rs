@@ -5,7 +5,7 @@
 
 use crate::common;
 
-use leakless::stability::in_dark_box;
+use leakless::extras::in_dark_box;
 use leakless::{BackendChoice, Method, RenderSettings, RenderedFrame, Renderer, Scene, SplatSettings};
 
 const METHODS: [Method; 5] =

@@ -112,7 +112,7 @@ fn rays(path: PathBuf, size: (u32, u32), repeats: u32) -> anyhow::Result<()> {
         scene.triangle_count(),
         gpu.report().name
     );
-    let rates = leakless::bench::rays(&gpu, &scene, size.0, size.1, repeats)?;
+    let rates = crate::measure::bench::rays(&gpu, &scene, size.0, size.1, repeats)?;
     println!("{:<9} {:<11} {:<9} {:>9} {:>10} {:>9}", "backend", "rays", "query", "count", "ms", "Mrays/s");
     for r in &rates {
         println!(
@@ -152,60 +152,61 @@ fn splat(path: PathBuf, (w, h): (u32, u32), paths: u32) -> anyhow::Result<()> {
     let gpu_name = open()?.report().name.clone();
     println!("bench splat {} on {gpu_name}; wall time of each pass submitted alone, second frame", path.display());
 
-    let table =
-        |title: &str, configs: Vec<(u32, u32, SplatSettings)>| -> anyhow::Result<Vec<leakless::bench::Measured>> {
-            let rows = configs
-                .iter()
-                .map(|(width, height, splat)| {
-                    let settings = RenderSettings {
-                        width: *width,
-                        height: *height,
-                        method: Method::Splat,
-                        splat: splat.clone(),
-                        ..Default::default()
-                    };
-                    leakless::bench::Measured::run(&open, &scene, "splat", &settings)
-                })
-                .collect::<leakless::Result<Vec<_>>>()?;
-            println!("\n{title}");
+    let table = |title: &str,
+                 configs: Vec<(u32, u32, SplatSettings)>|
+     -> anyhow::Result<Vec<crate::measure::bench::Measured>> {
+        let rows = configs
+            .iter()
+            .map(|(width, height, splat)| {
+                let settings = RenderSettings {
+                    width: *width,
+                    height: *height,
+                    method: Method::Splat,
+                    splat: splat.clone(),
+                    ..Default::default()
+                };
+                crate::measure::bench::Measured::run(&open, &scene, "splat", &settings)
+            })
+            .collect::<leakless::Result<Vec<_>>>()?;
+        println!("\n{title}");
+        println!(
+            "{:>9} {:>7} {:>7} {:>2} {:>8} {:>9} {:>9} {:>9} {:>9} {:>9} {:>11} {:>8}",
+            "size",
+            "paths",
+            "radius",
+            "B",
+            "photons",
+            "photon ms",
+            "hier. ms",
+            "splat ms",
+            "gather ms",
+            "entries",
+            "tests",
+            "vs brute"
+        );
+        for r in &rows {
+            let st = r.stats();
             println!(
-                "{:>9} {:>7} {:>7} {:>2} {:>8} {:>9} {:>9} {:>9} {:>9} {:>9} {:>11} {:>8}",
-                "size",
-                "paths",
-                "radius",
-                "B",
-                "photons",
-                "photon ms",
-                "hier. ms",
-                "splat ms",
-                "gather ms",
-                "entries",
-                "tests",
-                "vs brute"
+                "{:>9} {:>7} {:>7.4} {:>2} {:>8} {:>9.1} {:>9.1} {:>9.1} {:>9.1} {:>9} {:>11} {:>7.3}%",
+                format!("{}x{}", r.settings.width, r.settings.height),
+                st.paths,
+                st.radius,
+                st.branching,
+                st.photons_stored,
+                r.photons_ms(),
+                r.hierarchy_ms(),
+                r.splat_ms(),
+                r.gather_ms(),
+                st.list_entries,
+                st.candidate_tests,
+                100.0 * st.candidate_tests as f64 / st.brute_force_tests.max(1) as f64
             );
-            for r in &rows {
-                let st = r.stats();
-                println!(
-                    "{:>9} {:>7} {:>7.4} {:>2} {:>8} {:>9.1} {:>9.1} {:>9.1} {:>9.1} {:>9} {:>11} {:>7.3}%",
-                    format!("{}x{}", r.settings.width, r.settings.height),
-                    st.paths,
-                    st.radius,
-                    st.branching,
-                    st.photons_stored,
-                    r.photons_ms(),
-                    r.hierarchy_ms(),
-                    r.splat_ms(),
-                    r.gather_ms(),
-                    st.list_entries,
-                    st.candidate_tests,
-                    100.0 * st.candidate_tests as f64 / st.brute_force_tests.max(1) as f64
-                );
-                if st.list_entries_dropped > 0 {
-                    println!("          ({} list entries dropped: raise --list-capacity)", st.list_entries_dropped);
-                }
+            if st.list_entries_dropped > 0 {
+                println!("          ({} list entries dropped: raise --list-capacity)", st.list_entries_dropped);
             }
-            Ok(rows)
-        };
+        }
+        Ok(rows)
+    };
     table(
         "(paths, radius): gather tests against a brute-force splat",
         vec![
@@ -263,7 +264,7 @@ fn photon_order(
     for (label, order_photons) in [("ordered", true), ("as traced", false)] {
         let splat = SplatSettings { paths: 8 * paths, order_photons, ..Default::default() };
         let settings = RenderSettings { width, height, method: Method::LeakLess, splat, ..Default::default() };
-        let r = leakless::bench::Measured::best_of(open, scene, label, &settings, 3)?;
+        let r = crate::measure::bench::Measured::best_of(open, scene, label, &settings, 3)?;
         println!(
             "{:<10} {:>9.1} {:>9.1} {:>12.1} {:>9.1} {:>9.1} {:>9}",
             label,
@@ -276,7 +277,7 @@ fn photon_order(
         );
         rows.push(r);
     }
-    let x = |f: fn(&leakless::bench::Measured) -> f64| f(&rows[1]) / f(&rows[0]).max(1e-9);
+    let x = |f: fn(&crate::measure::bench::Measured) -> f64| f(&rows[1]) / f(&rows[0]).max(1e-9);
     println!(
         "ordered is faster by x{:.2} in the splat, x{:.2} in the clearance, x{:.2} in the gather, x{:.2} over the frame",
         x(|r| r.splat_ms()),

@@ -4,8 +4,8 @@
 use leakless::passes::names;
 use std::path::PathBuf;
 
+use crate::measure::bench::{Measured, RayRate};
 use anyhow::Context;
-use leakless::bench::{Measured, RayRate};
 use leakless::{Backend, BackendChoice, Method, RenderSettings, Scene, SplatSettings};
 
 /// One scene's outcome, for the summary table.
@@ -168,7 +168,7 @@ fn one_scene(
     let vis_ms = (ours.gather_ms() - splat.gather_ms()).max(1e-3);
     let vis_rate = ours.stats().visibility_rays as f64 / (vis_ms * 1e3);
     let photon_rate = ours.stats().photon_rays as f64 / (ours.photons_ms().max(1e-3) * 1e3);
-    let rates = leakless::bench::rays(gpu, scene, w, h, repeats)?;
+    let rates = crate::measure::bench::rays(gpu, scene, w, h, repeats)?;
     let limit = |query: &str| find(&rates, resolved, "incoherent", query);
     let (closest, occluded) = (limit("closest"), limit("occluded"));
     let pct = |rate: f64, lim: Option<f64>| {

@@ -2,8 +2,8 @@
 
 use std::path::PathBuf;
 
+use crate::measure::chart::{self, ChartConfig, Radii};
 use anyhow::Context;
-use leakless::chart::{self, ChartConfig, Radii};
 use leakless::{Backend, Method, Scene};
 
 #[derive(clap::Args)]

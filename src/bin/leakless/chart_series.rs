@@ -3,10 +3,10 @@
 
 use std::time::Duration;
 
+use crate::measure::chart::series::{measure_series, write_series_csv, SceneSeries, SeriesConfig};
+use crate::measure::chart::series_plot::{plot_series, SeriesMetric};
+use crate::measure::chart::{file_stem, plot};
 use anyhow::Context;
-use leakless::chart::series::{measure_series, write_series_csv, SceneSeries, SeriesConfig};
-use leakless::chart::series_plot::{plot_series, SeriesMetric};
-use leakless::chart::{file_stem, plot};
 use leakless::{Backend, BackendChoice, Method, Scene};
 
 use crate::chart::ChartArgs;

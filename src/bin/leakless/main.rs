@@ -8,6 +8,7 @@ mod bench_leak;
 mod chart;
 mod chart_series;
 mod info;
+mod measure;
 mod options;
 mod render;
 mod stability;

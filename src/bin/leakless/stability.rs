@@ -4,9 +4,9 @@
 use std::fmt::Write as _;
 use std::path::PathBuf;
 
+use crate::measure::chart::thickness::{plot_thickness, ThicknessPoint};
+use crate::measure::stability::{measure, SceneStability, StabilityConfig, StabilityRow};
 use anyhow::Context;
-use leakless::chart::thickness::{plot_thickness, ThicknessPoint};
-use leakless::stability::{measure, SceneStability, StabilityConfig, StabilityRow};
 use leakless::{Backend, Method, Scene};
 
 #[derive(clap::Args)]

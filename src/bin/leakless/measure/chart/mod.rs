@@ -2,11 +2,10 @@
 //! settings on each trace backend, timed, and compared with the path-traced reference; the
 //! points go to a CSV and to log–log charts of error against frame time.
 //!
-//! The CLI and the tests drive the same three steps: [`measure`] one scene, then [`write_csv`]
+//! The CLI and the tests drive the same three steps: [`measure_with_progress`] one scene, then [`write_csv`]
 //! and [`plot::plot`] (or [`write_outputs`] for all of a scene's files).
 
 pub mod flip;
-pub mod metrics;
 pub mod plot;
 pub mod series;
 pub mod series_plot;
@@ -19,10 +18,11 @@ use leakless_device::{DeviceType, Gpu};
 use leakless_graph::Timing;
 use leakless_scene::Scene;
 
-use crate::error::{RenderError, Result};
-use crate::splatting::SplatStats;
-use crate::trace::{Backend, BackendChoice};
-use crate::{Method, RenderSettings, Renderer, SplatSettings};
+use leakless::error::{RenderError, Result};
+use leakless::metrics;
+use leakless::splatting::SplatStats;
+use leakless::trace::{Backend, BackendChoice};
+use leakless::{Method, RenderSettings, Renderer, SplatSettings};
 
 pub use metrics::Errors;
 
@@ -100,11 +100,11 @@ impl ChartConfig {
         if self.methods.contains(&Method::Reference) {
             return bad("the reference is what the chart compares with, not a method to chart");
         }
-        if self.ref_spp == 0 || self.ref_spp > crate::settings::MAX_SPP {
+        if self.ref_spp == 0 || self.ref_spp > leakless::settings::MAX_SPP {
             return Err(RenderError::Settings(format!(
                 "--ref-spp {} must be within 1..={}",
                 self.ref_spp,
-                crate::settings::MAX_SPP
+                leakless::settings::MAX_SPP
             )));
         }
         if !(self.dark_fraction.is_finite() && self.dark_fraction >= 0.0) {
@@ -207,11 +207,6 @@ pub struct Progress {
     pub message: String,
 }
 
-/// [`measure_with_progress`] without progress reports.
-pub fn measure(open: &dyn Fn(bool) -> Result<Gpu>, scene: &Scene, config: &ChartConfig) -> Result<SceneChart> {
-    measure_with_progress(open, scene, config, &mut |_| {})
-}
-
 /// Renders the reference once, then every method at every (paths, radius) on every backend,
 /// each on a fresh device from `open(ray_tracing)`: the second frame of each renderer is timed
 /// (the first compiles pipelines and sizes the node lists; with `repeats` > 1 the fastest of
@@ -265,7 +260,7 @@ pub fn measure_with_progress(
     let dark = metrics::dark_mask(&reference.indirect, Some(&covered), config.dark_fraction);
     done += 1;
 
-    let auto_radius = crate::splatting::auto_radius(scene);
+    let auto_radius = leakless::splatting::auto_radius(scene);
     let radii = config.radii.resolve(auto_radius);
     let mut points = Vec::new();
     for &backend in &backends {
@@ -296,7 +291,8 @@ pub fn measure_with_progress(
                     ..Default::default()
                 };
                 let opener = || open(backend == Backend::RayQuery);
-                let measured = crate::bench::Measured::best_of(&opener, scene, method.name(), &render, config.repeats)?;
+                let measured =
+                    crate::measure::bench::Measured::best_of(&opener, scene, method.name(), &render, config.repeats)?;
                 let (frame, frame_ms) = (&measured.frame, measured.frame_ms());
                 let stats = frame.splat.as_ref();
                 points.push(Point {
@@ -432,3 +428,6 @@ pub fn write_outputs(chart: &SceneChart, prefix: &Path, size: (u32, u32)) -> Res
     }
     Ok(written)
 }
+
+#[cfg(test)]
+mod tests;

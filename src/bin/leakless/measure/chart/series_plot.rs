@@ -9,7 +9,7 @@ use plotters::style::text_anchor::{HPos, Pos, VPos};
 
 use super::plot::{log_range, log_ticks, method_colour, tick, write_svg_png, DrawResult, Drawing, FAMILY};
 use super::series::{SceneSeries, SeriesPoint, SERIES_METHODS};
-use crate::error::Result;
+use leakless::error::Result;
 
 /// An error of a checkpoint.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -133,12 +133,12 @@ fn draw<DB: DrawingBackend>(
         series.height,
         series.paths,
         series.radius,
-        crate::splatting::ACCUMULATION_RADIUS_SCALE,
+        leakless::splatting::ACCUMULATION_RADIUS_SCALE,
     );
     let partial = format!(
         "leakless's partial disks: grown up to {}× the radius in frame 1, shrunk down to {}× it after",
-        crate::splatting::MAX_RADIUS_SHARE,
-        crate::splatting::MIN_RADIUS_SHARE,
+        leakless::splatting::MAX_RADIUS_SHARE,
+        leakless::splatting::MIN_RADIUS_SHARE,
     );
     let truth = format!("truth: {} jittered frames × {} spp; {}", series.truth_frames, series.truth_spp, series.device);
     let style = TextStyle::from(font(11.5)).color(&grey);

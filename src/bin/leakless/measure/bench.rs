@@ -5,12 +5,12 @@ use leakless_device::Gpu;
 use leakless_graph::PassName;
 use leakless_scene::Scene;
 
-use crate::error::Result;
-use crate::gpu_types::GpuRay;
-use crate::passes::names::group;
-use crate::raycast::RayCaster;
-use crate::raygen;
-use crate::trace::Backend;
+use leakless::error::Result;
+use leakless::gpu_types::GpuRay;
+use leakless::passes::names::group;
+use leakless::raycast::RayCaster;
+use leakless::raygen;
+use leakless::trace::Backend;
 
 /// Rays per second of one backend on one ray set and query.
 #[derive(Clone, Debug)]
@@ -65,8 +65,8 @@ pub fn rays(gpu: &Gpu, scene: &Scene, width: u32, height: u32, repeats: u32) -> 
 #[derive(Clone, Debug)]
 pub struct Measured {
     pub label: String,
-    pub settings: crate::RenderSettings,
-    pub frame: crate::RenderedFrame,
+    pub settings: leakless::RenderSettings,
+    pub frame: leakless::RenderedFrame,
     /// Host wall time of each pass's own submission, ms, in frame order, with the pass's
     /// group (`passes::names::group`).
     pub passes: Vec<(String, &'static str, f64)>,
@@ -78,7 +78,7 @@ impl Measured {
         open: &dyn Fn() -> Result<Gpu>,
         scene: &Scene,
         label: &str,
-        settings: &crate::RenderSettings,
+        settings: &leakless::RenderSettings,
     ) -> Result<Measured> {
         Self::best_of(open, scene, label, settings, 1)
     }
@@ -89,10 +89,10 @@ impl Measured {
         open: &dyn Fn() -> Result<Gpu>,
         scene: &Scene,
         label: &str,
-        settings: &crate::RenderSettings,
+        settings: &leakless::RenderSettings,
         repeats: u32,
     ) -> Result<Measured> {
-        let mut renderer = crate::Renderer::new(open()?, scene, settings.clone())?;
+        let mut renderer = leakless::Renderer::new(open()?, scene, settings.clone())?;
         renderer.set_timing(leakless_graph::Timing::PerPassSubmit);
         renderer.render()?;
         let mut best: Option<Measured> = None;
@@ -109,7 +109,7 @@ impl Measured {
     }
 
     /// The photon counts (every run of these benchmarks uses a photon method).
-    pub fn stats(&self) -> &crate::splatting::SplatStats {
+    pub fn stats(&self) -> &leakless::splatting::SplatStats {
         self.frame.splat.as_ref().expect("benchmarks run photon methods")
     }
 

@@ -12,12 +12,13 @@ use std::time::{Duration, Instant};
 use leakless_device::Gpu;
 use leakless_scene::Scene;
 
-use super::{csv_field, flip, metrics};
-use crate::error::{RenderError, Result};
-use crate::flicker::{flicker, FLICKER_FRAMES};
-use crate::settings::MAX_FRAMES;
-use crate::trace::BackendChoice;
-use crate::{Method, RenderSettings, RenderedFrame, Renderer, SplatSettings};
+use super::{csv_field, flip};
+use leakless::error::{RenderError, Result};
+use leakless::flicker::{flicker, FLICKER_FRAMES};
+use leakless::metrics;
+use leakless::settings::MAX_FRAMES;
+use leakless::trace::BackendChoice;
+use leakless::{Method, RenderSettings, RenderedFrame, Renderer, SplatSettings};
 
 /// What the series are measured with.
 #[derive(Clone, Debug)]
@@ -73,7 +74,7 @@ pub struct SeriesPoint {
     pub relmse: Option<f64>,
     pub rmse: Option<f64>,
     pub flip: f64,
-    /// Flicker of the method's single frames ([`crate::flicker`]), the same on every row of a
+    /// Flicker of the method's single frames ([`leakless::flicker`]), the same on every row of a
     /// method; `None` for the reference.
     pub flicker: Option<f64>,
 }
@@ -189,7 +190,7 @@ pub fn measure_series(
         width: config.width,
         height: config.height,
         paths: config.paths,
-        radius: config.radius.unwrap_or_else(|| crate::splatting::auto_radius(scene)),
+        radius: config.radius.unwrap_or_else(|| leakless::splatting::auto_radius(scene)),
         truth_frames: config.truth_frames,
         truth_spp: config.truth_spp,
         truth_ms,

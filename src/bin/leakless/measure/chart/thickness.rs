@@ -7,8 +7,8 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 
 use super::plot::{method_colour, tick, write_svg_png, DrawResult, Drawing, FAMILY};
-use crate::error::Result;
-use crate::Method;
+use leakless::error::Result;
+use leakless::Method;
 
 /// One point: a method at one thickness.
 #[derive(Clone, Debug)]

@@ -5,12 +5,14 @@
 use leakless_device::Gpu;
 use leakless_scene::Scene;
 
-use crate::bench::Measured;
-use crate::chart::{flip, metrics};
-use crate::error::Result;
-use crate::flicker::{flicker, FLICKER_FRAMES};
-use crate::trace::{Backend, BackendChoice};
-use crate::{Method, RenderSettings, RenderedFrame, Renderer, SplatSettings};
+use crate::measure::bench::Measured;
+use crate::measure::chart::flip;
+use leakless::error::Result;
+use leakless::extras::{extras, in_dark_box};
+use leakless::flicker::{flicker, FLICKER_FRAMES};
+use leakless::metrics;
+use leakless::trace::{Backend, BackendChoice};
+use leakless::{Method, RenderSettings, RenderedFrame, Renderer, SplatSettings};
 
 /// The methods measured.
 pub const STABILITY_METHODS: [Method; 4] = [Method::Direct, Method::Splat, Method::LeakLessCapped, Method::LeakLess];
@@ -37,12 +39,11 @@ pub struct StabilityRow {
     pub frame_ms: f64,
 }
 
-/// One scene's rows and what the reference measured.
+/// One scene's rows.
 #[derive(Clone, Debug)]
 pub struct SceneStability {
     pub scene: String,
     pub purpose: Option<String>,
-    pub reference_dark_radiance: Option<f64>,
     pub rows: Vec<StabilityRow>,
 }
 
@@ -54,19 +55,6 @@ pub struct StabilityConfig {
     pub spp: u32,
     pub max_bounces: u32,
     pub backends: Vec<Backend>,
-}
-
-fn extras(scene: &Scene) -> serde_json::Value {
-    scene.extras.as_deref().and_then(|e| serde_json::from_str(e).ok()).unwrap_or_default()
-}
-
-fn dark_box(scene: &Scene) -> Option<([f32; 3], [f32; 3])> {
-    let e = extras(scene);
-    let v = |k: &str| -> Option<[f32; 3]> {
-        let a = e[k].as_array()?;
-        Some([a.first()?.as_f64()? as f32, a.get(1)?.as_f64()? as f32, a.get(2)?.as_f64()? as f32])
-    };
-    Some((v("dark_min")?, v("dark_max")?))
 }
 
 fn luminance(p: &[f32; 3]) -> f64 {
@@ -84,13 +72,6 @@ fn dark_radiance(frame: &RenderedFrame, in_dark: &[bool]) -> Option<f64> {
 
 fn mean_luminance(layer: &[[f32; 3]]) -> f64 {
     layer.iter().map(luminance).sum::<f64>() / layer.len().max(1) as f64
-}
-
-/// The pixels whose surface (G-buffer `position`, w > 0 where a surface was hit) lies in the
-/// scene's dark box (extras `dark_min`, `dark_max`), or `None` for a scene without one.
-pub fn in_dark_box(scene: &Scene, positions: &[[f32; 4]]) -> Option<Vec<bool>> {
-    let (lo, hi) = dark_box(scene)?;
-    Some(positions.iter().map(|p| p[3] > 0.0 && (0..3).all(|i| p[i] >= lo[i] && p[i] <= hi[i])).collect())
 }
 
 /// Measures `scene` with every method on every backend of `config`, each on a fresh device.
@@ -149,7 +130,7 @@ pub fn measure(
                 backend,
                 dark_radiance: dark_radiance(frame, &in_dark),
                 energy: (reference_mean > 0.0).then(|| mean_luminance(&frame.radiance) / reference_mean),
-                leaked_fraction: frame.splat.as_ref().and_then(crate::chart::leaked_fraction),
+                leaked_fraction: frame.splat.as_ref().and_then(crate::measure::chart::leaked_fraction),
                 relmse: metrics::rel_mse(&frame.radiance, &reference.radiance, None, eps),
                 rmse: metrics::rmse(&frame.radiance, &reference.radiance, None),
                 flip: flip::hdr_flip(&frame.radiance, &reference.radiance, frame.width, frame.height),
@@ -162,7 +143,6 @@ pub fn measure(
     Ok(SceneStability {
         scene: scene.name.clone(),
         purpose: extras(scene)["purpose"].as_str().map(str::to_string),
-        reference_dark_radiance: dark_radiance(&reference, &in_dark),
         rows,
     })
 }

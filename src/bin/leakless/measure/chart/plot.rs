@@ -17,12 +17,12 @@ use plotters::style::text_anchor::{HPos, Pos, VPos};
 use plotters::style::FontStyle;
 
 use super::{Point, SceneChart};
-use crate::error::{RenderError, Result};
-use crate::trace::Backend;
-use crate::Method;
+use leakless::error::{RenderError, Result};
+use leakless::trace::Backend;
+use leakless::Method;
 
 /// DejaVu Sans, cut down to the characters a chart uses (`assets/README.md`).
-static FONT: &[u8] = include_bytes!("../../assets/DejaVuSans-subset.ttf");
+static FONT: &[u8] = include_bytes!("../../../../../assets/DejaVuSans-subset.ttf");
 pub(super) const FAMILY: &str = "sans-serif";
 
 pub(super) fn register_font() {
