@@ -1,5 +1,6 @@
 //! `leakless bench`: ratios measured in one process, printed, never asserted.
 
+use crate::measure::bench::{self, Measured};
 use leakless::passes::names::{self, group};
 use std::path::PathBuf;
 
@@ -112,7 +113,7 @@ fn rays(path: PathBuf, size: (u32, u32), repeats: u32) -> anyhow::Result<()> {
         scene.triangle_count(),
         gpu.report().name
     );
-    let rates = crate::measure::bench::rays(&gpu, &scene, size.0, size.1, repeats)?;
+    let rates = bench::rays(&gpu, &scene, size.0, size.1, repeats)?;
     println!("{:<9} {:<11} {:<9} {:>9} {:>10} {:>9}", "backend", "rays", "query", "count", "ms", "Mrays/s");
     for r in &rates {
         println!(
@@ -152,9 +153,7 @@ fn splat(path: PathBuf, (w, h): (u32, u32), paths: u32) -> anyhow::Result<()> {
     let gpu_name = open()?.report().name.clone();
     println!("bench splat {} on {gpu_name}; wall time of each pass submitted alone, second frame", path.display());
 
-    let table = |title: &str,
-                 configs: Vec<(u32, u32, SplatSettings)>|
-     -> anyhow::Result<Vec<crate::measure::bench::Measured>> {
+    let table = |title: &str, configs: Vec<(u32, u32, SplatSettings)>| -> anyhow::Result<Vec<Measured>> {
         let rows = configs
             .iter()
             .map(|(width, height, splat)| {
@@ -165,7 +164,7 @@ fn splat(path: PathBuf, (w, h): (u32, u32), paths: u32) -> anyhow::Result<()> {
                     splat: splat.clone(),
                     ..Default::default()
                 };
-                crate::measure::bench::Measured::run(&open, &scene, "splat", &settings)
+                Measured::run(&open, &scene, "splat", &settings)
             })
             .collect::<leakless::Result<Vec<_>>>()?;
         println!("\n{title}");
@@ -264,7 +263,7 @@ fn photon_order(
     for (label, order_photons) in [("ordered", true), ("as traced", false)] {
         let splat = SplatSettings { paths: 8 * paths, order_photons, ..Default::default() };
         let settings = RenderSettings { width, height, method: Method::LeakLess, splat, ..Default::default() };
-        let r = crate::measure::bench::Measured::best_of(open, scene, label, &settings, 3)?;
+        let r = Measured::best_of(open, scene, label, &settings, 3)?;
         println!(
             "{:<10} {:>9.1} {:>9.1} {:>12.1} {:>9.1} {:>9.1} {:>9}",
             label,
@@ -277,7 +276,7 @@ fn photon_order(
         );
         rows.push(r);
     }
-    let x = |f: fn(&crate::measure::bench::Measured) -> f64| f(&rows[1]) / f(&rows[0]).max(1e-9);
+    let x = |f: fn(&Measured) -> f64| f(&rows[1]) / f(&rows[0]).max(1e-9);
     println!(
         "ordered is faster by x{:.2} in the splat, x{:.2} in the clearance, x{:.2} in the gather, x{:.2} over the frame",
         x(|r| r.splat_ms()),
