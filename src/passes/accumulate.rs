@@ -3,10 +3,10 @@
 
 use bytemuck::{Pod, Zeroable};
 use leakless_device::{gpu_struct, GpuStruct};
-use leakless_graph::{shader_bindings, BufferHandle, Graph, ImageHandle, Stage};
+use leakless_graph::{shader_bindings, BufferHandle, Graph, ImageHandle, PassName, Stage};
 
 use crate::gpu_types::Frame;
-use crate::passes::names;
+use crate::passes::names::group;
 use crate::pipelines::ComputePassDef;
 use crate::shaders;
 
@@ -75,9 +75,12 @@ pub struct Accumulated {
     pub frame_batches: u32,
 }
 
-pub static ACCUMULATE: ComputePassDef =
-    ComputePassDef::any(names::ACCUMULATE, &shaders::ACCUMULATE_COMP, &[AccumulateBindings::DECLS])
-        .push(AccumulateParams::LAYOUT);
+pub static ACCUMULATE: ComputePassDef = ComputePassDef::any(
+    PassName::new("accumulate", group::COMPOSE),
+    &shaders::ACCUMULATE_COMP,
+    &[AccumulateBindings::DECLS],
+)
+.push(AccumulateParams::LAYOUT);
 
 /// Adds frame number `count.frames` (1 for the first) of an accumulation to `sums` and
 /// writes the means: the direct layer's over frames, the photon layers' over batches.
@@ -96,7 +99,7 @@ pub fn add<'r>(
         inv_batches: 1.0 / count.batches.max(1) as f32,
     };
     let extent = means.radiance.extent();
-    let mut pass = graph.pass(names::ACCUMULATE);
+    let mut pass = graph.pass(ACCUMULATE.name);
     let own = AccumulateBindings::declare(
         &mut pass,
         Stage::Compute,

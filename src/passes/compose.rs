@@ -3,10 +3,10 @@
 
 use bytemuck::{Pod, Zeroable};
 use leakless_device::{gpu_struct, GpuStruct};
-use leakless_graph::{shader_bindings, BufferHandle, Graph, ImageHandle, Stage};
+use leakless_graph::{shader_bindings, BufferHandle, Graph, ImageHandle, PassName, Stage};
 
 use crate::gpu_types::Frame;
-use crate::passes::names;
+use crate::passes::names::group;
 use crate::pipelines::ComputePassDef;
 use crate::shaders;
 
@@ -38,7 +38,8 @@ shader_bindings! {
 }
 
 pub static COMPOSE: ComputePassDef =
-    ComputePassDef::any(names::COMPOSE, &shaders::COMPOSE_COMP, &[ComposeBindings::DECLS]).push(ComposeParams::LAYOUT);
+    ComputePassDef::any(PassName::new("compose", group::COMPOSE), &shaders::COMPOSE_COMP, &[ComposeBindings::DECLS])
+        .push(ComposeParams::LAYOUT);
 
 /// The images compose reads and writes.
 pub struct ComposeImages<'a> {
@@ -52,7 +53,7 @@ pub struct ComposeImages<'a> {
 
 pub fn add<'r>(graph: &mut Graph<'r>, params: ComposeParams, frame: &BufferHandle, images: ComposeImages<'_>) {
     let extent = images.radiance.extent();
-    let mut pass = graph.pass(names::COMPOSE);
+    let mut pass = graph.pass(COMPOSE.name);
     let own = ComposeBindings::declare(
         &mut pass,
         Stage::Compute,

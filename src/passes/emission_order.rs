@@ -10,10 +10,10 @@
 use ash::vk;
 use bytemuck::{Pod, Zeroable};
 use leakless_device::{gpu_struct, BufferDesc, GpuStruct, MemoryLocation};
-use leakless_graph::{shader_bindings, BufferHandle, Fill, Graph, Stage};
+use leakless_graph::{shader_bindings, BufferHandle, Fill, Graph, PassName, Stage};
 
 use crate::error::Result;
-use crate::passes::names;
+use crate::passes::names::group;
 use crate::passes::scan;
 use crate::pipelines::ComputePassDef;
 use crate::shaders;
@@ -49,13 +49,22 @@ shader_bindings! {
     pub struct EmissionOrderResources;
 }
 
-pub static EMISSION_CELLS: ComputePassDef =
-    ComputePassDef::any(names::EMISSION_CELLS, &shaders::EMISSION_CELLS_COMP, &[EmissionCellBindings::DECLS])
-        .push(EmissionOrderParams::LAYOUT);
+const EMISSION_CELLS_CLEAR: PassName = PassName::new("emission cells clear", group::PHOTONS);
+const EMISSION_CELL_STARTS: PassName = PassName::new("emission cell starts", group::PHOTONS);
 
-pub static EMISSION_ORDER: ComputePassDef =
-    ComputePassDef::any(names::EMISSION_ORDER, &shaders::EMISSION_ORDER_COMP, &[EmissionOrderBindings::DECLS])
-        .push(EmissionOrderParams::LAYOUT);
+pub static EMISSION_CELLS: ComputePassDef = ComputePassDef::any(
+    PassName::new("emission cells", group::PHOTONS),
+    &shaders::EMISSION_CELLS_COMP,
+    &[EmissionCellBindings::DECLS],
+)
+.push(EmissionOrderParams::LAYOUT);
+
+pub static EMISSION_ORDER: ComputePassDef = ComputePassDef::any(
+    PassName::new("emission order", group::PHOTONS),
+    &shaders::EMISSION_ORDER_COMP,
+    &[EmissionOrderBindings::DECLS],
+)
+.push(EmissionOrderParams::LAYOUT);
 
 /// Adds the passes that order the `params.paths` paths; returns the buffer of path indices
 /// in the order the photon pass takes them.
@@ -68,16 +77,16 @@ pub fn add<'r>(graph: &mut Graph<'r>, params: EmissionOrderParams) -> Result<Buf
     };
     let mut counts = graph.buffer(&storage("emission cell counts", CELLS, vk::BufferUsageFlags::TRANSFER_DST))?;
     let mut order = graph.buffer(&storage("path order", params.paths, vk::BufferUsageFlags::empty()))?;
-    graph.fill(names::EMISSION_CELLS_CLEAR, &mut [(&mut counts, &[Fill::whole(0)])]);
+    graph.fill(EMISSION_CELLS_CLEAR, &mut [(&mut counts, &[Fill::whole(0)])]);
     let threads = [params.paths, 1, 1];
-    let mut pass = graph.pass(names::EMISSION_CELLS);
+    let mut pass = graph.pass(EMISSION_CELLS.name);
     let own =
         EmissionCellBindings::declare(&mut pass, Stage::Compute, EmissionCellResources { cell_counts: &mut counts });
     pass.dispatch(EMISSION_CELLS.name, own, params, threads);
 
-    scan::add(graph, (names::EMISSION_CELL_STARTS, None), CELLS, &mut counts)?;
+    scan::add(graph, (EMISSION_CELL_STARTS, None), CELLS, &mut counts)?;
 
-    let mut pass = graph.pass(names::EMISSION_ORDER);
+    let mut pass = graph.pass(EMISSION_ORDER.name);
     let own = EmissionOrderBindings::declare(
         &mut pass,
         Stage::Compute,

@@ -5,13 +5,13 @@
 use ash::vk;
 use bytemuck::{Pod, Zeroable};
 use leakless_device::{gpu_struct, BufferDesc, GpuStruct, MemoryLocation};
-use leakless_graph::{shader_bindings, BufferHandle, Fill, Graph, ImageHandle, Stage};
+use leakless_graph::{shader_bindings, BufferHandle, Fill, Graph, ImageHandle, PassName, Stage};
 
 use crate::error::Result;
 use crate::gpu_scene::{SceneBindings, SceneHandles};
 use crate::passes::gbuffer::{GBufferBindings, GBufferHandles};
 use crate::passes::hierarchy::{HierarchyHandles, Level, Shape};
-use crate::passes::names;
+use crate::passes::names::group;
 use crate::passes::photon_clearance::Clearance;
 use crate::passes::photons::Photon;
 use crate::passes::splat::{ListEntry, NodeListHandles};
@@ -104,8 +104,10 @@ shader_bindings! {
     pub struct GatherResources;
 }
 
+const GATHER_CLEAR: PassName = PassName::new("gather clear", group::GATHER);
+
 pub static GATHER: ComputePassDef = ComputePassDef::traced(
-    names::GATHER,
+    PassName::new("gather", group::GATHER),
     (&shaders::GATHER_COMP_RAYQUERY, &shaders::GATHER_COMP_COMPUTE),
     &[GatherBindings::DECLS, GBufferBindings::DECLS, SceneBindings::DECLS],
 )
@@ -178,7 +180,7 @@ pub fn add<'r>(
     lists: &NodeListHandles,
     out: GatherOutputs<'_>,
 ) {
-    graph.fill(names::GATHER_CLEAR, &mut [(&mut *out.counters, &[Fill::whole(0)])]);
+    graph.fill(GATHER_CLEAR, &mut [(&mut *out.counters, &[Fill::whole(0)])]);
     let params = GatherParams {
         radius: input.radius,
         fixed_scale: input.fixed_scale,
@@ -191,7 +193,7 @@ pub fn add<'r>(
         eye: input.eye,
         visible_disk: input.visible_disk as u32,
     };
-    let mut pass = graph.pass(names::GATHER);
+    let mut pass = graph.pass(GATHER.name);
     let own = GatherBindings::declare(
         &mut pass,
         Stage::Compute,

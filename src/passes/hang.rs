@@ -7,10 +7,10 @@ use std::rc::Rc;
 
 use ash::vk;
 use leakless_device::{Buffer, BufferDesc, ComputePipeline, Gpu, MemoryLocation};
-use leakless_graph::{shader_bindings, Graph, GraphRunner, Stage};
+use leakless_graph::{shader_bindings, Graph, GraphRunner, PassName, Stage};
 
 use crate::error::Result;
-use crate::passes::names;
+use crate::passes::names::group;
 use crate::pipelines::ComputePassDef;
 use crate::shaders;
 
@@ -22,7 +22,8 @@ shader_bindings! {
 }
 
 /// The spin, appended to the pass it stalls (its own name labels no pass).
-pub static HANG: ComputePassDef = ComputePassDef::any(names::HANG, &shaders::HANG_COMP, &[HangBindings::DECLS]);
+pub static HANG: ComputePassDef =
+    ComputePassDef::any(PassName::new("hang", group::TOOLS), &shaders::HANG_COMP, &[HangBindings::DECLS]);
 
 /// A stall armed for one named pass.
 pub struct HangPass {

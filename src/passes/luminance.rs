@@ -6,10 +6,10 @@
 use ash::vk;
 use bytemuck::{Pod, Zeroable};
 use leakless_device::{gpu_struct, BufferDesc, GpuStruct, MemoryLocation};
-use leakless_graph::{shader_bindings, BufferHandle, Graph, ImageHandle, Stage};
+use leakless_graph::{shader_bindings, BufferHandle, Graph, ImageHandle, PassName, Stage};
 
 use crate::error::Result;
-use crate::passes::names;
+use crate::passes::names::group;
 use crate::pipelines::ComputePassDef;
 use crate::shaders;
 
@@ -101,13 +101,19 @@ pub struct LuminanceInputs<'a> {
     pub leaked: &'a ImageHandle,
 }
 
-pub static LUMINANCE_TILES: ComputePassDef =
-    ComputePassDef::any(names::LUMINANCE_TILES, &shaders::LUMINANCE_COMP, &[TileBindings::DECLS])
-        .push(LuminanceParams::LAYOUT);
+pub static LUMINANCE_TILES: ComputePassDef = ComputePassDef::any(
+    PassName::new("luminance tiles", group::LUMINANCE),
+    &shaders::LUMINANCE_COMP,
+    &[TileBindings::DECLS],
+)
+.push(LuminanceParams::LAYOUT);
 
-pub static LUMINANCE_TOTAL: ComputePassDef =
-    ComputePassDef::any(names::LUMINANCE_TOTAL, &shaders::LUMINANCE_TOTAL_COMP, &[TotalBindings::DECLS])
-        .push(TotalParams::LAYOUT);
+pub static LUMINANCE_TOTAL: ComputePassDef = ComputePassDef::any(
+    PassName::new("luminance total", group::LUMINANCE),
+    &shaders::LUMINANCE_TOTAL_COMP,
+    &[TotalBindings::DECLS],
+)
+.push(TotalParams::LAYOUT);
 
 /// Adds both stages; returns the [`LuminanceStats`] buffer (of the graph's pool).
 pub fn add<'r>(graph: &mut Graph<'r>, input: LuminanceInputs<'_>) -> Result<BufferHandle> {
@@ -121,7 +127,7 @@ pub fn add<'r>(graph: &mut Graph<'r>, input: LuminanceInputs<'_>) -> Result<Buff
     let mut stats = buffer("luminance stats", std::mem::size_of::<LuminanceStats>() as u64)?;
 
     let params = LuminanceParams { mode: input.mode, width: extent.width, height: extent.height, tiles_x };
-    let mut pass = graph.pass(names::LUMINANCE_TILES);
+    let mut pass = graph.pass(LUMINANCE_TILES.name);
     let own = TileBindings::declare(
         &mut pass,
         Stage::Compute,
@@ -134,7 +140,7 @@ pub fn add<'r>(graph: &mut Graph<'r>, input: LuminanceInputs<'_>) -> Result<Buff
     );
     pass.dispatch(LUMINANCE_TILES.name, own, params, [extent.width, extent.height, 1]);
 
-    let mut pass = graph.pass(names::LUMINANCE_TOTAL);
+    let mut pass = graph.pass(LUMINANCE_TOTAL.name);
     let own =
         TotalBindings::declare(&mut pass, Stage::Compute, TotalResources { partials: &partials, stats: &mut stats });
     let params = TotalParams { tiles, ..Default::default() };

@@ -5,10 +5,10 @@
 use ash::vk;
 use bytemuck::{Pod, Zeroable};
 use leakless_device::{gpu_struct, BufferDesc, GpuStruct, MemoryLocation};
-use leakless_graph::{shader_bindings, BufferHandle, Graph, Stage};
+use leakless_graph::{shader_bindings, BufferHandle, Graph, PassName, Stage};
 
 use crate::error::Result;
-use crate::passes::names;
+use crate::passes::names::group;
 use crate::passes::photon_dispatch::{PhotonDispatch, PHOTON_WORKGROUP};
 use crate::passes::photons::{Photon, PhotonCounters};
 use crate::pipelines::ComputePassDef;
@@ -67,7 +67,7 @@ pub enum Needed<'a> {
 
 /// The clearance searches the scene's BVH on every backend (it needs distances, not hits).
 pub static PHOTON_CLEARANCE: ComputePassDef = ComputePassDef::any(
-    names::PHOTON_CLEARANCE,
+    PassName::new("photon clearance", group::CLEARANCE),
     &shaders::PHOTON_CLEARANCE_COMP,
     &[ClearanceBindings::DECLS, ComputeTrace::DECLS],
 )
@@ -103,7 +103,7 @@ pub fn add<'r>(
         }
     };
     let params = ClearanceParams { max_radius, capacity: dispatch.capacity, only_listed, ..Default::default() };
-    let mut pass = graph.pass(names::PHOTON_CLEARANCE);
+    let mut pass = graph.pass(PHOTON_CLEARANCE.name);
     let own = ClearanceBindings::declare(
         &mut pass,
         Stage::Compute,

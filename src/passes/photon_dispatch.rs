@@ -8,10 +8,10 @@
 use ash::vk;
 use bytemuck::{Pod, Zeroable};
 use leakless_device::{gpu_struct, BufferDesc, GpuStruct, MemoryLocation};
-use leakless_graph::{shader_bindings, Access, Buf, BufferHandle, Graph, PassBuilder, Stage};
+use leakless_graph::{shader_bindings, Access, Buf, BufferHandle, Graph, PassBuilder, PassName, Stage};
 
 use crate::error::Result;
-use crate::passes::names;
+use crate::passes::names::group;
 use crate::passes::photons::PhotonCounters;
 use crate::pipelines::ComputePassDef;
 use crate::shaders;
@@ -68,9 +68,12 @@ impl PhotonDispatch {
     }
 }
 
-pub static PHOTON_DISPATCH: ComputePassDef =
-    ComputePassDef::any(names::PHOTON_DISPATCH, &shaders::PHOTON_DISPATCH_COMP, &[PhotonDispatchBindings::DECLS])
-        .push(PhotonDispatchParams::LAYOUT);
+pub static PHOTON_DISPATCH: ComputePassDef = ComputePassDef::any(
+    PassName::new("photon dispatch", group::PHOTONS),
+    &shaders::PHOTON_DISPATCH_COMP,
+    &[PhotonDispatchBindings::DECLS],
+)
+.push(PhotonDispatchParams::LAYOUT);
 
 /// Adds the pass that turns `photon_counters` (of a buffer of `capacity` photons) into the
 /// per-photon passes' dispatch.
@@ -82,7 +85,7 @@ pub fn add<'r>(graph: &mut Graph<'r>, photon_counters: &BufferHandle, capacity: 
         location: MemoryLocation::GpuOnly,
     })?;
     let params = PhotonDispatchParams { capacity, group_size: PHOTON_WORKGROUP, ..Default::default() };
-    let mut pass = graph.pass(names::PHOTON_DISPATCH);
+    let mut pass = graph.pass(PHOTON_DISPATCH.name);
     let own = PhotonDispatchBindings::declare(
         &mut pass,
         Stage::Compute,

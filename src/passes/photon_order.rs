@@ -20,7 +20,7 @@ use leakless_graph::{shader_bindings, BufferHandle, Fill, Graph, PassName, Stage
 use leakless_scene::Aabb;
 
 use crate::error::Result;
-use crate::passes::names;
+use crate::passes::names::group;
 use crate::passes::photon_dispatch::{PhotonDispatch, PHOTON_WORKGROUP};
 use crate::passes::photons::{Photon, PhotonCounters};
 use crate::passes::scan;
@@ -89,10 +89,16 @@ const fn order_pass(
     ComputePassDef::any(name, shader, bindings).push(PhotonOrderParams::LAYOUT).workgroup([PHOTON_WORKGROUP, 1, 1])
 }
 
+const PHOTON_CELLS_CLEAR: PassName = PassName::new("photon cells clear", group::PHOTON_ORDER);
+const PHOTON_CELL_STARTS: PassName = PassName::new("photon cell starts", group::PHOTON_ORDER);
+
 pub static PHOTON_CELLS: ComputePassDef =
-    order_pass(names::PHOTON_CELLS, &shaders::PHOTON_CELLS_COMP, &[CellBindings::DECLS]);
-pub static PHOTON_ORDER: ComputePassDef =
-    order_pass(names::PHOTON_ORDER, &shaders::PHOTON_ORDER_COMP, &[OrderBindings::DECLS]);
+    order_pass(PassName::new("photon cells", group::PHOTON_ORDER), &shaders::PHOTON_CELLS_COMP, &[CellBindings::DECLS]);
+pub static PHOTON_ORDER: ComputePassDef = order_pass(
+    PassName::new("photon order", group::PHOTON_ORDER),
+    &shaders::PHOTON_ORDER_COMP,
+    &[OrderBindings::DECLS],
+);
 
 /// Copies the stored photons of `photons` (at most the dispatch's capacity) into `ordered`,
 /// grouped by cell of a grid over `bounds`, and cells in Morton order.
@@ -122,9 +128,9 @@ pub fn add<'r>(
         usage: vk::BufferUsageFlags::STORAGE_BUFFER,
         location: MemoryLocation::GpuOnly,
     })?;
-    graph.fill(names::PHOTON_CELLS_CLEAR, &mut [(&mut counts, &[Fill::whole(0)])]);
+    graph.fill(PHOTON_CELLS_CLEAR, &mut [(&mut counts, &[Fill::whole(0)])]);
 
-    let mut pass = graph.pass(names::PHOTON_CELLS);
+    let mut pass = graph.pass(PHOTON_CELLS.name);
     let own = CellBindings::declare(
         &mut pass,
         Stage::Compute,
@@ -133,9 +139,9 @@ pub fn add<'r>(
     let (args, threads) = (dispatch.declare(&mut pass), dispatch.most_threads());
     pass.dispatch_indirect(PHOTON_CELLS.name, own, params, args, threads);
 
-    scan::add(graph, (names::PHOTON_CELL_STARTS, None), CELLS, &mut counts)?;
+    scan::add(graph, (PHOTON_CELL_STARTS, None), CELLS, &mut counts)?;
 
-    let mut pass = graph.pass(names::PHOTON_ORDER);
+    let mut pass = graph.pass(PHOTON_ORDER.name);
     let own = OrderBindings::declare(
         &mut pass,
         Stage::Compute,

@@ -11,14 +11,14 @@
 use ash::vk;
 use bytemuck::{Pod, Zeroable};
 use leakless_device::{gpu_struct, Buffer, BufferDesc, Gpu, GpuStruct, MemoryLocation};
-use leakless_graph::{shader_bindings, Access, BufferHandle, Fill, Graph, GraphRunner, Stage, Timing};
+use leakless_graph::{shader_bindings, Access, BufferHandle, Fill, Graph, GraphRunner, PassName, Stage, Timing};
 use leakless_scene::Scene;
 
 use crate::error::{RenderError, Result};
 use crate::gpu_scene::{GpuScene, SceneBindings, SceneHandles};
 use crate::gpu_types::Light;
 use crate::passes::emission_order::{self, EmissionOrderParams};
-use crate::passes::names;
+use crate::passes::names::{self, group};
 use crate::passes::photon_clearance::{self, Clearance, Needed};
 use crate::passes::{photon_dispatch, scan};
 use crate::photon_lights::{upload_lights, LightHandles, LightTable};
@@ -179,8 +179,10 @@ pub fn paths_per_thread(gpu: &Gpu) -> u32 {
     }
 }
 
+const PHOTON_COUNTERS: PassName = PassName::new("photon counters", group::PHOTONS);
+
 pub static PHOTONS: ComputePassDef = ComputePassDef::traced(
-    names::PHOTONS,
+    PassName::new("photons", group::PHOTONS),
     (&shaders::PHOTONS_COMP_RAYQUERY, &shaders::PHOTONS_COMP_COMPUTE),
     &[PhotonBindings::DECLS, SceneBindings::DECLS],
 )
@@ -233,7 +235,7 @@ pub fn add<'r>(
         ..Default::default()
     };
 
-    graph.fill(names::PHOTON_COUNTERS, &mut [(&mut *counters, &[Fill::range(0, counter_size, 0)])]);
+    graph.fill(PHOTON_COUNTERS, &mut [(&mut *counters, &[Fill::range(0, counter_size, 0)])]);
 
     // Without the order the buffer is bound but not read.
     let ordered_paths = if params.emission_order { paths } else { 0 };
@@ -241,7 +243,7 @@ pub fn add<'r>(
         EmissionOrderParams { paths: ordered_paths, path_offset: params.path_offset, seed: params.seed, pad0: 0 };
     let path_order = emission_order::add(graph, order)?;
 
-    let mut pass = graph.pass(names::PHOTONS);
+    let mut pass = graph.pass(PHOTONS.name);
     let own = PhotonBindings::declare(
         &mut pass,
         Stage::Compute,
@@ -426,7 +428,7 @@ impl<'g> PhotonTracer<'g> {
         let submitted = graph.submit(&Default::default())?;
         let done = self.runner.wait_for(self.gpu, submitted)?;
         let trace_ms =
-            done.timings.iter().find(|t| t.name == names::PHOTONS.label).and_then(|t| t.wall_ms).unwrap_or(0.0);
+            done.timings.iter().find(|t| t.name == PHOTONS.name.label).and_then(|t| t.wall_ms).unwrap_or(0.0);
         let counters: PhotonCounters = self.counters.read_vec(1)?[0];
         let all: Vec<Photon> = self.photons.read_vec((capacity + GUARD_PHOTONS) as usize)?;
         let stored = (counters.stored.min(capacity)) as usize;

@@ -2,11 +2,11 @@
 
 use bytemuck::{Pod, Zeroable};
 use leakless_device::{gpu_struct, GpuStruct};
-use leakless_graph::{shader_bindings, BufferHandle, Graph, Stage};
+use leakless_graph::{shader_bindings, BufferHandle, Graph, PassName, Stage};
 
 use crate::gpu_scene::{SceneBindings, SceneHandles};
 use crate::gpu_types::{GpuRay, RayHit};
-use crate::passes::names;
+use crate::passes::names::group;
 use crate::pipelines::ComputePassDef;
 use crate::shaders;
 use crate::trace::TraceHandles;
@@ -32,7 +32,7 @@ shader_bindings! {
 }
 
 pub static RAYCAST: ComputePassDef = ComputePassDef::traced(
-    names::RAYCAST,
+    PassName::new("raycast", group::TOOLS),
     (&shaders::RAYCAST_COMP_RAYQUERY, &shaders::RAYCAST_COMP_COMPUTE),
     &[RaycastBindings::DECLS, SceneBindings::DECLS],
 )
@@ -49,7 +49,7 @@ pub fn add<'r>(
     hits: &mut BufferHandle,
 ) {
     let params = RaycastParams { ray_count, occlusion: occlusion as u32, ..Default::default() };
-    let mut pass = graph.pass(names::RAYCAST);
+    let mut pass = graph.pass(RAYCAST.name);
     let own = RaycastBindings::declare(&mut pass, Stage::Compute, RaycastResources { rays, ray_hits: hits });
     let surfaces = scene.declare(&mut pass, Stage::Compute);
     let trace = trace.declare(&mut pass);

@@ -3,11 +3,11 @@
 
 use bytemuck::{Pod, Zeroable};
 use leakless_device::{gpu_struct, GpuStruct};
-use leakless_graph::{shader_bindings, Graph, ImageHandle, Stage};
+use leakless_graph::{shader_bindings, Graph, ImageHandle, PassName, Stage};
 
 use crate::gpu_scene::SceneBindings;
 use crate::passes::gbuffer::GBufferBindings;
-use crate::passes::names;
+use crate::passes::names::group;
 use crate::passes::{ViewBindings, ViewInputs};
 use crate::pipelines::ComputePassDef;
 use crate::shaders;
@@ -42,7 +42,7 @@ shader_bindings! {
 }
 
 pub static REFERENCE: ComputePassDef = ComputePassDef::traced(
-    names::REFERENCE,
+    PassName::new("reference", group::REFERENCE),
     (&shaders::REFERENCE_COMP_RAYQUERY, &shaders::REFERENCE_COMP_COMPUTE),
     &[ViewBindings::DECLS, GBufferBindings::DECLS, SceneBindings::DECLS, ReferenceBindings::DECLS],
 )
@@ -54,7 +54,7 @@ pub static REFERENCE: ComputePassDef = ComputePassDef::traced(
 pub fn add<'r>(graph: &mut Graph<'r>, params: ReferenceParams, view: &ViewInputs<'_>, accumulated: &mut ImageHandle) {
     let extent = accumulated.extent();
     for params in dispatches(params, extent.width as u64 * extent.height as u64) {
-        let mut pass = graph.pass(names::REFERENCE);
+        let mut pass = graph.pass(REFERENCE.name);
         let inputs = view.declare(&mut pass);
         let own = ReferenceBindings::declare(&mut pass, Stage::Compute, ReferenceResources { accumulated });
         pass.dispatch(REFERENCE.name, (inputs, own), params, [extent.width, extent.height, 1]);

@@ -6,7 +6,7 @@ use leakless_device::GpuStruct;
 use leakless_graph::{shader_bindings, BufferHandle, Graph, PassName, Stage};
 
 use crate::error::{RenderError, Result};
-use crate::passes::names;
+use crate::passes::names::group;
 use crate::passes::sort::{sort_pass, SortParams, RADIX, WORKGROUP_SIZE};
 use crate::pipelines::ComputePassDef;
 use crate::shaders;
@@ -19,7 +19,8 @@ shader_bindings! {
 }
 
 /// The scan is one workgroup of the sort's size.
-pub static SCAN: ComputePassDef = sort_pass(names::SORT_SCAN, &shaders::SORT_SCAN_COMP, &[ScanBindings::DECLS]);
+pub static SCAN: ComputePassDef =
+    sort_pass(PassName::new("sort scan", group::HIERARCHY), &shaders::SORT_SCAN_COMP, &[ScanBindings::DECLS]);
 
 /// Adds a pass named `name` (number `index` of a repeated pass) that turns the first
 /// `words` counts of `counts` into exclusive prefix sums. The scan walks counts in groups of

@@ -31,7 +31,7 @@ use leakless_device::{gpu_struct, BindingDecl, BufferDesc, GpuStruct, MemoryLoca
 use leakless_graph::{shader_bindings, BufferHandle, Graph, PassName, Stage};
 
 use crate::error::{RenderError, Result};
-use crate::passes::names;
+use crate::passes::names::group;
 use crate::passes::scan;
 use crate::pipelines::ComputePassDef;
 use crate::shaders;
@@ -142,11 +142,15 @@ pub(crate) const fn sort_pass(
     ComputePassDef::any(name, shader, bindings).push(SortParams::LAYOUT).workgroup([WORKGROUP_SIZE, 1, 1])
 }
 
-pub static SORT_HISTOGRAM: ComputePassDef =
-    sort_pass(names::SORT_HISTOGRAM, &shaders::SORT_HISTOGRAM_COMP, &[HistogramBindings::DECLS]);
+pub static SORT_HISTOGRAM: ComputePassDef = sort_pass(
+    PassName::new("sort histogram", group::HIERARCHY),
+    &shaders::SORT_HISTOGRAM_COMP,
+    &[HistogramBindings::DECLS],
+);
 pub static SORT_SCATTER: ComputePassDef =
-    sort_pass(names::SORT_SCATTER, &shaders::SORT_SCATTER_COMP, &[ScatterBindings::DECLS]);
-pub static SORT_COPY: ComputePassDef = sort_pass(names::SORT_COPY, &shaders::SORT_COPY_COMP, &[CopyBindings::DECLS]);
+    sort_pass(PassName::new("sort scatter", group::HIERARCHY), &shaders::SORT_SCATTER_COMP, &[ScatterBindings::DECLS]);
+pub static SORT_COPY: ComputePassDef =
+    sort_pass(PassName::new("sort copy", group::HIERARCHY), &shaders::SORT_COPY_COMP, &[CopyBindings::DECLS]);
 
 /// Sorts the first `len` (key, value) pairs of `keys` / `values` by key, stably, and leaves
 /// them there (elements past `len` are untouched). Keys at or above `2^key_bits` sort last,
@@ -206,7 +210,7 @@ pub fn add<'r>(
     if digits % 2 == 1 {
         // The copy reads only `len`.
         let params = SortParams { len, shift: 0, key_limit, group_count };
-        let mut pass = graph.pass(names::SORT_COPY);
+        let mut pass = graph.pass(SORT_COPY.name);
         let own = CopyBindings::declare(
             &mut pass,
             Stage::Compute,
@@ -234,13 +238,13 @@ impl DigitPass {
         let (digit, params) = (self.digit, self.params);
         let threads = [params.group_count * WORKGROUP_SIZE, 1, 1];
 
-        let mut pass = graph.pass_numbered(names::SORT_HISTOGRAM, digit);
+        let mut pass = graph.pass_numbered(SORT_HISTOGRAM.name, digit);
         let own = HistogramBindings::declare(&mut pass, Stage::Compute, HistogramResources { keys_in, histograms });
         pass.dispatch(SORT_HISTOGRAM.name, own, params, threads);
 
-        scan::add(graph, (names::SORT_SCAN, Some(digit)), RADIX * params.group_count, histograms)?;
+        scan::add(graph, (scan::SCAN.name, Some(digit)), RADIX * params.group_count, histograms)?;
 
-        let mut pass = graph.pass_numbered(names::SORT_SCATTER, digit);
+        let mut pass = graph.pass_numbered(SORT_SCATTER.name, digit);
         let own = ScatterBindings::declare(
             &mut pass,
             Stage::Compute,

@@ -5,11 +5,11 @@
 use ash::vk;
 use bytemuck::{Pod, Zeroable};
 use leakless_device::{gpu_struct, BufferDesc, GpuStruct, MemoryLocation};
-use leakless_graph::{shader_bindings, BufferHandle, Fill, Graph, Stage};
+use leakless_graph::{shader_bindings, BufferHandle, Fill, Graph, PassName, Stage};
 
 use crate::error::Result;
 use crate::passes::hierarchy::{HierarchyHandles, Level, Node, Shape};
-use crate::passes::names;
+use crate::passes::names::group;
 use crate::passes::photon_dispatch::{PhotonDispatch, PHOTON_WORKGROUP};
 use crate::passes::photons::{Photon, PhotonCounters};
 use crate::pipelines::ComputePassDef;
@@ -114,10 +114,13 @@ pub struct SplatInputs<'a> {
     pub trivial_accept: bool,
 }
 
+const SPLAT_CLEAR: PassName = PassName::new("splat clear", group::SPLAT);
+
 /// The splat: one thread per stored photon.
-pub static SPLAT: ComputePassDef = ComputePassDef::any(names::SPLAT, &shaders::SPLAT_COMP, &[SplatBindings::DECLS])
-    .push(SplatParams::LAYOUT)
-    .workgroup([PHOTON_WORKGROUP, 1, 1]);
+pub static SPLAT: ComputePassDef =
+    ComputePassDef::any(PassName::new("splat", group::SPLAT), &shaders::SPLAT_COMP, &[SplatBindings::DECLS])
+        .push(SplatParams::LAYOUT)
+        .workgroup([PHOTON_WORKGROUP, 1, 1]);
 
 pub fn add<'r>(
     graph: &mut Graph<'r>,
@@ -136,8 +139,8 @@ pub fn add<'r>(
         ..Default::default()
     };
     let empty = [Fill::whole(u32::MAX)];
-    graph.fill(names::SPLAT_CLEAR, &mut [(&mut lists.heads, &empty), (&mut lists.counters, &[Fill::whole(0)])]);
-    let mut pass = graph.pass(names::SPLAT);
+    graph.fill(SPLAT_CLEAR, &mut [(&mut lists.heads, &empty), (&mut lists.counters, &[Fill::whole(0)])]);
+    let mut pass = graph.pass(SPLAT.name);
     let own = SplatBindings::declare(
         &mut pass,
         Stage::Compute,

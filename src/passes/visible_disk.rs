@@ -9,13 +9,13 @@
 use ash::vk;
 use bytemuck::{Pod, Zeroable};
 use leakless_device::{gpu_struct, GpuStruct, ImageDesc};
-use leakless_graph::{shader_bindings, BufferHandle, Graph, ImageHandle, Stage};
+use leakless_graph::{shader_bindings, BufferHandle, Graph, ImageHandle, PassName, Stage};
 
 use crate::error::Result;
 use crate::gpu_scene::{SceneBindings, SceneHandles};
 use crate::gpu_types::Frame;
 use crate::passes::gbuffer::{self, GBufferBindings, GBufferHandles};
-use crate::passes::names;
+use crate::passes::names::group;
 use crate::pipelines::ComputePassDef;
 use crate::shaders;
 use crate::trace::TraceHandles;
@@ -68,7 +68,7 @@ pub fn image(graph: &mut Graph<'_>, extent: vk::Extent2D) -> Result<ImageHandle>
 }
 
 pub static VISIBLE_DISK: ComputePassDef = ComputePassDef::traced(
-    names::VISIBLE_DISK,
+    PassName::new("visible disk", group::VISIBLE_DISK),
     (&shaders::VISIBLE_DISK_COMP_RAYQUERY, &shaders::VISIBLE_DISK_COMP_COMPUTE),
     &[VisibleDiskBindings::DECLS, GBufferBindings::DECLS, SceneBindings::DECLS],
 )
@@ -87,7 +87,7 @@ pub fn add<'r>(
     disk_mass: &mut ImageHandle,
 ) {
     let extent = disk_mass.extent();
-    let mut pass = graph.pass(names::VISIBLE_DISK);
+    let mut pass = graph.pass(VISIBLE_DISK.name);
     let own = VisibleDiskBindings::declare(
         &mut pass,
         Stage::Compute,

@@ -1,7 +1,8 @@
 //! `leakless bench`: ratios measured in one process, printed, never asserted.
 
 use crate::measure::bench::{self, Measured};
-use leakless::passes::names::{self, group};
+use leakless::passes::names::group;
+use leakless::passes::photon_clearance::PHOTON_CLEARANCE;
 use std::path::PathBuf;
 
 use anyhow::Context;
@@ -269,7 +270,7 @@ fn photon_order(
             label,
             r.group_ms(group::PHOTON_ORDER),
             r.splat_ms(),
-            r.pass_ms(names::PHOTON_CLEARANCE),
+            r.pass_ms(PHOTON_CLEARANCE.name),
             r.gather_ms(),
             r.frame_ms(),
             r.stats().list_entries
@@ -280,7 +281,7 @@ fn photon_order(
     println!(
         "ordered is faster by x{:.2} in the splat, x{:.2} in the clearance, x{:.2} in the gather, x{:.2} over the frame",
         x(|r| r.splat_ms()),
-        x(|r| r.pass_ms(names::PHOTON_CLEARANCE)),
+        x(|r| r.pass_ms(PHOTON_CLEARANCE.name)),
         x(|r| r.gather_ms()),
         x(|r| r.frame_ms())
     );

@@ -1,7 +1,8 @@
 //! `leakless bench leak`: what leak removal costs against the leaky splat it corrects, per
 //! scene, in one process; and how fast its tracing passes run against the device's own limits.
 
-use leakless::passes::names;
+use leakless::passes::photon_clearance::PHOTON_CLEARANCE;
+use leakless::passes::visible_disk::VISIBLE_DISK;
 use std::path::PathBuf;
 
 use crate::measure::bench::{Measured, RayRate};
@@ -139,8 +140,8 @@ fn one_scene(
             r.frame_ms(),
             r.photons_ms(),
             r.splat_ms(),
-            r.pass_ms(names::PHOTON_CLEARANCE),
-            r.pass_ms(names::VISIBLE_DISK),
+            r.pass_ms(PHOTON_CLEARANCE.name),
+            r.pass_ms(VISIBLE_DISK.name),
             r.gather_ms(),
             s.visibility_tests,
             100.0 * s.proven_clear as f64 / s.visibility_tests.max(1) as f64,
@@ -185,7 +186,7 @@ fn one_scene(
         ours.stats().visibility_rays,
         pct(vis_rate, occluded)
     );
-    let disk_ms = ours.pass_ms(names::VISIBLE_DISK);
+    let disk_ms = ours.pass_ms(VISIBLE_DISK.name);
     println!(
         "visible disk (the kernel's mass where the surface is, seen): {disk_ms:.1} ms = {:.0}% of the leakless frame",
         100.0 * disk_ms / ours.frame_ms()

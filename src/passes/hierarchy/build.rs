@@ -3,11 +3,11 @@
 
 use bytemuck::{Pod, Zeroable};
 use leakless_device::{gpu_struct, GpuStruct};
-use leakless_graph::{shader_bindings, Graph, ImageHandle, Stage};
+use leakless_graph::{shader_bindings, Graph, ImageHandle, PassName, Stage};
 
 use super::{HierarchyHandles, Level, Node, Shape};
 use crate::passes::gbuffer::{GBufferBindings, GBufferHandles};
-use crate::passes::names;
+use crate::passes::names::group;
 use crate::pipelines::ComputePassDef;
 use crate::shaders;
 
@@ -34,7 +34,7 @@ shader_bindings! {
 }
 
 pub static HIERARCHY_LEVEL: ComputePassDef = ComputePassDef::any(
-    names::HIERARCHY_LEVEL,
+    PassName::new("hierarchy level", group::HIERARCHY),
     &shaders::HIERARCHY_BUILD_COMP,
     &[BuildBindings::DECLS, GBufferBindings::DECLS],
 )
@@ -55,7 +55,7 @@ pub fn add<'r>(
             sample_count: shape.sample_count,
             image_width,
         };
-        let mut pass = graph.pass_numbered(names::HIERARCHY_LEVEL, index as u32);
+        let mut pass = graph.pass_numbered(HIERARCHY_LEVEL.name, index as u32);
         let own = BuildBindings::declare(
             &mut pass,
             Stage::Compute,

@@ -2,11 +2,11 @@
 //! with the pixel index as value (`morton.comp`).
 
 use leakless_device::GpuStruct;
-use leakless_graph::{shader_bindings, BufferHandle, Graph, Stage};
+use leakless_graph::{shader_bindings, BufferHandle, Graph, PassName, Stage};
 
 use crate::gpu_types::Frame;
 use crate::passes::gbuffer::{GBufferBindings, GBufferHandles};
-use crate::passes::names;
+use crate::passes::names::group;
 use crate::pipelines::ComputePassDef;
 use crate::shaders;
 
@@ -20,8 +20,11 @@ shader_bindings! {
     pub struct MortonResources;
 }
 
-pub static MORTON: ComputePassDef =
-    ComputePassDef::any(names::MORTON, &shaders::MORTON_COMP, &[MortonBindings::DECLS, GBufferBindings::DECLS]);
+pub static MORTON: ComputePassDef = ComputePassDef::any(
+    PassName::new("morton", group::HIERARCHY),
+    &shaders::MORTON_COMP,
+    &[MortonBindings::DECLS, GBufferBindings::DECLS],
+);
 
 pub fn add<'r>(
     graph: &mut Graph<'r>,
@@ -32,7 +35,7 @@ pub fn add<'r>(
     values: &mut BufferHandle,
 ) {
     let extent = gbuffer.position.extent();
-    let mut pass = graph.pass(names::MORTON);
+    let mut pass = graph.pass(MORTON.name);
     let own = MortonBindings::declare(
         &mut pass,
         Stage::Compute,

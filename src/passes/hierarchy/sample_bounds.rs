@@ -2,11 +2,11 @@
 //! Morton codes are quantised to.
 
 use leakless_device::GpuStruct;
-use leakless_graph::{shader_bindings, BufferHandle, Fill, Graph, Stage};
+use leakless_graph::{shader_bindings, BufferHandle, Fill, Graph, PassName, Stage};
 
 use crate::gpu_types::Frame;
 use crate::passes::gbuffer::{GBufferBindings, GBufferHandles};
-use crate::passes::names;
+use crate::passes::names::group;
 use crate::pipelines::ComputePassDef;
 use crate::shaders;
 
@@ -18,8 +18,10 @@ shader_bindings! {
     pub struct SampleBoundsResources;
 }
 
+const SAMPLE_BOUNDS_CLEAR: PassName = PassName::new("sample bounds clear", group::HIERARCHY);
+
 pub static SAMPLE_BOUNDS: ComputePassDef = ComputePassDef::any(
-    names::SAMPLE_BOUNDS,
+    PassName::new("sample bounds", group::HIERARCHY),
     &shaders::SAMPLE_BOUNDS_COMP,
     &[SampleBoundsBindings::DECLS, GBufferBindings::DECLS],
 );
@@ -27,9 +29,9 @@ pub static SAMPLE_BOUNDS: ComputePassDef = ComputePassDef::any(
 pub fn add<'r>(graph: &mut Graph<'r>, frame: &BufferHandle, gbuffer: &GBufferHandles, bounds: &mut BufferHandle) {
     // Start from an empty box: min keys all ones, max keys all zeros.
     let empty = [Fill::range(0, 12, u32::MAX), Fill::range(12, 12, 0)];
-    graph.fill(names::SAMPLE_BOUNDS_CLEAR, &mut [(&mut *bounds, &empty)]);
+    graph.fill(SAMPLE_BOUNDS_CLEAR, &mut [(&mut *bounds, &empty)]);
     let extent = gbuffer.position.extent();
-    let mut pass = graph.pass(names::SAMPLE_BOUNDS);
+    let mut pass = graph.pass(SAMPLE_BOUNDS.name);
     let own = SampleBoundsBindings::declare(
         &mut pass,
         Stage::Compute,
