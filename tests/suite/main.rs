@@ -1,7 +1,7 @@
 //! The GPU and CLI tests, one module per concern, in one test binary: one link instead of
-//! twenty, and one scheduler that keeps both test threads busy to the end (separate binaries
-//! each left a thread idle behind their longest test). `cargo test --test suite progressive`
-//! runs one module.
+//! twenty. `tools/test` runs each test in a process of its own, two at a time (Debian 12's
+//! validation layers race when one thread creates a device while another records: see
+//! tools/test); `cargo test --test suite progressive -- --test-threads 1` runs one module.
 
 mod common;
 
