@@ -104,7 +104,8 @@ impl ComputePassDef {
 /// between the backends' tables.
 pub struct Pipelines {
     defs: &'static [&'static ComputePassDef],
-    by_module: HashMap<&'static str, Rc<ComputePipeline>>,
+    /// Each module's pipeline and the definition that made it.
+    by_module: HashMap<&'static str, (PassName, Rc<ComputePipeline>)>,
     tables: [PipelineTable; 2],
 }
 
@@ -125,10 +126,18 @@ impl Pipelines {
             }
             let module = def.shader(backend).name;
             let pipeline = match self.by_module.get(module) {
-                Some(made) => made.clone(),
+                // A module's pipeline carries one definition's bindings: a second definition of
+                // the same module would be bound without being checked.
+                Some((maker, _)) if *maker != def.name => {
+                    return Err(RenderError::Settings(format!(
+                        "passes {maker} and {} both run {module}: one definition per shader module",
+                        def.name
+                    )))
+                }
+                Some((_, made)) => made.clone(),
                 None => Rc::new(def.create(gpu, backend)?),
             };
-            self.by_module.insert(module, pipeline.clone());
+            self.by_module.insert(module, (def.name, pipeline.clone()));
             table.insert(def.name, pipeline);
         }
         Ok(())

@@ -13,10 +13,10 @@ use crate::gpu_types::{GpuRay, RayHit};
 use crate::passes::names;
 use crate::passes::raycast::{self, RAYCAST};
 use crate::pipelines::{ComputePassDef, Pipelines};
+use crate::trace::{Backend, TraceScene};
 
 /// What a [`RayCaster`] runs.
 static PASSES: &[&ComputePassDef] = &[&RAYCAST];
-use crate::trace::{Backend, TraceScene};
 
 pub struct RayCaster<'g> {
     gpu: &'g Gpu,

@@ -49,8 +49,8 @@ shader_bindings! {
     pub struct EmissionOrderResources;
 }
 
-const EMISSION_CELLS_CLEAR: PassName = PassName::new("emission cells clear", group::PHOTONS);
-const EMISSION_CELL_STARTS: PassName = PassName::new("emission cell starts", group::PHOTONS);
+pub const EMISSION_CELLS_CLEAR: PassName = PassName::new("emission cells clear", group::PHOTONS);
+pub const EMISSION_CELL_STARTS: PassName = PassName::new("emission cell starts", group::PHOTONS);
 
 pub static EMISSION_CELLS: ComputePassDef = ComputePassDef::any(
     PassName::new("emission cells", group::PHOTONS),

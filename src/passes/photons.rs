@@ -283,10 +283,7 @@ pub struct PhotonTrace {
 pub const GUARD_PHOTONS: u32 = 64;
 const GUARD_WORD: u32 = 0xdead_beef;
 
-/// A self-contained photon tracer on one backend (tests, benchmarks): uploads the scene,
-/// builds its trace structures, and traces into host-visible buffers with a guard region
-/// after the capacity.
-/// The passes a [`PhotonTracer`] runs.
+/// The passes a [`PhotonTracer`] runs (a pass `add` calls must be listed here too).
 static TRACER_PASSES: &[&ComputePassDef] = &[
     &PHOTONS,
     &emission_order::EMISSION_CELLS,
@@ -296,6 +293,9 @@ static TRACER_PASSES: &[&ComputePassDef] = &[
     &photon_clearance::PHOTON_CLEARANCE,
 ];
 
+/// A self-contained photon tracer on one backend (tests, benchmarks): uploads the scene,
+/// builds its trace structures, and traces into host-visible buffers with a guard region
+/// after the capacity.
 pub struct PhotonTracer<'g> {
     gpu: &'g Gpu,
     scene: GpuScene,

@@ -112,7 +112,7 @@ pub fn digit_passes(key_bits: u32) -> u32 {
     (key_bits + 1).min(32).div_ceil(DIGIT_BITS)
 }
 
-/// Graph passes one [`SortPass::add`] adds: three per digit pass, plus a copy after an odd
+/// Graph passes one [`add`] adds: three per digit pass, plus a copy after an odd
 /// number of them. 24 for 30-bit Morton codes and for 32-bit keys.
 pub fn graph_passes(key_bits: u32) -> u32 {
     let digits = digit_passes(key_bits);

@@ -5,8 +5,9 @@
 //! The hashes are of the float bits of every layer and of the tonemapped bytes, so they hold
 //! only on the device that recorded them (lavapipe's generated code follows its LLVM and the
 //! CPU's vector width): on another device the test says so and compares nothing. Record them
-//! anew, on purpose, when an image is meant to change:
-//! `LEAKLESS_RECORD_HASHES=1 cargo test --test suite identity`.
+//! anew, on purpose, when an image is meant to change or the device is new:
+//! `LEAKLESS_RECORD_HASHES=1 cargo test --test suite identity`. CI sets
+//! `LEAKLESS_REQUIRE_HASHES=1`, which makes a device without recorded hashes a failure.
 
 use std::fmt::Write as _;
 
@@ -99,10 +100,13 @@ fn every_shipped_scene_renders_as_recorded() {
     let recorded = std::fs::read_to_string(&path).expect("tests/fixtures/image-hashes.txt");
     let recorded_device = recorded.lines().next().and_then(|l| l.strip_prefix("# device: ")).unwrap_or_default();
     if recorded_device != device {
-        eprintln!(
-            "\n*** image hashes were recorded on {recorded_device}, this is {device}: not compared \
-             (LEAKLESS_RECORD_HASHES=1 records them here) ***\n"
+        let why = format!(
+            "image hashes were recorded on {recorded_device}, this is {device}: not compared \
+             (LEAKLESS_RECORD_HASHES=1 records them here)"
         );
+        // CI sets this: a new driver must be recorded on purpose, not skipped unnoticed.
+        assert!(std::env::var("LEAKLESS_REQUIRE_HASHES").as_deref() != Ok("1"), "{why}");
+        eprintln!("\n*** {why} ***\n");
         return;
     }
     let want: Vec<&str> = recorded.lines().skip(1).collect();

@@ -147,6 +147,9 @@ impl Stage {
             (Stage::Compute, BindingAccess::Read) => Access::ComputeRead,
             (Stage::Compute, BindingAccess::Write) => Access::ComputeWrite,
             (Stage::Compute, BindingAccess::ReadWrite) => Access::ComputeReadWrite,
+            (Stage::Vertex, BindingAccess::Read) if image => {
+                panic!("a vertex stage reading a storage image has no Access with its layout (GENERAL)")
+            }
             (Stage::Vertex, BindingAccess::Read) => Access::VertexShaderRead,
             (Stage::Fragment, BindingAccess::Read) if image => Access::FragmentStorageRead,
             (Stage::Fragment, BindingAccess::Read) => Access::FragmentRead,
@@ -164,8 +167,8 @@ impl Stage {
 ///   (what a dispatch binds, by the same names);
 /// * the resources struct, the same fields holding the graph's handles: `&` for what is read,
 ///   `&mut` for what is written, so a call site shows what a pass changes;
-/// * `Bindings::declare(pass, stage, resources)`, which declares each resource's read or
-///   write on the pass (the graph derives barriers from these) and returns the uses.
+/// * `declare(pass, stage, resources)` on the bindings struct, which declares each resource's
+///   read or write on the pass (the graph derives barriers from these) and returns the uses.
 ///
 /// Access: `read`, `write`, `read_write`. Kinds: `uniform(LAYOUT)`, `block(LAYOUT)` (a storage
 /// buffer holding one struct), `array(LAYOUT)` (a storage buffer of a runtime array), `words`

@@ -151,7 +151,7 @@ impl<'r> Graph<'r> {
     /// The pool's image named `desc.name`, kept from frame to frame (see [`Graph::buffer`]).
     pub fn image(&mut self, desc: &ImageDesc<'_>) -> Result<ImageHandle> {
         let key = PoolKey::Persistent(desc.name.into());
-        self.check_first(&key)?;
+        self.check_first(&key, true)?;
         let frame = self.runner.frame_index();
         self.runner.pool.ensure_image(self.gpu, key.clone(), desc, frame)?;
         self.sources.push(Source::PoolImage(key));
@@ -174,16 +174,20 @@ impl<'r> Graph<'r> {
     }
 
     fn pool_buffer(&mut self, key: PoolKey, desc: &BufferDesc<'_>) -> Result<BufferHandle> {
-        self.check_first(&key)?;
+        self.check_first(&key, false)?;
         let frame = self.runner.frame_index();
         self.runner.pool.ensure_buffer(self.gpu, key.clone(), desc, frame)?;
         self.sources.push(Source::PoolBuffer(key));
         Ok(BufferHandle { id: self.sources.len() - 1, size: desc.size })
     }
 
-    /// Errs when the frame already has a handle to the pool's resource `key`.
-    fn check_first(&self, key: &PoolKey) -> Result<()> {
-        let asked = |s: &Source<'_>| matches!(s, Source::PoolBuffer(k) | Source::PoolImage(k) if k == key);
+    /// Errs when the frame already has a handle to the pool's buffer (or, `image`, image) `key`.
+    fn check_first(&self, key: &PoolKey, image: bool) -> Result<()> {
+        let asked = |s: &Source<'_>| match s {
+            Source::PoolBuffer(k) => !image && k == key,
+            Source::PoolImage(k) => image && k == key,
+            _ => false,
+        };
         if self.sources.iter().any(asked) {
             return Err(asked_twice(key));
         }

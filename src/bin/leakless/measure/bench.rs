@@ -8,6 +8,7 @@ use leakless_scene::Scene;
 use leakless::error::Result;
 use leakless::gpu_types::GpuRay;
 use leakless::passes::names::group;
+use leakless::passes::photons::PHOTONS;
 use leakless::raycast::RayCaster;
 use leakless::raygen;
 use leakless::trace::Backend;
@@ -125,9 +126,16 @@ impl Measured {
     pub fn pass_ms(&self, name: PassName) -> f64 {
         self.passes.iter().filter(|(n, _, _)| n == name.label).map(|(_, _, ms)| ms).sum::<f64>() + 0.0
     }
-    /// The photon pass and the passes that order its paths (emission_order.rs) and count them.
+    /// The photon pass and the passes that order its paths (emission_order.rs): what the
+    /// photon pass's ray rate is measured over (not its counters' clear, nor the dispatch
+    /// command made from them, which the frame's `photons` group also holds).
     pub fn photons_ms(&self) -> f64 {
-        self.group_ms(group::PHOTONS)
+        use leakless::passes::emission_order::{
+            EMISSION_CELLS, EMISSION_CELLS_CLEAR, EMISSION_CELL_STARTS, EMISSION_ORDER,
+        };
+        let passes =
+            [PHOTONS.name, EMISSION_CELLS_CLEAR, EMISSION_CELLS.name, EMISSION_CELL_STARTS, EMISSION_ORDER.name];
+        passes.into_iter().map(|p| self.pass_ms(p)).sum()
     }
     pub fn hierarchy_ms(&self) -> f64 {
         self.group_ms(group::HIERARCHY)
