@@ -62,7 +62,7 @@ fn main() {
             _ => continue, // `.glsl` files are include-only
         };
         // Expanded once without defines only to learn whether the module traces.
-        let Ok(src) = expand(&file, None).map_err(|e| errors.push(e)) else {
+        let Ok(src) = expand(&file, &[]).map_err(|e| errors.push(e)) else {
             continue;
         };
         let variants = if src.files.iter().any(|f| f == "trace.glsl") {
@@ -112,14 +112,14 @@ struct Expanded {
 /// `#ifndef` guards left to the preprocessor) and inserts `#define <define> 1` after `#version`.
 /// Includes are expanded regardless of surrounding `#if`s, so a conditionally included file
 /// must still exist.
-fn expand(file: &str, define: Option<&str>) -> Result<Expanded, String> {
+fn expand(file: &str, defines: &[&str]) -> Result<Expanded, String> {
     let mut out = Expanded::default();
-    out.include(file, define)?;
+    out.include(file, defines)?;
     Ok(out)
 }
 
 impl Expanded {
-    fn include(&mut self, file: &str, define: Option<&str>) -> Result<(), String> {
+    fn include(&mut self, file: &str, defines: &[&str]) -> Result<(), String> {
         let src =
             fs::read_to_string(Path::new(DIR).join(file)).map_err(|e| format!("{DIR}/{file}: cannot read: {e}"))?;
         if src.lines().any(|l| l.trim() == "#pragma once") && !self.once.insert(file.into()) {
@@ -142,7 +142,7 @@ impl Expanded {
             let t = line.trim();
             if let Some(rest) = t.strip_prefix("#include") {
                 let name = rest.trim().trim_matches('"'); // `#include "x.glsl"`
-                self.include(name, None).map_err(|e| format!("{e}\n  included from {DIR}/{file}:{lineno}"))?;
+                self.include(name, &[]).map_err(|e| format!("{e}\n  included from {DIR}/{file}:{lineno}"))?;
                 writeln!(self.text, "#line {} {index}", lineno + 1).unwrap();
             } else if t == "#pragma once" {
                 self.text.push('\n'); // keeps line numbers; glslang would warn about the pragma
@@ -150,9 +150,10 @@ impl Expanded {
                 writeln!(self.text, "{line}").unwrap();
                 if top && !saw_version && t.starts_with("#version") {
                     saw_version = true;
-                    if let Some(d) = define {
-                        writeln!(self.text, "#define {d} 1\n#line {} 0", lineno + 1).unwrap();
+                    for d in defines {
+                        writeln!(self.text, "#define {d} 1").unwrap();
                     }
+                    writeln!(self.text, "#line {} 0", lineno + 1).unwrap();
                 }
             }
         }
@@ -172,7 +173,34 @@ fn build_module(
     define: Option<&str>,
     spirv_version: SpirvVersion,
 ) -> Result<(Vec<u32>, Info), String> {
-    let src = expand(file, define)?;
+    let (spirv, mut info) = compile(compiler, stage, file, name, define.as_slice(), spirv_version)?;
+    // A ray-query variant takes its layouts from its compute twin (`take_twin_layouts`).
+    if info.naga_error.is_none() || define == Some("TRACE_RAYQUERY") {
+        return Ok((spirv, info));
+    }
+    // naga parses neither subgroup operations nor arrays sized by specialization constants:
+    // such a module's layouts come from a twin compiled with LEAKLESS_REFLECTION, under which
+    // counters.glsl and the queues use plain equivalents with the same bindings.
+    let twin_name = format!("{name}:reflection");
+    let defines: Vec<&str> = define.into_iter().chain(["LEAKLESS_REFLECTION"]).collect();
+    let (_, twin) = compile(compiler, stage, file, &twin_name, &defines, spirv_version)?;
+    match &twin.naga_error {
+        None => take_twin_layouts(file, (name, &mut info), (&twin_name, &twin))?,
+        Some(e) => println!("cargo:warning={name}: buffer layouts not reflected, so not checked: {e}"),
+    }
+    Ok((spirv, info))
+}
+
+/// Compiles one variant of `file` with `defines` and reflects it.
+fn compile(
+    compiler: &Compiler,
+    stage: Stage,
+    file: &str,
+    name: &str,
+    defines: &[&str],
+    spirv_version: SpirvVersion,
+) -> Result<(Vec<u32>, Info), String> {
+    let src = expand(file, defines)?;
     let source = ShaderSource::from(src.text.as_str());
     let options = CompilerOptions {
         source_language: SourceLanguage::GLSL,
@@ -194,10 +222,6 @@ fn build_module(
     // glslang's default SPIR-V options keep OpName / OpMemberName, which reflection needs.
     let spirv = shader.compile().map_err(fail)?;
     let info = reflect(&spirv, stage, file)?;
-    // A ray-query variant takes its layouts from its compute twin (`take_twin_layouts`).
-    if let (Some(e), false) = (&info.naga_error, define == Some("TRACE_RAYQUERY")) {
-        println!("cargo:warning={name}: buffer layouts not reflected, so not checked: {e}");
-    }
     Ok((spirv, info))
 }
 
@@ -231,6 +255,8 @@ fn map_log(log: &str, files: &[String], name: &str) -> String {
 /// What reflection found for one module.
 struct Info {
     workgroup_size: [u32; 3],
+    /// `SpecConstant { .. }` literals, by id.
+    spec_constants: Vec<String>,
     /// Ordered by (set, binding).
     bindings: Vec<Binding>,
     /// Why naga could not parse the module: its bindings come from the SPIR-V scan alone,
@@ -263,6 +289,16 @@ impl Binding {
 
 fn reflect(spirv: &[u32], stage: Stage, file: &str) -> Result<Info, String> {
     let scan = spirv_scan::scan(spirv).map_err(|e| format!("{DIR}/{file}: {e}"))?;
+    let spec_constants = scan
+        .spec_constants
+        .iter()
+        .map(|c| format!("SpecConstant {{ name: {:?}, id: {}, default: {} }}", c.name, c.id, c.default))
+        .collect();
+    // The scan's size: naga's ignores a `local_size_x_id` composite's defaults.
+    let workgroup_size = match stage {
+        Stage::Compute => scan.local_size,
+        _ => [1, 1, 1],
+    };
     let scanned: Vec<Binding> = scan
         .resources
         .into_iter()
@@ -282,20 +318,17 @@ fn reflect(spirv: &[u32], stage: Stage, file: &str) -> Result<Info, String> {
                 msg += " (naga cannot parse sampling through a combined image sampler; \
                         use a texture and a sampler)";
             }
-            let (workgroup_size, naga_error) = (scan.local_size, Some(msg));
+            let naga_error = Some(msg);
             let has_push_constants = scan.push_constants;
             return Ok(Info {
                 workgroup_size,
+                spec_constants,
                 bindings: scanned,
                 naga_error,
                 has_push_constants,
                 push_constants: None,
             });
         }
-    };
-    let workgroup_size = match stage {
-        Stage::Compute => module.entry_points[0].workgroup_size,
-        _ => [1, 1, 1],
     };
     let mut bindings = Vec::new();
     let mut push_constants = None;
@@ -339,7 +372,7 @@ fn reflect(spirv: &[u32], stage: Stage, file: &str) -> Result<Info, String> {
         return Err(format!("{DIR}/{file}: build.rs bug: the SPIR-V scan and naga disagree on push constants"));
     }
     let has_push_constants = scan.push_constants;
-    Ok(Info { workgroup_size, bindings, naga_error: None, has_push_constants, push_constants })
+    Ok(Info { workgroup_size, spec_constants, bindings, naga_error: None, has_push_constants, push_constants })
 }
 
 /// Gives a `:rayquery` module naga could not parse the buffer layouts of its `:compute` twin,
@@ -427,7 +460,9 @@ fn block_layout(module: &Module, ty: Handle<Type>) -> String {
 
 const HEADER: &str = "// Generated by build.rs from shaders-glsl/. Do not edit.
 #[allow(unused_imports)]
-use leakless_device::shader::{BindingAccess, BindingKind, BlockLayout, Member, ReflectedBinding, ShaderInfo, ShaderStage};
+use leakless_device::shader::{
+    BindingAccess, BindingKind, BlockLayout, Member, ReflectedBinding, ShaderInfo, ShaderStage, SpecConstant,
+};
 
 /// Gives `include_bytes!` data the alignment of `u32` so it can be viewed as SPIR-V words.
 #[repr(C, align(4))]
@@ -453,6 +488,7 @@ fn emit_static(code: &mut String, ident: &str, name: &str, stage: Stage, len: us
     };
     let workgroup_size = info.workgroup_size;
     let push_constants = info.push_constants.as_deref().unwrap_or("None");
+    let spec_constants = info.spec_constants.join(", ");
     writeln!(
         code,
         r#"
@@ -465,6 +501,7 @@ pub static {ident}: ShaderInfo = ShaderInfo {{
     // SAFETY: 4-byte aligned, {len} bytes of native-endian words.
     spirv: unsafe {{ core::slice::from_raw_parts({ident}_SPV.0.as_ptr().cast::<u32>(), {len} / 4) }},
     workgroup_size: {workgroup_size:?},
+    spec_constants: &[{spec_constants}],
     reflection: {reflection},
     push_constants: {push_constants},
 }};"#

@@ -1,5 +1,5 @@
 //! A minimal SPIR-V reader for build.rs: the descriptor bindings of a module (name, set,
-//! binding, kind, access qualifiers) and its workgroup size, read straight from the words. It covers what naga
+//! binding, kind, access qualifiers), its specialization constants and its workgroup size, read straight from the words. It covers what naga
 //! cannot: modules naga's SPIR-V front end rejects (ray queries), and combined image samplers,
 //! which naga folds into the image type. Buffer layouts are left to naga.
 //!
@@ -13,6 +13,12 @@ const MAGIC: u32 = 0x0723_0203;
 // Opcodes.
 const OP_NAME: u32 = 5;
 const OP_EXECUTION_MODE: u32 = 16;
+const OP_CONSTANT: u32 = 43;
+const OP_EXECUTION_MODE_ID: u32 = 331;
+const OP_SPEC_CONSTANT_TRUE: u32 = 48;
+const OP_SPEC_CONSTANT_FALSE: u32 = 49;
+const OP_SPEC_CONSTANT: u32 = 50;
+const OP_SPEC_CONSTANT_COMPOSITE: u32 = 51;
 const OP_TYPE_IMAGE: u32 = 25;
 const OP_TYPE_SAMPLER: u32 = 26;
 const OP_TYPE_SAMPLED_IMAGE: u32 = 27;
@@ -27,6 +33,7 @@ const OP_TYPE_ACCELERATION_STRUCTURE_KHR: u32 = 5341; // also OpTypeAcceleration
 
 // Execution mode.
 const LOCAL_SIZE: u32 = 17;
+const LOCAL_SIZE_ID: u32 = 38;
 
 // Image dimensions that are not images to leakless.
 const DIM_BUFFER: u32 = 5;
@@ -39,12 +46,17 @@ const PUSH_CONSTANT: u32 = 9;
 const STORAGE_BUFFER: u32 = 12;
 
 // Decorations.
+const SPEC_ID: u32 = 1;
 const BLOCK: u32 = 2;
+const BUILT_IN: u32 = 11;
 const BUFFER_BLOCK: u32 = 3;
 const BINDING: u32 = 33;
 const DESCRIPTOR_SET: u32 = 34;
 const NON_WRITABLE: u32 = 24;
 const NON_READABLE: u32 = 25;
+
+// Built-ins.
+const WORKGROUP_SIZE: u32 = 25;
 
 /// One descriptor binding of a module.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -61,13 +73,27 @@ pub struct Resource {
     pub access: &'static str,
 }
 
+/// A specialization constant of a module (`layout(constant_id = N) const uint NAME = D;`).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct SpecConstant {
+    /// Its `OpName`; the workgroup size's components (`local_size_x_id`) are named
+    /// `local_size_x`, `local_size_y`, `local_size_z`.
+    pub name: String,
+    pub id: u32,
+    /// The default value's bits (a bool is 0 or 1).
+    pub default: u32,
+}
+
 /// What [`scan`] found.
 pub struct Scan {
     /// Variables decorated with both `DescriptorSet` and `Binding` in the `UniformConstant`,
     /// `Uniform` and `StorageBuffer` storage classes, ordered by (set, binding).
     pub resources: Vec<Resource>,
-    /// `LocalSize` execution mode, `[1, 1, 1]` without one.
+    /// `LocalSize` execution mode, `[1, 1, 1]` without one; a `WorkgroupSize` built-in (from
+    /// `local_size_x_id`) overrides it with its components' defaults.
     pub local_size: [u32; 3],
+    /// Specialization constants, by id.
+    pub spec_constants: Vec<SpecConstant>,
     /// Whether the module declares a `push_constant` block.
     pub push_constants: bool,
 }
@@ -94,6 +120,11 @@ pub fn scan(words: &[u32]) -> Result<Scan, String> {
     let (mut vars, mut local_size) = (Vec::new(), [1; 3]);
     // `readonly` / `writeonly`: on the variable (images), or on every member of a block.
     let (mut qualified, mut members, mut member_count) = (HashMap::new(), HashMap::new(), HashMap::new());
+    // Specialization constants: id -> default, SpecId decorations, plain constants' values,
+    // the WorkgroupSize built-in's composite.
+    let (mut spec_values, mut spec_ids, mut constants) = (HashMap::new(), HashMap::new(), HashMap::new());
+    let (mut builtin_workgroup, mut composites) = (None, HashMap::new());
+    let mut local_size_ids: Option<Vec<u32>> = None;
     let mut i = 5; // after the header
     while i < words.len() {
         let (len, opcode) = ((words[i] >> 16) as usize, words[i] & 0xffff);
@@ -104,6 +135,15 @@ pub fn scan(words: &[u32]) -> Result<Scan, String> {
         match (opcode, w) {
             (OP_NAME, [id, s @ ..]) => _ = names.insert(*id, string(s)),
             (OP_EXECUTION_MODE, [_, LOCAL_SIZE, x, y, z]) => local_size = [*x, *y, *z],
+            (OP_CONSTANT, [_, id, value, ..]) => _ = constants.insert(*id, *value),
+            (OP_SPEC_CONSTANT, [_, id, value, ..]) => _ = spec_values.insert(*id, *value),
+            (OP_SPEC_CONSTANT_TRUE, [_, id]) => _ = spec_values.insert(*id, 1),
+            (OP_SPEC_CONSTANT_FALSE, [_, id]) => _ = spec_values.insert(*id, 0),
+            (OP_SPEC_CONSTANT_COMPOSITE, [_, id, parts @ ..]) => _ = composites.insert(*id, parts.to_vec()),
+            (OP_DECORATE, [id, SPEC_ID, spec]) => _ = spec_ids.insert(*id, *spec),
+            (OP_DECORATE, [id, BUILT_IN, WORKGROUP_SIZE]) => builtin_workgroup = Some(*id),
+            // SPIR-V >= 1.2 names the workgroup size's constants in the execution mode.
+            (OP_EXECUTION_MODE_ID, [_, LOCAL_SIZE_ID, x, y, z]) => local_size_ids = Some(vec![*x, *y, *z]),
             (OP_TYPE_IMAGE, [id, _, dim, _depth, _arrayed, _ms, sampled, ..]) => {
                 _ = types.insert(*id, Ty::Image { dim: *dim, sampled: *sampled })
             }
@@ -130,6 +170,43 @@ pub fn scan(words: &[u32]) -> Result<Scan, String> {
         }
         i += len;
     }
+
+    // One entry per SpecId: glslang may declare one id twice (SPIR-V 1.6 keeps the
+    // `gl_WorkGroupSize` composite besides the LocalSizeId operands), named once at most.
+    let mut spec_constants: Vec<SpecConstant> = Vec::new();
+    for (&id, &spec) in &spec_ids {
+        let Some(&default) = spec_values.get(&id) else {
+            return Err(format!("SpecId {spec} decorates something other than a scalar spec constant"));
+        };
+        let name = names.get(&id).cloned().unwrap_or_default();
+        match spec_constants.iter_mut().find(|c| c.id == spec) {
+            Some(c) if c.default != default => {
+                return Err(format!("SpecId {spec} has two defaults, {} and {default}", c.default))
+            }
+            Some(c) if c.name.is_empty() => c.name = name,
+            Some(_) => {}
+            None => spec_constants.push(SpecConstant { name, id: spec, default }),
+        }
+    }
+    let workgroup_parts = builtin_workgroup.and_then(|id| composites.get(&id).cloned()).or(local_size_ids);
+    if let Some(parts) = workgroup_parts {
+        for (axis, part) in parts.iter().enumerate().take(3) {
+            local_size[axis] = match (spec_values.get(part), constants.get(part)) {
+                (Some(&v), _) | (None, Some(&v)) => v,
+                _ => return Err("the WorkgroupSize built-in has a component that is not a constant".into()),
+            };
+            if let Some(&spec) = spec_ids.get(part) {
+                let name = format!("local_size_{}", ["x", "y", "z"][axis]);
+                if let Some(c) = spec_constants.iter_mut().find(|c| c.id == spec) {
+                    c.name = name;
+                }
+            }
+        }
+    }
+    if let Some(c) = spec_constants.iter().find(|c| c.name.is_empty()) {
+        return Err(format!("specialization constant {} has no name", c.id));
+    }
+    spec_constants.sort_by_key(|c| c.id);
 
     let mut resources = Vec::new();
     let push_constants = vars.iter().any(|&(_, _, class)| class == PUSH_CONSTANT);
@@ -188,7 +265,7 @@ pub fn scan(words: &[u32]) -> Result<Scan, String> {
         resources.push(Resource { name, set, binding, kind, access });
     }
     resources.sort_by(|a, b| (a.set, a.binding, &a.name).cmp(&(b.set, b.binding, &b.name)));
-    Ok(Scan { resources, local_size, push_constants })
+    Ok(Scan { resources, local_size, spec_constants, push_constants })
 }
 
 /// A SPIR-V literal string: UTF-8, nul-terminated, packed little-end first into words.

@@ -29,8 +29,11 @@
 #include "hierarchy.glsl"
 #include "photon.glsl"
 #include "disk.glsl"
+#include "counters.glsl"
 
+// One thread per view sample; the device tuning sets the workgroup size.
 layout(local_size_x = 64) in;
+layout(local_size_x_id = 0) in;
 
 GBUFFER_BINDINGS(0)
 layout(set = 0, binding = 3, std430) readonly buffer SortedKeys { uint keys[]; } sorted_keys;
@@ -75,15 +78,6 @@ layout(set = 0, binding = 14, std430) readonly buffer Clearances { Clearance ite
 // own surface exists and is seen; 1 when `visible_disk` is off.
 layout(set = 0, binding = 15, rgba32f) uniform readonly image2D disk_mass;
 
-// Adds to a 64-bit counter kept as two words (no 64-bit atomics needed).
-#define ADD64(LO, HI, VALUE)                          \
-    {                                                 \
-        uint before_ = atomicAdd(LO, VALUE);          \
-        if (before_ + (VALUE) < before_) {            \
-            atomicAdd(HI, 1u);                        \
-        }                                             \
-    }
-
 // Visibility segments run from the lifted sample `from` to a point straight above the photon,
 // at half its lift: on the photon's side of its own surface (a segment arriving from behind a
 // zero-thickness wall still crosses it), and on the photon's side of everything else too.
@@ -123,10 +117,16 @@ i64vec3 contribution_of(Photon ph, float d, float r) {
 // and after the walk. Traced where they arise, a SIMD group's lanes (the samples of one leaf,
 // walking the same lists) waited for whichever lane had a ray at that photon: with a tenth of
 // the segments unproven, more than half the steps of an 8-lane group traced a ray for one or
-// two lanes. Queued, the lanes trace their own segments side by side.
-#define RAY_QUEUE 64u
+// two lanes. Queued, the lanes trace their own segments side by side. Its length is the device
+// tuning's: 4 bytes of each thread's local memory per entry, cheap on a CPU, scarce on a GPU.
+#ifdef LEAKLESS_REFLECTION
+const uint RAY_QUEUE = 64u;  // naga sizes no array by a specialization constant
+#else
+layout(constant_id = 2) const uint RAY_QUEUE = 64u;
+#endif
+uint queue[RAY_QUEUE];  // photons whose segments wait for a ray
 
-void trace_queued(uint queue[RAY_QUEUE], uint count, vec3 x, vec3 from, float r, inout i64vec3 kept,
+void trace_queued(uint count, vec3 x, vec3 from, float r, inout i64vec3 kept,
                   inout i64vec3 lost, inout uint occluded, inout uint occluder) {
     for (uint i = 0u; i < count; ++i) {
         uint index = queue[i];
@@ -186,7 +186,6 @@ void main() {
     uint occluded = 0u;
     uint proven = 0u;
     uint occluder = NO_HIT;  // the surface that blocked this sample's last blocked segment
-    uint queue[RAY_QUEUE];   // photons whose segments wait for a ray
     uint queued = 0u;
     bool capped = false;
     // The lists of the leaf and its ancestors, walked as one sequence of (level, entry) that
@@ -234,7 +233,7 @@ void main() {
             proven += params.visibility != 0u ? 1u : 0u;
             kept += contribution_of(ph, d, r);
         }
-        trace_queued(queue, queued, x, from, r, kept, lost, occluded, occluder);
+        trace_queued(queued, x, from, r, kept, lost, occluded, occluder);
         queued = 0u;
         if (walked) {
             break;
@@ -247,10 +246,8 @@ void main() {
     imageStore(leaked, xy, vec4(albedo_over_pi * vec3(lost) / params.fixed_scale, 1.0));
     float rays = params.visibility != 0u ? float(accepted - proven) : 0.0;
     imageStore(gather_counts, xy, vec4(float(candidates), rays, float(occluded), 0.0));
-    atomicAdd(gather_counters.valid_samples, 1u);
-    if (capped) {
-        atomicAdd(gather_counters.capped_samples, 1u);
-    }
+    ADD_COUNT(gather_counters.valid_samples, 1u);
+    ADD_COUNT(gather_counters.capped_samples, capped ? 1u : 0u);
     ADD64(gather_counters.candidates_lo, gather_counters.candidates_hi, candidates);
     ADD64(gather_counters.accepted_lo, gather_counters.accepted_hi, accepted);
     ADD64(gather_counters.occluded_lo, gather_counters.occluded_hi, occluded);

@@ -11,6 +11,7 @@
 #include "random.glsl"
 #include "lowdiscrepancy.glsl"
 #include "photon.glsl"
+#include "counters.glsl"
 
 layout(local_size_x = 64) in;
 
@@ -122,7 +123,8 @@ vec3 sample_spot(Light light, vec2 u) {
 }
 
 void store_photon(Photon p) {
-    uint slot = atomicAdd(photon_counters.stored, 1u);
+    uint slot;
+    RESERVE_ONE(photon_counters.stored, slot);
     if (slot < params.capacity) {
         photons.photons[slot] = p;
     } else {
@@ -238,5 +240,5 @@ void main() {
             st = emit(params.ordered != 0u ? path_order.paths[taken] : taken);
         }
     }
-    atomicAdd(photon_counters.rays, rays);
+    ADD_COUNT(photon_counters.rays, rays);
 }

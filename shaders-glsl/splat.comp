@@ -11,6 +11,7 @@
 #include "common.glsl"
 #include "hierarchy.glsl"
 #include "photon.glsl"
+#include "counters.glsl"
 
 layout(local_size_x = 64) in;
 
@@ -47,7 +48,8 @@ float cone_gap(Node node, vec3 toward_light) {
 }
 
 void append(uint node, uint photon) {
-    uint slot = atomicAdd(splat_counters.entries_used, 1u);
+    uint slot;
+    RESERVE_ONE(splat_counters.entries_used, slot);
     if (slot >= params.capacity) {
         atomicAdd(splat_counters.entries_dropped, 1u);
         return;
@@ -126,9 +128,7 @@ void main() {
             }
         }
     }
-    atomicAdd(splat_counters.nodes_visited, visited);
+    ADD_COUNT(splat_counters.nodes_visited, visited);
     photon_listed.listed[photon_index] = listed ? 1u : 0u;
-    if (listed) {
-        atomicAdd(splat_counters.photons_listed, 1u);
-    }
+    ADD_COUNT(splat_counters.photons_listed, listed ? 1u : 0u);
 }

@@ -22,6 +22,7 @@ pub mod settings;
 pub mod shaders;
 pub mod splatting;
 pub mod trace;
+pub mod tuning;
 
 pub use error::{RenderError, Result};
 pub use leakless_device::{Gpu, GpuOptions};
@@ -30,3 +31,4 @@ pub use passes::tonemap::ViewLayer;
 pub use renderer::{Capture, DisplayTarget, FrameReport, Overlay, RenderedFrame, Renderer};
 pub use settings::{Method, RenderSettings, SplatSettings};
 pub use trace::{Backend, BackendChoice, ResolvedBackend};
+pub use tuning::{DeviceTuning, TuningChoice};

@@ -201,6 +201,7 @@ mod tests {
             max_storage_buffer_range: 1 << 27,
             max_buffer_size: 1 << 30,
             max_compute_work_group_count: [65535; 3],
+            max_compute_work_group_invocations: 1024,
             max_primitive_count: 1,
             device_local_heap: 1 << 32,
         }

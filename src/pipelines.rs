@@ -10,11 +10,12 @@ use std::collections::HashMap;
 use std::rc::Rc;
 
 use leakless_device::shader::ShaderInfo;
-use leakless_device::{BindingDecl, ComputePipeline, Gpu, RustLayout};
+use leakless_device::{BindingDecl, ComputePipeline, Gpu, RustLayout, Specialization};
 use leakless_graph::{PassName, PipelineTable};
 
 use crate::error::{RenderError, Result};
 use crate::trace::Backend;
+use crate::tuning::DeviceTuning;
 
 /// The module a compute pass runs.
 #[derive(Clone, Copy, Debug)]
@@ -38,12 +39,22 @@ pub struct ComputePassDef {
     /// The workgroup size the pass's dispatch arithmetic assumes, checked when the pipeline is
     /// made; `None` when it adapts to the shader's.
     pub workgroup: Option<[u32; 3]>,
+    /// The values of its specialization constants under a device tuning (`None`: the
+    /// module's defaults).
+    pub specialize: Option<fn(&DeviceTuning) -> Specialization>,
 }
 
 impl ComputePassDef {
     /// A pass that traces no rays, running `shader` on every backend.
     pub const fn any(name: PassName, shader: &'static ShaderInfo, bindings: &'static [&'static [BindingDecl]]) -> Self {
-        ComputePassDef { name, shader: PassShader::Any(shader), bindings, push: None, workgroup: None }
+        ComputePassDef {
+            name,
+            shader: PassShader::Any(shader),
+            bindings,
+            push: None,
+            workgroup: None,
+            specialize: None,
+        }
     }
 
     /// A pass that traces rays, with one module per backend (`rayquery`, `compute`).
@@ -53,7 +64,7 @@ impl ComputePassDef {
         bindings: &'static [&'static [BindingDecl]],
     ) -> Self {
         let shader = PassShader::PerBackend { rayquery, compute };
-        ComputePassDef { name, shader, bindings, push: None, workgroup: None }
+        ComputePassDef { name, shader, bindings, push: None, workgroup: None, specialize: None }
     }
 
     /// With a push-constant block of this layout.
@@ -64,6 +75,16 @@ impl ComputePassDef {
     /// Checked to have this workgroup size when its pipeline is made.
     pub const fn workgroup(self, size: [u32; 3]) -> Self {
         ComputePassDef { workgroup: Some(size), ..self }
+    }
+
+    /// Specialized per device tuning by `specialize`.
+    pub const fn specialize(self, specialize: fn(&DeviceTuning) -> Specialization) -> Self {
+        ComputePassDef { specialize: Some(specialize), ..self }
+    }
+
+    /// Its specialization under `tuning`.
+    pub fn specialization(&self, tuning: &DeviceTuning) -> Specialization {
+        self.specialize.map_or_else(Specialization::new, |f| f(tuning))
     }
 
     /// The module this pass runs on `backend`.
@@ -83,10 +104,13 @@ impl ComputePassDef {
         self.bindings.iter().copied().chain([trace]).flatten().copied().collect()
     }
 
-    /// Makes the pass's pipeline for `backend`, its bindings checked against reflection.
-    pub fn create(&self, gpu: &Gpu, backend: Backend) -> Result<ComputePipeline> {
+    /// Makes the pass's pipeline for `backend` under `tuning`, its bindings checked against
+    /// reflection.
+    pub fn create(&self, gpu: &Gpu, backend: Backend, tuning: &DeviceTuning) -> Result<ComputePipeline> {
         let shader = self.shader(backend);
-        let pipeline = ComputePipeline::new(gpu, self.name.label, shader, &self.decls(backend), self.push.as_ref())?;
+        let spec = self.specialization(tuning);
+        let pipeline =
+            ComputePipeline::new(gpu, self.name.label, shader, &self.decls(backend), self.push.as_ref(), &spec)?;
         match self.workgroup {
             Some(want) if pipeline.workgroup_size() != want => Err(RenderError::Settings(format!(
                 "{} has workgroup size {:?}; the {} pass dispatches for {want:?}",
@@ -104,15 +128,22 @@ impl ComputePassDef {
 /// between the backends' tables.
 pub struct Pipelines {
     defs: &'static [&'static ComputePassDef],
+    tuning: DeviceTuning,
     /// Each module's pipeline and the definition that made it.
     by_module: HashMap<&'static str, (PassName, Rc<ComputePipeline>)>,
     tables: [PipelineTable; 2],
 }
 
 impl Pipelines {
-    /// The pipelines of `defs` on `backend`.
-    pub fn new(gpu: &Gpu, defs: &'static [&'static ComputePassDef], backend: Backend) -> Result<Pipelines> {
-        let mut pipelines = Pipelines { defs, by_module: HashMap::new(), tables: Default::default() };
+    /// The pipelines of `defs` on `backend`, specialized for `tuning`.
+    pub fn new(
+        gpu: &Gpu,
+        defs: &'static [&'static ComputePassDef],
+        backend: Backend,
+        tuning: &DeviceTuning,
+    ) -> Result<Pipelines> {
+        let mut pipelines =
+            Pipelines { defs, tuning: tuning.clone(), by_module: HashMap::new(), tables: Default::default() };
         pipelines.prepare(gpu, backend)?;
         Ok(pipelines)
     }
@@ -135,12 +166,17 @@ impl Pipelines {
                     )))
                 }
                 Some((_, made)) => made.clone(),
-                None => Rc::new(def.create(gpu, backend)?),
+                None => Rc::new(def.create(gpu, backend, &self.tuning)?),
             };
             self.by_module.insert(module, (def.name, pipeline.clone()));
             table.insert(def.name, pipeline);
         }
         Ok(())
+    }
+
+    /// The tuning they were specialized for.
+    pub fn tuning(&self) -> &DeviceTuning {
+        &self.tuning
     }
 
     /// The pipelines of the passes on `backend`, for a frame's graph

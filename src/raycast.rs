@@ -14,6 +14,7 @@ use crate::passes::names;
 use crate::passes::raycast::{self, RAYCAST};
 use crate::pipelines::{ComputePassDef, Pipelines};
 use crate::trace::{Backend, TraceScene};
+use crate::tuning::{DeviceTuning, TuningChoice};
 
 /// What a [`RayCaster`] runs.
 static PASSES: &[&ComputePassDef] = &[&RAYCAST];
@@ -48,7 +49,7 @@ impl<'g> RayCaster<'g> {
             scene: gpu_scene,
             trace,
             pose,
-            pipelines: Pipelines::new(gpu, PASSES, backend)?,
+            pipelines: Pipelines::new(gpu, PASSES, backend, &DeviceTuning::choose(gpu.report(), TuningChoice::Auto))?,
             backend,
             runner,
         })

@@ -4,6 +4,7 @@
 use crate::error::{RenderError, Result};
 pub use crate::splatting::SplatSettings;
 use crate::trace::BackendChoice;
+use crate::tuning::TuningChoice;
 
 /// What to render and how.
 #[derive(Clone, Debug, PartialEq)]
@@ -30,6 +31,8 @@ pub struct RenderSettings {
     /// hierarchy, visible disk, direct light) is shared by more photons. 1: every frame traces
     /// `paths` paths.
     pub max_batches: u32,
+    /// Which device tuning (`--tuning`): the device's own, or the CPU's or the GPU's preset.
+    pub tuning: TuningChoice,
 }
 
 /// What computes the indirect light (docs/architecture.md §2).
@@ -87,6 +90,7 @@ impl Default for RenderSettings {
             splat: SplatSettings::default(),
             frames: 1,
             max_batches: DEFAULT_MAX_BATCHES,
+            tuning: TuningChoice::Auto,
         }
     }
 }
@@ -176,9 +180,10 @@ impl RenderSettings {
             Method::Splat | Method::LeakLessCapped | Method::LeakLess => {
                 let p = self.photon_settings().expect("a photon method");
                 let radius = p.radius.map_or("auto".to_string(), |r| r.to_string());
+                let branching = p.branching.map_or("auto".to_string(), |b| b.to_string());
                 s += &format!(
-                    " paths={} radius={radius} branching={} trivial_accept={} visibility={} max_bounces={} seed={}",
-                    p.paths, p.branching, p.trivial_accept, p.visibility, self.max_bounces, self.seed
+                    " paths={} radius={radius} branching={branching} trivial_accept={} visibility={} max_bounces={} seed={}",
+                    p.paths, p.trivial_accept, p.visibility, self.max_bounces, self.seed
                 );
                 if let Some(cap) = p.cap {
                     s += &format!(" cap={cap}");

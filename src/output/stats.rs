@@ -34,6 +34,8 @@ pub struct Stats {
     pub backend: String,
     /// Why that backend (`auto`'s choice, or the flag that forced it).
     pub backend_why: String,
+    /// What the renderer tuned to the device.
+    pub tuning: crate::tuning::DeviceTuning,
     pub method: String,
     pub parameters: String,
     pub width: u32,
@@ -45,7 +47,11 @@ pub struct Stats {
     #[serde(skip_serializing_if = "Option::is_none")]
     pub splat: Option<crate::splatting::SplatStats>,
     pub passes: Vec<PassTime>,
+    /// The passes' GPU times summed.
     pub frame_gpu_ms: f64,
+    /// The frames' GPU time from first pass start to last pass end (`tuning.timing` =
+    /// timestamps: the frame's time on the device).
+    pub frame_gpu_span_ms: f64,
     /// Host wall-clock time of the whole render (submission to completion).
     pub frame_wall_ms: f64,
     /// Reference samples (or photon frames) in the image.
@@ -78,6 +84,7 @@ impl Stats {
             driver: device.driver.clone(),
             backend: renderer.backend().name().into(),
             backend_why: renderer.backend_why().into(),
+            tuning: renderer.tuning().clone(),
             method: settings.method.name().into(),
             parameters: settings.describe(),
             width: frame.width,
@@ -92,6 +99,7 @@ impl Stats {
             },
             splat: frame.splat.clone(),
             frame_gpu_ms: frame.timings.iter().map(|t| t.ms).sum(),
+            frame_gpu_span_ms: frame.gpu_span_ms,
             frame_wall_ms: frame.wall_ms,
             accumulated: frame.accumulated,
             batches: frame.batches,

@@ -111,7 +111,8 @@ pub static GATHER: ComputePassDef = ComputePassDef::traced(
     (&shaders::GATHER_COMP_RAYQUERY, &shaders::GATHER_COMP_COMPUTE),
     &[GatherBindings::DECLS, GBufferBindings::DECLS, SceneBindings::DECLS],
 )
-.push(GatherParams::LAYOUT);
+.push(GatherParams::LAYOUT)
+.specialize(crate::tuning::DeviceTuning::gather);
 
 /// The photons the gather reads, and how.
 pub struct GatherInputs<'a> {

@@ -45,7 +45,8 @@ impl HangPass {
             eprintln!("warning: LEAKLESS_FAULT_HANG is ignored: fault injection exists in debug builds only");
             return Ok(None);
         }
-        let pipeline = HANG.create(gpu, crate::trace::Backend::Compute)?; // it traces nothing
+        // It traces nothing and has no specialization constants.
+        let pipeline = HANG.create(gpu, crate::trace::Backend::Compute, &crate::DeviceTuning::cpu())?;
         let release = Buffer::new(
             gpu,
             &BufferDesc {

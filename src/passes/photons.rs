@@ -25,6 +25,7 @@ use crate::photon_lights::{upload_lights, LightHandles, LightTable};
 use crate::pipelines::{ComputePassDef, Pipelines};
 use crate::shaders;
 use crate::trace::{Backend, TraceHandles, TraceScene};
+use crate::tuning::{DeviceTuning, TuningChoice};
 
 gpu_struct! {
     /// `struct Photon` of photon.glsl: 64 bytes, std430.
@@ -130,7 +131,8 @@ pub struct PhotonParams {
     /// stored in another order, sooner. Off for `leakless-capped`, whose cap keeps the first
     /// photons of a list: in emission order they would come from one part of the light.
     pub emission_order: bool,
-    /// Paths each thread traces; `None`: the device's choice ([`paths_per_thread`]). Tests
+    /// Paths each thread traces; `None`: the device tuning's
+    /// ([`DeviceTuning::paths_per_thread`]). Tests
     /// trace the same paths both ways on one device.
     pub paths_per_thread: Option<u32>,
 }
@@ -165,20 +167,6 @@ pub const COUNTER_BUFFER_USAGE: vk::BufferUsageFlags = vk::BufferUsageFlags::fro
         | vk::BufferUsageFlags::TRANSFER_SRC.as_raw(),
 );
 
-/// Paths each thread traces on a CPU device ([`paths_per_thread`]).
-const PATHS_PER_CPU_THREAD: u32 = 8;
-
-/// Paths each thread traces on `gpu`, a choice made per device: on a CPU device (lavapipe) a
-/// SIMD group runs until its longest path ends, so each thread traces about
-/// `PATHS_PER_CPU_THREAD` paths, taking the next when one ends; a GPU keeps one path per
-/// thread, since it needs every thread it can get in flight.
-pub fn paths_per_thread(gpu: &Gpu) -> u32 {
-    match gpu.report().device_type {
-        leakless_device::DeviceType::Cpu => PATHS_PER_CPU_THREAD,
-        _ => 1,
-    }
-}
-
 const PHOTON_COUNTERS: PassName = PassName::new("photon counters", group::PHOTONS);
 
 pub static PHOTONS: ComputePassDef = ComputePassDef::traced(
@@ -186,15 +174,18 @@ pub static PHOTONS: ComputePassDef = ComputePassDef::traced(
     (&shaders::PHOTONS_COMP_RAYQUERY, &shaders::PHOTONS_COMP_COMPUTE),
     &[PhotonBindings::DECLS, SceneBindings::DECLS],
 )
-.push(PhotonPush::LAYOUT);
+.push(PhotonPush::LAYOUT)
+.specialize(DeviceTuning::counters);
 
 /// Adds two passes: "photon counters" zeroes `counters` (a transfer), then "photons"
 /// traces `params.paths` light paths, appending at most `capacity` photons to `photons`
-/// and counting them in `counters` ([`PhotonCounters`]).
+/// and counting them in `counters` ([`PhotonCounters`]), `tuning.paths_per_thread` paths a
+/// thread unless `params` says otherwise.
 #[allow(clippy::too_many_arguments)]
 pub fn add<'r>(
     graph: &mut Graph<'r>,
     params: &PhotonParams,
+    tuning: &DeviceTuning,
     scene: &SceneHandles,
     trace: &TraceHandles,
     lights: &LightHandles,
@@ -217,7 +208,7 @@ pub fn add<'r>(
             counters.size()
         )));
     }
-    let per_thread = params.paths_per_thread.unwrap_or_else(|| paths_per_thread(graph.gpu())).max(1);
+    let per_thread = params.paths_per_thread.unwrap_or(tuning.paths_per_thread).max(1);
     // No emitting light, or no path: nothing to trace (the counters still read zero).
     let paths = if table.emits() { params.paths } else { 0 };
     let push = PhotonPush {
@@ -306,7 +297,7 @@ pub struct PhotonTracer<'g> {
     bounds: leakless_scene::Aabb,
     pipelines: Pipelines,
     backend: Backend,
-    /// Paths per thread, when a test overrides the device's choice.
+    /// Paths per thread, when a test overrides the tuning's.
     paths_per_thread: Option<u32>,
     capacity: u32,
     photons: Buffer,
@@ -346,7 +337,12 @@ impl<'g> PhotonTracer<'g> {
             pose,
             lights: scene.lights.clone(),
             bounds: scene.bounds(),
-            pipelines: Pipelines::new(gpu, TRACER_PASSES, backend)?,
+            pipelines: Pipelines::new(
+                gpu,
+                TRACER_PASSES,
+                backend,
+                &DeviceTuning::choose(gpu.report(), TuningChoice::Auto),
+            )?,
             backend,
             paths_per_thread: None,
             capacity,
@@ -356,7 +352,7 @@ impl<'g> PhotonTracer<'g> {
         })
     }
 
-    /// Paths each thread traces, overriding the device's choice ([`PhotonParams`]).
+    /// Paths each thread traces, overriding the device tuning's ([`PhotonParams`]).
     pub fn set_paths_per_thread(&mut self, paths_per_thread: u32) {
         self.paths_per_thread = Some(paths_per_thread.max(1));
     }
@@ -412,7 +408,17 @@ impl<'g> PhotonTracer<'g> {
         let mut counters = graph.import_buffer(&self.counters);
         // The pass writes up to the capacity, never into the guard after it.
         let params = PhotonParams { paths_per_thread: params.paths_per_thread.or(self.paths_per_thread), ..*params };
-        add(&mut graph, &params, &scene, &trace, &lights, &mut photons, capacity, &mut counters)?;
+        add(
+            &mut graph,
+            &params,
+            self.pipelines.tuning(),
+            &scene,
+            &trace,
+            &lights,
+            &mut photons,
+            capacity,
+            &mut counters,
+        )?;
         let mut clearance = clearance_buffer.as_ref().map(|b| graph.import_buffer(b));
         if let (Some(out), Some(radius)) = (&mut clearance, clearance_radius) {
             let dispatch = photon_dispatch::add(&mut graph, &counters, capacity)?;

@@ -120,7 +120,8 @@ const SPLAT_CLEAR: PassName = PassName::new("splat clear", group::SPLAT);
 pub static SPLAT: ComputePassDef =
     ComputePassDef::any(PassName::new("splat", group::SPLAT), &shaders::SPLAT_COMP, &[SplatBindings::DECLS])
         .push(SplatParams::LAYOUT)
-        .workgroup([PHOTON_WORKGROUP, 1, 1]);
+        .workgroup([PHOTON_WORKGROUP, 1, 1])
+        .specialize(crate::tuning::DeviceTuning::counters);
 
 pub fn add<'r>(
     graph: &mut Graph<'r>,

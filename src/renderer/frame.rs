@@ -82,6 +82,8 @@ impl Renderer {
             if !(radius.is_finite() && radius > 0.0) {
                 return Err(crate::RenderError::Settings(format!("--radius {radius} must be a positive number")));
             }
+            let tuning = self.pipelines.tuning().clone();
+            settings.branching.get_or_insert(tuning.branching);
             let batch_paths = settings.paths;
             // Within limits::max_frame_paths: the batches are clamped to it, and check() holds
             // one batch to it.
@@ -103,6 +105,7 @@ impl Renderer {
                 },
                 batches: frame_batches,
                 bounds: self.scene.bounds(),
+                tuning,
             });
         }
         let jitter = if progressive { pixel_jitter(index) } else { glam::Vec2::ZERO };
@@ -380,6 +383,7 @@ impl Renderer {
             method: pending.method,
             // A pass split into several dispatches (the reference's) reports once.
             timings: super::readback::merged_by_name(&done.timings),
+            gpu_span_ms: done.span_ms,
             splat,
             luminance: counters.luminance,
             accumulated: pending.accumulated,

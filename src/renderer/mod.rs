@@ -41,6 +41,7 @@ use crate::scene_pose::ScenePose;
 use crate::settings::{Method, RenderSettings};
 use crate::splatting::{default_list_capacity, SplatFrame, SplatStats};
 use crate::trace::{Backend, BackendChoice, ResolvedBackend, TraceScene, TraceStats};
+use crate::tuning::DeviceTuning;
 
 /// Frames the renderer keeps in flight: the host records one while the GPU runs the other.
 pub const FRAMES_IN_FLIGHT: usize = 2;
@@ -82,6 +83,9 @@ pub struct FrameReport {
     pub seed: u32,
     pub method: Method,
     pub timings: Vec<PassTiming>,
+    /// The frame's GPU time, first pass's start to last pass's end
+    /// ([`CompletedFrame::span_ms`](leakless_graph::CompletedFrame::span_ms)).
+    pub gpu_span_ms: f64,
     pub splat: Option<SplatStats>,
     pub luminance: LuminanceStats,
     /// Samples (reference) or frames accumulated in the image.
@@ -138,7 +142,15 @@ pub struct Renderer {
 
 impl Renderer {
     pub fn new(gpu: Gpu, scene: &Scene, settings: RenderSettings) -> Result<Renderer> {
+        let tuning = DeviceTuning::choose(gpu.report(), settings.tuning);
+        Self::with_tuning(gpu, scene, settings, tuning)
+    }
+
+    /// A renderer with a tuning of the caller's (the GPU report's sweeps; tests of each of its
+    /// code paths) rather than `settings.tuning`'s preset.
+    pub fn with_tuning(gpu: Gpu, scene: &Scene, settings: RenderSettings, tuning: DeviceTuning) -> Result<Renderer> {
         settings.validate()?;
+        tuning.validate(gpu.report())?;
         let resolved = resolve(&gpu, settings.backend)?;
         crate::limits::check(&settings, scene, resolved.backend, &gpu.report().limits)?;
         let gpu_scene = GpuScene::upload(&gpu, scene)?;
@@ -148,7 +160,7 @@ impl Renderer {
             tonemaps: vec![TonemapPass::new(&gpu, readback::DISPLAY_FORMAT)?],
             hang: HangPass::from_env(&gpu)?,
         };
-        let pipelines = Pipelines::new(&gpu, FRAME_PASSES, resolved.backend)?;
+        let pipelines = Pipelines::new(&gpu, FRAME_PASSES, resolved.backend, &tuning)?;
         let mut runner = GraphRunner::new(&gpu, FRAMES_IN_FLIGHT)?;
         if let Some(hang) = &passes.hang {
             hang.release_on_device_lost(&mut runner);
@@ -201,6 +213,11 @@ impl Renderer {
             default_list_capacity(photons, s.width * s.height)
                 .min(crate::limits::max_list_entries(&self.gpu.report().limits))
         })
+    }
+
+    /// What the renderer tunes to its device ([`DeviceTuning`]).
+    pub fn tuning(&self) -> &DeviceTuning {
+        self.pipelines.tuning()
     }
 
     pub fn gpu(&self) -> &Gpu {
@@ -277,6 +294,11 @@ impl Renderer {
         settings.validate()?;
         let backend = resolve(&self.gpu, settings.backend)?;
         crate::limits::check(&settings, &self.scene, backend.backend, &self.gpu.report().limits)?;
+        if settings.tuning != self.settings.tuning {
+            let tuning = DeviceTuning::choose(self.gpu.report(), settings.tuning);
+            self.gpu.wait_idle()?; // the pipelines of frames in flight
+            self.pipelines = Pipelines::new(&self.gpu, FRAME_PASSES, backend.backend, &tuning)?;
+        }
         self.prepare_backend(backend.backend)?;
         let capacity_inputs =
             |s: &RenderSettings| (s.splat.paths, s.max_bounces, s.width, s.height, s.splat.list_capacity);

@@ -40,6 +40,9 @@ pub struct RenderedFrame {
     /// Per-pass times, summed over the frames that made the image (a reference image
     /// accumulates its samples over several).
     pub timings: Vec<PassTiming>,
+    /// GPU time of the frames that made the image, each from its first pass's start to its
+    /// last pass's end, summed: the frame time on a GPU (with `Timing::Timestamps`).
+    pub gpu_span_ms: f64,
     /// Host wall-clock time of the whole render.
     pub wall_ms: f64,
     /// What the photon method counted, for methods that splat.
@@ -78,6 +81,7 @@ impl Renderer {
         let frames = self.settings.frames.max(1);
         let total = if self.settings.method == Method::Reference && frames == 1 { self.settings.spp } else { frames };
         let mut timings = Timings::default();
+        let mut gpu_span_ms = 0.0;
         // Reference samples in submissions of about half a second: responsive progress, few
         // submissions, far from the lost-device timeout. Each waits, to measure the next.
         let mut chunk = 1;
@@ -91,9 +95,12 @@ impl Renderer {
             if self.accumulated == 0 {
                 // The lists grew and the image restarted: its passes' times start again too.
                 timings = Timings::default();
+                gpu_span_ms = 0.0;
                 continue;
             }
-            timings.add(&self.last.as_ref().expect("a frame completed").timings);
+            let last = self.last.as_ref().expect("a frame completed");
+            timings.add(&last.timings);
+            gpu_span_ms += last.gpu_span_ms;
             progress(self.accumulated.min(total), total);
             let per_sample = t.elapsed().as_secs_f64() * 1e3 / chunk as f64;
             // Photon frames go one per submission (a frame is one unit of accumulation).
@@ -105,6 +112,7 @@ impl Renderer {
         let report = self.last.clone().expect("a frame completed");
         let mut frame = self.read_layers(&report)?;
         frame.timings = timings.0;
+        frame.gpu_span_ms = gpu_span_ms;
         frame.wall_ms = start.elapsed().as_secs_f64() * 1e3;
         Ok(frame)
     }
@@ -141,6 +149,7 @@ impl Renderer {
             leaked: layer(3),
             display,
             timings: report.timings.clone(),
+            gpu_span_ms: report.gpu_span_ms,
             wall_ms: report.wall_ms,
             splat: report.splat.clone(),
             accumulated: report.accumulated,

@@ -38,6 +38,7 @@ use crate::passes::splat::{self, NodeListHandles, SplatInputs};
 use crate::passes::visible_disk::{self, VisibleDiskParams};
 use crate::passes::ViewInputs;
 use crate::photon_lights::LightHandles;
+use crate::tuning::DeviceTuning;
 
 /// What one frame's photon part does: the method's settings resolved for this frame.
 #[derive(Clone, Debug)]
@@ -61,9 +62,16 @@ pub struct SplatFrame {
     pub batches: u32,
     /// The scene's bounds, over which the photons are ordered.
     pub bounds: Aabb,
+    /// The device tuning's choices (paths per thread, the two orders, the default branching).
+    pub tuning: DeviceTuning,
 }
 
 impl SplatFrame {
+    /// The hierarchy's branching factor: the settings', else the tuning's.
+    pub fn branching(&self) -> u32 {
+        self.settings.branching.unwrap_or(self.tuning.branching)
+    }
+
     /// Photons the buffer holds: every path stores at most `max_bounces`, so it cannot
     /// overflow.
     pub fn photon_capacity(&self) -> Result<u32> {
@@ -105,15 +113,25 @@ pub fn add<'r>(
         path_offset: frame.path_offset,
         // leakless-capped keeps the first photons of each list: in either order they would
         // come from one part of the light or of the disk, not from all over it.
-        emission_order: frame.settings.cap.is_none(),
+        emission_order: frame.settings.cap.is_none() && frame.tuning.emission_order,
         paths_per_thread: None,
     };
-    photons::add(graph, &params, input.scene, input.trace, lights, &mut photons, capacity, &mut photon_counters)?;
+    photons::add(
+        graph,
+        &params,
+        &frame.tuning,
+        input.scene,
+        input.trace,
+        lights,
+        &mut photons,
+        capacity,
+        &mut photon_counters,
+    )?;
 
     let dispatch = photon_dispatch::add(graph, &photon_counters, capacity)?;
     // Not for leakless-capped either: its cap keeps a list's first photons, which in cell order
     // would come from one side of the disk.
-    if frame.settings.order_photons && frame.settings.cap.is_none() {
+    if frame.settings.order_photons && frame.tuning.photon_order && frame.settings.cap.is_none() {
         let desc = photon_buffer(ORDERED_PHOTONS, photon_buffer_size(capacity), PHOTON_BUFFER_USAGE);
         let mut ordered = graph.buffer(&desc)?;
         photon_order::add(graph, &photons, &photon_counters, &dispatch, &frame.bounds, &mut ordered)?;
@@ -121,7 +139,7 @@ pub fn add<'r>(
     }
 
     let extent = input.gbuffer.position.extent();
-    let shape = Shape::new(extent.width * extent.height, frame.settings.branching)?;
+    let shape = Shape::new(extent.width * extent.height, frame.branching())?;
     // Each sample's visible share of the kernel's disk (leakless), or 1, and its gather radius,
     // which the hierarchy's nodes bound.
     let visible_disk = frame.settings.visibility && frame.settings.visible_disk;

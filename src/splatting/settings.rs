@@ -7,8 +7,9 @@ pub struct SplatSettings {
     pub paths: u32,
     /// Gather radius in scene units; `None` = 5% of the scene's bounding-sphere radius.
     pub radius: Option<f32>,
-    /// Branching factor B of the hierarchy.
-    pub branching: u32,
+    /// Branching factor B of the hierarchy; `None`: the device tuning's
+    /// ([`DeviceTuning::branching`](crate::tuning::DeviceTuning::branching)).
+    pub branching: Option<u32>,
     /// List a photon on an enveloped, facing node instead of descending (Moreau et al.).
     pub trivial_accept: bool,
     /// Node-list entries per frame; more are counted as dropped, never written.
@@ -49,7 +50,7 @@ impl Default for SplatSettings {
         SplatSettings {
             paths: 10_000,
             radius: None,
-            branching: 8,
+            branching: None,
             trivial_accept: true,
             list_capacity: None,
             visibility: false,

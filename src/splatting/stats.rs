@@ -59,7 +59,7 @@ impl SplatStats {
         SplatStats {
             paths: frame.settings.paths,
             radius: frame.radius,
-            branching: frame.settings.branching,
+            branching: frame.branching(),
             trivial_accept: frame.settings.trivial_accept,
             photons_stored: photons.stored,
             photons_dropped: photons.overflowed,

@@ -24,5 +24,6 @@ mod sort;
 mod splat;
 mod stress;
 mod trace;
+mod tuning;
 mod view;
 mod visibility;

@@ -44,7 +44,8 @@ struct Sorter {
 impl Sorter {
     fn new() -> Option<Sorter> {
         let gpu = common::gpu_with(false)?;
-        let pipelines = Pipelines::new(&gpu, SORT_PASSES, Backend::Compute).expect("sort pipelines");
+        let tuning = leakless::DeviceTuning::choose(gpu.report(), leakless::TuningChoice::Auto);
+        let pipelines = Pipelines::new(&gpu, SORT_PASSES, Backend::Compute, &tuning).expect("sort pipelines");
         let runner = GraphRunner::new(&gpu, 1).expect("graph runner");
         Some(Sorter { gpu, pipelines, runner })
     }

@@ -65,7 +65,7 @@ fn hierarchy_gather_equals_brute_force_with_and_without_trivial_accept() {
             let splat = SplatSettings {
                 paths: 3000,
                 radius: Some(radius),
-                branching,
+                branching: Some(branching),
                 trivial_accept,
                 list_capacity: Some(1 << 22),
                 ..Default::default()

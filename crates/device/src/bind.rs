@@ -192,6 +192,7 @@ mod tests {
         stage: ShaderStage::Compute,
         spirv: &[],
         workgroup_size: [8, 8, 1],
+        spec_constants: &[],
         reflection: Ok(REFLECTED),
         push_constants: Some(BlockLayout { size: 32, members: MEMBERS, array_stride: None, element_members: &[] }),
     };
@@ -268,6 +269,7 @@ mod push_tests {
         stage: ShaderStage::Compute,
         spirv: &[],
         workgroup_size: [64, 1, 1],
+        spec_constants: &[],
         reflection: Ok(&[]),
         push_constants: Some(BlockLayout { size: 8, members: MEMBERS, array_stride: None, element_members: &[] }),
     };

@@ -360,7 +360,9 @@ fn create_device(
         .host_query_reset(true)
         .buffer_device_address(ray_tracing)
         .scalar_block_layout(false);
-    let mut f13 = vk::PhysicalDeviceVulkan13Features::default().dynamic_rendering(true).synchronization2(true);
+    // maintenance4: the gather's workgroup size is a specialization constant (LocalSizeId in SPIR-V 1.6).
+    let mut f13 =
+        vk::PhysicalDeviceVulkan13Features::default().dynamic_rendering(true).synchronization2(true).maintenance4(true);
     let mut fas = vk::PhysicalDeviceAccelerationStructureFeaturesKHR::default().acceleration_structure(true);
     let mut frq = vk::PhysicalDeviceRayQueryFeaturesKHR::default().ray_query(true);
     let mut info = vk::DeviceCreateInfo::default()

@@ -35,7 +35,7 @@ pub use error::{DeviceError, Result};
 pub use gpu::{Capabilities, Gpu, GpuOptions, RawVulkan, WindowHandles};
 pub use layout::{GpuStruct, RustLayout};
 pub use memory::{Buffer, BufferDesc, Image, ImageDesc, MemoryLocation};
-pub use pipeline::{ColorTarget, ComputePipeline, GraphicsDesc, GraphicsPipeline, VertexLayout};
+pub use pipeline::{ColorTarget, ComputePipeline, GraphicsDesc, GraphicsPipeline, Specialization, VertexLayout};
 pub use query::TimestampPool;
 pub use select::{DeviceLimits, DeviceReport, DeviceType};
 pub use shader::BindingAccess;

@@ -6,7 +6,7 @@ use std::sync::Arc;
 use ash::vk;
 
 use crate::bind::{check_bindings, check_push_constants, BindingDecl};
-use crate::error::{Result, VkContext};
+use crate::error::{DeviceError, Result, VkContext};
 use crate::gpu::{Gpu, Shared};
 use crate::layout::RustLayout;
 use crate::shader::{ShaderInfo, ShaderStage};
@@ -88,6 +88,63 @@ fn shader_module(gpu: &Gpu, shader: &ShaderInfo) -> Result<vk::ShaderModule> {
     Ok(module)
 }
 
+/// Values for a module's specialization constants, by name (the GLSL's
+/// `layout(constant_id = N) const uint NAME`; `local_size_x` for a `local_size_x_id` workgroup
+/// size). A constant left out keeps its default.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct Specialization {
+    pub values: Vec<(&'static str, u32)>,
+}
+
+impl Specialization {
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// With `name` set to `value` (a bool as 0 or 1).
+    pub fn with(mut self, name: &'static str, value: u32) -> Self {
+        self.values.retain(|(n, _)| *n != name);
+        self.values.push((name, value));
+        self
+    }
+
+    /// The value `name` gets in `shader`: this specialization's, else the module's default.
+    pub fn value(&self, shader: &ShaderInfo, name: &str) -> Option<u32> {
+        let default = shader.spec_constants.iter().find(|c| c.name == name)?.default;
+        Some(self.values.iter().find(|(n, _)| *n == name).map_or(default, |&(_, v)| v))
+    }
+
+    /// The (id, value) entries for `shader`; an error names a constant the module lacks.
+    fn entries(&self, shader: &ShaderInfo, pass: &str) -> Result<Vec<(u32, u32)>> {
+        self.values
+            .iter()
+            .map(|&(name, value)| match shader.spec_constants.iter().find(|c| c.name == name) {
+                Some(c) => Ok((c.id, value)),
+                None => Err(DeviceError::Binding {
+                    shader: shader.name,
+                    binding: name.to_string(),
+                    pass: pass.to_string(),
+                    problem: format!(
+                        "no such specialization constant (the module has: {})",
+                        shader.spec_constants.iter().map(|c| c.name).collect::<Vec<_>>().join(", ")
+                    ),
+                }),
+            })
+            .collect()
+    }
+
+    /// `shader`'s workgroup size under this specialization.
+    pub fn workgroup_size(&self, shader: &ShaderInfo) -> [u32; 3] {
+        let mut size = shader.workgroup_size;
+        for (axis, name) in ["local_size_x", "local_size_y", "local_size_z"].into_iter().enumerate() {
+            if let Some(v) = self.value(shader, name) {
+                size[axis] = v;
+            }
+        }
+        size
+    }
+}
+
 pub struct ComputePipeline {
     raw: vk::Pipeline,
     pub(crate) layout: Layout,
@@ -97,24 +154,40 @@ pub struct ComputePipeline {
 }
 
 impl ComputePipeline {
-    /// Builds the pipeline of pass `pass` from `shader`, checking `decls` and the push-constant
-    /// block `push` (`None`: the pass pushes nothing) against the shader's reflection.
+    /// Builds the pipeline of pass `pass` from `shader` specialized with `spec`, checking
+    /// `decls` and the push-constant block `push` (`None`: the pass pushes nothing) against the
+    /// shader's reflection.
     pub fn new(
         gpu: &Gpu,
         pass: &str,
         shader: &ShaderInfo,
         decls: &[BindingDecl],
         push: Option<&RustLayout>,
+        spec: &Specialization,
     ) -> Result<Self> {
         assert_eq!(shader.stage, ShaderStage::Compute, "{} is not a compute shader", shader.name);
         let numbers = check_bindings(shader, pass, decls)?;
         let push_size = check_push_constants(shader, pass, push)?;
+        let entries = spec.entries(shader, pass)?;
+        let workgroup_size = spec.workgroup_size(shader);
+        let most = gpu.report().limits.max_compute_work_group_invocations;
+        if workgroup_size.iter().product::<u32>() > most {
+            return Err(DeviceError::Limit(format!(
+                "pass {pass}: workgroup size {workgroup_size:?} exceeds maxComputeWorkGroupInvocations ({most})"
+            )));
+        }
         let layout = Layout::new(gpu, pass, decls, numbers, vk::ShaderStageFlags::COMPUTE, push_size)?;
         let module = shader_module(gpu, shader)?;
+        let map: Vec<vk::SpecializationMapEntry> = (0..entries.len() as u32)
+            .map(|i| vk::SpecializationMapEntry { constant_id: entries[i as usize].0, offset: 4 * i, size: 4 })
+            .collect();
+        let data: Vec<u8> = entries.iter().flat_map(|(_, v)| v.to_ne_bytes()).collect();
+        let spec_info = vk::SpecializationInfo::default().map_entries(&map).data(&data);
         let stage = vk::PipelineShaderStageCreateInfo::default()
             .stage(vk::ShaderStageFlags::COMPUTE)
             .module(module)
-            .name(c"main");
+            .name(c"main")
+            .specialization_info(&spec_info);
         let info = vk::ComputePipelineCreateInfo::default().stage(stage).layout(layout.pipeline_layout);
         // SAFETY: module and layout are valid; the module is destroyed after creation.
         let result = unsafe { gpu.device().create_compute_pipelines(vk::PipelineCache::null(), &[info], None) };
@@ -122,7 +195,7 @@ impl ComputePipeline {
         unsafe { gpu.device().destroy_shader_module(module, None) };
         let raw = result.map_err(|(_, e)| e).vk("vkCreateComputePipelines")?[0];
         gpu.set_name(raw, pass);
-        Ok(ComputePipeline { raw, layout, workgroup_size: shader.workgroup_size, name: pass.to_string() })
+        Ok(ComputePipeline { raw, layout, workgroup_size, name: pass.to_string() })
     }
 
     pub(crate) fn raw(&self) -> vk::Pipeline {

@@ -16,6 +16,23 @@ pub enum DeviceType {
     Other,
 }
 
+impl DeviceReport {
+    /// The vendor's name from `vendor_id` (the PCI IDs of the GPU vendors, Khronos' IDs of
+    /// the driver-only ones), or its number.
+    pub fn vendor(&self) -> String {
+        match self.vendor_id {
+            0x10de => "NVIDIA".into(),
+            0x1002 => "AMD".into(),
+            0x8086 => "Intel".into(),
+            0x13b5 => "ARM".into(),
+            0x5143 => "Qualcomm".into(),
+            0x106b => "Apple".into(),
+            0x10005 => "Mesa".into(),
+            id => format!("{id:#x}"),
+        }
+    }
+}
+
 impl DeviceType {
     fn from_vk(t: vk::PhysicalDeviceType) -> Self {
         match t {
@@ -43,6 +60,11 @@ pub struct DeviceReport {
     pub push_descriptor: bool,
     pub timestamp_period_ns: f32,
     pub subgroup_size: u32,
+    /// Subgroup ballot and arithmetic operations in compute shaders (what the tuning's
+    /// subgroup counters need).
+    pub subgroup_arithmetic: bool,
+    /// `vendorID` (PCI vendor: 0x10de NVIDIA, 0x1002 AMD, 0x8086 Intel; 0x10005 Mesa).
+    pub vendor_id: u32,
     /// `minAccelerationStructureScratchOffsetAlignment` (1 without acceleration structures).
     pub scratch_alignment: u64,
     /// The limits a render is checked against before it allocates anything.
@@ -64,6 +86,8 @@ pub struct DeviceLimits {
     pub max_buffer_size: u64,
     /// `maxComputeWorkGroupCount`.
     pub max_compute_work_group_count: [u32; 3],
+    /// `maxComputeWorkGroupInvocations`.
+    pub max_compute_work_group_invocations: u32,
     /// `maxPrimitiveCount` of one BLAS geometry (0 without acceleration structures).
     pub max_primitive_count: u64,
     /// The largest device-local memory heap, in bytes.
@@ -158,6 +182,9 @@ fn describe(
     if f13.synchronization2 != vk::TRUE {
         missing.push("synchronization2".into());
     }
+    if f13.maintenance4 != vk::TRUE {
+        missing.push("maintenance4".into());
+    }
     if f12.host_query_reset != vk::TRUE {
         missing.push("hostQueryReset".into());
     }
@@ -194,12 +221,18 @@ fn describe(
         push_descriptor: has(khr::push_descriptor::NAME),
         timestamp_period_ns: props.limits.timestamp_period,
         subgroup_size: subgroup.subgroup_size,
+        subgroup_arithmetic: subgroup.supported_stages.contains(vk::ShaderStageFlags::COMPUTE)
+            && subgroup
+                .supported_operations
+                .contains(vk::SubgroupFeatureFlags::BALLOT | vk::SubgroupFeatureFlags::ARITHMETIC),
+        vendor_id: props.vendor_id,
         scratch_alignment: (accel_props.min_acceleration_structure_scratch_offset_alignment as u64).max(1),
         limits: DeviceLimits {
             max_image_dimension_2d: props.limits.max_image_dimension2_d,
             max_storage_buffer_range: props.limits.max_storage_buffer_range,
             max_buffer_size: p13.max_buffer_size,
             max_compute_work_group_count: props.limits.max_compute_work_group_count,
+            max_compute_work_group_invocations: props.limits.max_compute_work_group_invocations,
             max_primitive_count: if ray_exts { accel_props.max_primitive_count } else { 0 },
             device_local_heap: device_local_heap(instance, pd),
         },

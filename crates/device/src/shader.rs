@@ -80,6 +80,17 @@ pub struct ReflectedBinding {
     pub layout: Option<BlockLayout>,
 }
 
+/// A specialization constant of a module: `layout(constant_id = 3) const uint RAY_QUEUE = 64u;`
+/// is `{ name: "RAY_QUEUE", id: 3, default: 64 }`; a `local_size_x_id` workgroup size's are
+/// named `local_size_x` (`_y`, `_z`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct SpecConstant {
+    pub name: &'static str,
+    pub id: u32,
+    /// The default value's bits (bools are 0 or 1).
+    pub default: u32,
+}
+
 /// A compiled shader module.
 #[derive(Clone, Copy, Debug)]
 pub struct ShaderInfo {
@@ -87,8 +98,12 @@ pub struct ShaderInfo {
     pub name: &'static str,
     pub stage: ShaderStage,
     pub spirv: &'static [u32],
-    /// Workgroup size for compute shaders, `[1, 1, 1]` otherwise.
+    /// Workgroup size for compute shaders (the defaults of a `local_size_x_id` one), `[1, 1, 1]`
+    /// otherwise.
     pub workgroup_size: [u32; 3],
+    /// Specialization constants, by id: what a pipeline may set by name
+    /// ([`Specialization`](crate::Specialization)).
+    pub spec_constants: &'static [SpecConstant],
     /// What reflection found (naga, or for ray-query modules, which naga's SPIR-V front end
     /// rejects, a SPIR-V scan plus the layouts of their compute-BVH twins), or why it could not
     /// run.

@@ -47,6 +47,10 @@ pub struct CompletedFrame {
     pub index: u64,
     pub slot: usize,
     pub timings: Vec<PassTiming>,
+    /// GPU time from the first pass's start to the last pass's end, ms: the frame's time on
+    /// the device with `Timing::Timestamps` (with `PerPassSubmit` it includes the host's
+    /// waits between submissions).
+    pub span_ms: f64,
 }
 
 /// A frame on its way: [`GraphRunner::wait_for`] waits for it.
@@ -251,9 +255,13 @@ impl GraphRunner {
                 wall_ms,
             })
             .collect();
+        let span_ms = match (ns.first(), ns.last()) {
+            (Some(start), Some(end)) => (end - start).max(0.0) * 1e-6,
+            _ => 0.0,
+        };
         // A fence covers every earlier submission too: all frames up to this one are done.
         self.pool.collect(running.frame);
-        Ok(Some(CompletedFrame { index: running.frame, slot, timings }))
+        Ok(Some(CompletedFrame { index: running.frame, slot, timings, span_ms }))
     }
 }
 

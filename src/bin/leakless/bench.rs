@@ -149,10 +149,16 @@ fn splat(path: PathBuf, (w, h): (u32, u32), paths: u32) -> anyhow::Result<()> {
     let scene = Scene::load(&path).with_context(|| format!("loading {}", path.display()))?;
     let auto = leakless::splatting::auto_radius(&scene);
     let open = || Ok(leakless::Gpu::new(&leakless::GpuOptions { validation: None, ray_tracing: true, window: None })?);
-    let s =
-        |paths, radius: f32, branching| SplatSettings { paths, radius: Some(radius), branching, ..Default::default() };
-    let gpu_name = open()?.report().name.clone();
-    println!("bench splat {} on {gpu_name}; wall time of each pass submitted alone, second frame", path.display());
+    let s = |paths, radius: f32, branching| SplatSettings {
+        paths,
+        radius: Some(radius),
+        branching: Some(branching),
+        ..Default::default()
+    };
+    let gpu = open()?;
+    let (gpu_name, timing) = (gpu.report().name.clone(), crate::measure::bench::timing_phrase(&gpu));
+    drop(gpu);
+    println!("bench splat {} on {gpu_name}; {timing}, second frame", path.display());
 
     let table = |title: &str, configs: Vec<(u32, u32, SplatSettings)>| -> anyhow::Result<Vec<Measured>> {
         let rows = configs

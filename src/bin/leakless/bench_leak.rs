@@ -41,10 +41,11 @@ pub fn run(
     let report = gpu.report();
     let resolved = backend.resolve(gpu.capabilities(), report.device_type, &report.name)?;
     println!(
-        "bench leak ({w}x{h}, {paths} paths, best of {repeats}) on {}, {} backend ({}); wall time of each pass submitted alone",
+        "bench leak ({w}x{h}, {paths} paths, best of {repeats}) on {}, {} backend ({}); {}",
         report.name,
         resolved.backend.name(),
-        resolved.why
+        resolved.why,
+        crate::measure::bench::timing_phrase(&gpu)
     );
     let mut rows = Vec::new();
     for path in scenes {

@@ -28,9 +28,10 @@ pub struct RenderOptions {
     /// Photon gather radius in scene units (default: 5% of the scene's bounding radius).
     #[arg(long)]
     pub radius: Option<f32>,
-    /// Branching factor of the view-sample hierarchy.
-    #[arg(long, default_value_t = 8)]
-    pub branching: u32,
+    /// Branching factor of the view-sample hierarchy (default: the device tuning's; `leakless
+    /// info` prints it).
+    #[arg(long)]
+    pub branching: Option<u32>,
     /// Walk to the leaves instead of listing photons on enveloped nodes (same image).
     #[arg(long)]
     pub no_trivial_accept: bool,
@@ -56,6 +57,10 @@ pub struct RenderOptions {
     /// devices, ray queries on GPUs that have them).
     #[arg(long, default_value = "auto", value_parser = crate::parse_backend)]
     pub backend: BackendChoice,
+    /// Device tuning: the device's own (`auto`), or the `cpu` or `gpu` preset (`leakless info`
+    /// prints what each sets; `gpu` on lavapipe runs the GPU's code paths).
+    #[arg(long, default_value = "auto", value_parser = crate::parse_tuning)]
+    pub tuning: leakless::TuningChoice,
     /// Photon frames to average (progressive photon mapping: fresh photons further along one
     /// sequence, a shrinking radius, jittered pixels); `reference`: jittered frames of --spp
     /// samples per batch.
@@ -181,6 +186,7 @@ impl RenderOptions {
             width,
             height,
             backend: self.backend,
+            tuning: self.tuning,
             method: Method::parse(&self.method).expect("clap checked the value"),
             spp: self.spp,
             max_bounces: self.max_bounces,

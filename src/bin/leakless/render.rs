@@ -23,8 +23,9 @@ pub struct RenderArgs {
     #[arg(long)]
     stats: Option<PathBuf>,
     /// How passes are timed: `timestamps` (one submission, GPU timestamps), `per-pass` (one
-    /// waited submission per pass, also timed on the host), or `auto`: per-pass on CPU devices
-    /// such as lavapipe, whose timestamps inside one submission do not bracket compute work.
+    /// waited submission per pass, also timed on the host), or `auto`: the device tuning's
+    /// (per-pass on CPU devices such as lavapipe, whose timestamps inside one submission do not
+    /// bracket compute work; timestamps on GPUs).
     #[arg(long, default_value = "auto", value_parser = ["auto", "timestamps", "per-pass"])]
     timing: String,
 }
@@ -37,12 +38,13 @@ pub fn run(args: RenderArgs) -> anyhow::Result<()> {
     settings.validate()?;
     let scene = args.options.load_scene()?;
     let gpu = crate::open_gpu(settings.backend)?;
-    let cpu_device = gpu.report().device_type == leakless_device::DeviceType::Cpu;
     let mut renderer = Renderer::new(gpu, &scene, settings.clone()).context("setting up the renderer")?;
     args.options.apply_view(&mut renderer, &scene)?;
-    if args.timing == "per-pass" || (args.timing == "auto" && cpu_device) {
-        renderer.set_timing(Timing::PerPassSubmit);
-    }
+    renderer.set_timing(match args.timing.as_str() {
+        "per-pass" => Timing::PerPassSubmit,
+        "timestamps" => Timing::Timestamps,
+        _ => renderer.tuning().timing,
+    });
     let frame = render_with_bar(&mut renderer, settings.method)?;
     if let Some(s) = &frame.splat {
         if s.photons_dropped > 0 || s.list_entries_dropped > 0 {

@@ -61,16 +61,29 @@ pub fn rays(gpu: &Gpu, scene: &Scene, width: u32, height: u32, repeats: u32) -> 
     Ok(rates)
 }
 
-/// A renderer's second frame (the first compiles shaders), every pass submitted and timed
-/// on its own: what `bench splat`, `bench leak` and `chart` compare.
+/// How the benchmarks time a frame on `gpu` (its tuning's timing), for their headers.
+pub fn timing_phrase(gpu: &Gpu) -> &'static str {
+    match leakless::DeviceTuning::choose(gpu.report(), leakless::TuningChoice::Auto).timing {
+        leakless_graph::Timing::PerPassSubmit => "wall time of each pass submitted alone",
+        leakless_graph::Timing::Timestamps => "GPU timestamps, one submission per frame",
+    }
+}
+
+/// A renderer's second frame (the first compiles shaders), timed as the device tuning says:
+/// on a CPU device every pass submitted and timed on its own, on a GPU the whole frame in one
+/// submission with GPU timestamps. What `bench splat`, `bench leak`, `chart` and the GPU
+/// report compare.
 #[derive(Clone, Debug)]
 pub struct Measured {
     pub label: String,
     pub settings: leakless::RenderSettings,
     pub frame: leakless::RenderedFrame,
-    /// Host wall time of each pass's own submission, ms, in frame order, with the pass's
-    /// group (`passes::names::group`).
+    /// Each pass's time, ms, in frame order, with the pass's group
+    /// (`passes::names::group`): the host wall time of its own submission, or its GPU
+    /// timestamps' difference.
     pub passes: Vec<(String, &'static str, f64)>,
+    /// The timing the frame was measured with (the device tuning's).
+    pub timing: leakless_graph::Timing,
 }
 
 impl Measured {
@@ -93,14 +106,21 @@ impl Measured {
         settings: &leakless::RenderSettings,
         repeats: u32,
     ) -> Result<Measured> {
-        let mut renderer = leakless::Renderer::new(open()?, scene, settings.clone())?;
-        renderer.set_timing(leakless_graph::Timing::PerPassSubmit);
+        Self::best_of_renderer(&mut leakless::Renderer::new(open()?, scene, settings.clone())?, label, repeats)
+    }
+
+    /// [`Measured::best_of`] with a renderer of the caller's (kept for the next settings, or
+    /// with a tuning of its own).
+    pub fn best_of_renderer(renderer: &mut leakless::Renderer, label: &str, repeats: u32) -> Result<Measured> {
+        let settings = renderer.settings().clone();
+        let timing = renderer.tuning().timing;
+        renderer.set_timing(timing);
         renderer.render()?;
         let mut best: Option<Measured> = None;
         for _ in 0..repeats.max(1) {
             let frame = renderer.render()?;
             let passes = frame.timings.iter().map(|t| (t.name.clone(), t.group, t.wall_ms.unwrap_or(t.ms))).collect();
-            let run = Measured { label: label.to_string(), settings: settings.clone(), frame, passes };
+            let run = Measured { label: label.to_string(), settings: settings.clone(), frame, passes, timing };
             if best.as_ref().is_none_or(|b| run.frame_ms() < b.frame_ms()) {
                 best = Some(run);
             }
@@ -119,8 +139,13 @@ impl Measured {
         // (+ 0.0: an empty f64 sum is -0.0.)
         self.passes.iter().filter(|(_, g, _)| *g == group).map(|(_, _, ms)| ms).sum::<f64>() + 0.0
     }
+    /// The frame's time: its passes' submissions summed, or on the GPU its span from the
+    /// first pass's start to the last one's end.
     pub fn frame_ms(&self) -> f64 {
-        self.passes.iter().map(|(_, _, ms)| ms).sum()
+        match self.timing {
+            leakless_graph::Timing::PerPassSubmit => self.passes.iter().map(|(_, _, ms)| ms).sum(),
+            leakless_graph::Timing::Timestamps => self.frame.gpu_span_ms,
+        }
     }
     /// The time of the pass `name`.
     pub fn pass_ms(&self, name: PassName) -> f64 {

@@ -95,7 +95,12 @@ fn command(
         if let Some(r) = s.splat.radius {
             c.push(format!("--radius {r}"));
         }
-        c.push(format!("--branching {}", s.splat.branching));
+        if s.tuning != leakless::TuningChoice::Auto {
+            c.push(format!("--tuning {}", s.tuning.name()));
+        }
+        if let Some(b) = s.splat.branching {
+            c.push(format!("--branching {b}"));
+        }
         if !s.splat.trivial_accept {
             c.push("--no-trivial-accept".into());
         }

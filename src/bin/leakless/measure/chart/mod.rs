@@ -15,7 +15,6 @@ use std::io::Write;
 use std::path::{Path, PathBuf};
 
 use leakless_device::{DeviceType, Gpu};
-use leakless_graph::Timing;
 use leakless_scene::Scene;
 
 use leakless::error::{RenderError, Result};
@@ -250,7 +249,7 @@ pub fn measure_with_progress(
     let start = std::time::Instant::now();
     let gpu = if backends[0] == Backend::RayQuery { first } else { open(false)? };
     let mut renderer = Renderer::new(gpu, scene, settings)?;
-    renderer.set_timing(Timing::PerPassSubmit);
+    renderer.set_timing(renderer.tuning().timing);
     let reference = renderer
         .render_with_progress(&mut |spp, total_spp| report(done, format!("reference {spp}/{total_spp} spp")))?;
     renderer.gpu().check_validation()?;

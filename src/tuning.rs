@@ -1,0 +1,235 @@
+//! Per-device tuning: the choices that make the same frame fast on a CPU driver or on a GPU,
+//! picked once from what the device reports and printed by `leakless info` and in `--stats`.
+//!
+//! Nothing else in the renderer may depend on the kind of device: a choice that does belongs
+//! here, with the reason it differs. The CPU preset is what lavapipe was measured and tuned
+//! with (8-lane SIMD groups on a few cores, where a workgroup is a loop and local memory is
+//! cache); changing it changes lavapipe's images or speed, and the image-hash test guards the
+//! first. The GPU preset is the starting point for GPUs (32- or 64-lane subgroups, thousands
+//! of threads in flight, registers and local memory scarce, global atomics contended); its
+//! values are unmeasured until `tools/gpu-report` has run on one (docs/architecture.md §10).
+//! No choice changes an image beyond the order photons are stored in, which the gather's
+//! fixed-point sums do not see.
+
+use leakless_device::{DeviceReport, DeviceType, Specialization};
+use leakless_graph::Timing;
+use serde::Serialize;
+
+use crate::error::{RenderError, Result};
+
+/// Which preset a renderer uses: the device's own (`auto`), or one forced to test the other's
+/// code paths (`--tuning gpu` on lavapipe runs the subgroup counters and the GPU's queue and
+/// workgroup sizes).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum TuningChoice {
+    #[default]
+    Auto,
+    Cpu,
+    Gpu,
+}
+
+impl TuningChoice {
+    pub fn parse(s: &str) -> Option<Self> {
+        match s {
+            "auto" => Some(Self::Auto),
+            "cpu" => Some(Self::Cpu),
+            "gpu" => Some(Self::Gpu),
+            _ => None,
+        }
+    }
+
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Auto => "auto",
+            Self::Cpu => "cpu",
+            Self::Gpu => "gpu",
+        }
+    }
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Preset {
+    Cpu,
+    Gpu,
+}
+
+/// What the renderer tunes to its device.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct DeviceTuning {
+    pub preset: Preset,
+    /// The device's vendor and subgroup size, as chosen from.
+    pub vendor: String,
+    pub subgroup_size: u32,
+    /// Branching factor B of the view-sample hierarchy, unless `--branching` sets it. On the
+    /// CPU, 8 makes one 8-lane SIMD group one leaf (and measured fastest of 4/8/16/32).
+    pub branching: u32,
+    /// Light paths each photon thread traces. A CPU runs a few hundred threads at a time and
+    /// pays for each one's start; a GPU wants one path per thread, many threads in flight.
+    pub paths_per_thread: u32,
+    /// Threads take paths grouped by emission cell (emission_order.rs): coherent rays, at the
+    /// cost of four small passes, one a single-workgroup scan.
+    pub emission_order: bool,
+    /// Photons copied in cell order before the splat (photon_order.rs).
+    pub photon_order: bool,
+    /// Visibility segments a gather thread queues before tracing them together
+    /// (`RAY_QUEUE`, gather.comp): 4 bytes of local memory each, per thread.
+    pub ray_queue: u32,
+    /// Workgroup size of the gather (`local_size_x`; one thread per view sample). The passes
+    /// over photons keep 64: their indirect dispatches are counted in 64-thread groups.
+    pub gather_workgroup: u32,
+    /// Counter additions and list-slot reservations combined per subgroup (one atomic per
+    /// subgroup instead of one per thread; `SUBGROUP_COUNTERS`). Needs subgroup ballot and
+    /// arithmetic in compute shaders.
+    pub subgroup_counters: bool,
+    /// How `bench` and `render --stats` time passes: each submitted alone and timed on the
+    /// host (lavapipe runs dispatches asynchronously to its timestamp writes, so only the host
+    /// sees their time), or GPU timestamps inside one submission (on a GPU, a submission per
+    /// pass would add a fence wait to each of about 60 passes).
+    #[serde(serialize_with = "timing_name")]
+    pub timing: Timing,
+}
+
+fn timing_name<S: serde::Serializer>(timing: &Timing, s: S) -> std::result::Result<S::Ok, S::Error> {
+    s.serialize_str(match timing {
+        Timing::Timestamps => "timestamps",
+        Timing::PerPassSubmit => "per-pass-submit",
+    })
+}
+
+impl DeviceTuning {
+    /// The tuning `choice` gives on the device `report` describes.
+    pub fn choose(report: &DeviceReport, choice: TuningChoice) -> DeviceTuning {
+        let preset = match choice {
+            TuningChoice::Cpu => Preset::Cpu,
+            TuningChoice::Gpu => Preset::Gpu,
+            TuningChoice::Auto if report.device_type == DeviceType::Cpu => Preset::Cpu,
+            TuningChoice::Auto => Preset::Gpu,
+        };
+        let mut tuning = match preset {
+            Preset::Cpu => Self::cpu(),
+            Preset::Gpu => Self::gpu(report.subgroup_arithmetic),
+        };
+        tuning.vendor = report.vendor();
+        tuning.subgroup_size = report.subgroup_size;
+        tuning
+    }
+
+    /// lavapipe's values (today's images and speed).
+    pub fn cpu() -> DeviceTuning {
+        DeviceTuning {
+            preset: Preset::Cpu,
+            vendor: String::new(),
+            subgroup_size: 0,
+            branching: 8,
+            paths_per_thread: 8,
+            emission_order: true,
+            photon_order: true,
+            ray_queue: 64,
+            gather_workgroup: 64,
+            subgroup_counters: false,
+            timing: Timing::PerPassSubmit,
+        }
+    }
+
+    /// A GPU's starting point: one path per thread, a short ray queue (local memory is
+    /// per thread and scarce), counters combined per subgroup where the device can, passes
+    /// timed inside one submission. Branching and the two orders stay as on the CPU until a
+    /// GPU report measures them (`tools/gpu-report` sweeps each).
+    pub fn gpu(subgroup_arithmetic: bool) -> DeviceTuning {
+        DeviceTuning {
+            preset: Preset::Gpu,
+            paths_per_thread: 1,
+            ray_queue: 16,
+            subgroup_counters: subgroup_arithmetic,
+            timing: Timing::Timestamps,
+            ..Self::cpu()
+        }
+    }
+
+    /// One line for `leakless info` and logs.
+    pub fn summary(&self) -> String {
+        format!(
+            "{} preset: branching {}, {} paths/thread, emission order {}, photon order {}, ray queue {}, \
+             gather workgroup {}, subgroup counters {}, timing {}",
+            match self.preset {
+                Preset::Cpu => "cpu",
+                Preset::Gpu => "gpu",
+            },
+            self.branching,
+            self.paths_per_thread,
+            on(self.emission_order),
+            on(self.photon_order),
+            self.ray_queue,
+            self.gather_workgroup,
+            on(self.subgroup_counters),
+            match self.timing {
+                Timing::Timestamps => "GPU timestamps in one submission",
+                Timing::PerPassSubmit => "one submission per pass, host-timed",
+            }
+        )
+    }
+
+    /// The gather's specialization constants.
+    pub fn gather(&self) -> Specialization {
+        Specialization::new()
+            .with("local_size_x", self.gather_workgroup)
+            .with("RAY_QUEUE", self.ray_queue)
+            .with("SUBGROUP_COUNTERS", self.subgroup_counters as u32)
+    }
+
+    /// The splat's and the photon pass's.
+    pub fn counters(&self) -> Specialization {
+        Specialization::new().with("SUBGROUP_COUNTERS", self.subgroup_counters as u32)
+    }
+
+    /// Checks values a user or a test set by hand against each other and the device.
+    pub fn validate(&self, report: &DeviceReport) -> Result<()> {
+        let bad = |what: &str| Err(RenderError::Settings(format!("tuning: {what}")));
+        if self.subgroup_counters && !report.subgroup_arithmetic {
+            return bad(&format!("subgroup counters need subgroup ballot and arithmetic, which {} lacks", report.name));
+        }
+        if !(1..=1024).contains(&self.ray_queue) {
+            return bad(&format!("ray queue {} must be within 1..=1024", self.ray_queue));
+        }
+        if self.paths_per_thread == 0 {
+            return bad("paths per thread must be at least 1");
+        }
+        let size = self.gather_workgroup;
+        if !size.is_power_of_two() || !(8..=1024).contains(&size) {
+            return bad(&format!("gather workgroup {size} must be a power of two within 8..=1024"));
+        }
+        Ok(())
+    }
+}
+
+fn on(b: bool) -> &'static str {
+    if b {
+        "on"
+    } else {
+        "off"
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The CPU preset is what lavapipe's images and figures were made with.
+    #[test]
+    fn cpu_preset_keeps_todays_values() {
+        let t = DeviceTuning::cpu();
+        assert_eq!((t.branching, t.paths_per_thread, t.ray_queue), (8, 8, 64));
+        assert_eq!(t.gather_workgroup, 64);
+        assert!(t.emission_order && t.photon_order && !t.subgroup_counters);
+        assert_eq!(t.timing, Timing::PerPassSubmit);
+    }
+
+    #[test]
+    fn gpu_preset_uses_subgroups_only_where_the_device_has_them() {
+        assert!(DeviceTuning::gpu(true).subgroup_counters);
+        assert!(!DeviceTuning::gpu(false).subgroup_counters);
+        let g = DeviceTuning::gpu(true);
+        assert_eq!((g.paths_per_thread, g.ray_queue, g.timing), (1, 16, Timing::Timestamps));
+    }
+}

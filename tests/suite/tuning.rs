@@ -1,0 +1,137 @@
+//! The device tuning changes speed, never the image: every choice it makes (paths per thread,
+//! the ray queue's length, the gather's workgroup size, counters combined per subgroup, the two
+//! orders) renders the CPU preset's image bit for bit, on both backends. The GPU preset runs
+//! here as it would on a GPU, subgroup operations included.
+
+use leakless::{DeviceTuning, Method, RenderSettings, Renderer, SplatSettings, TuningChoice};
+
+use crate::common;
+
+fn frame(path: &str, settings: &RenderSettings, tuning: DeviceTuning) -> Option<leakless::RenderedFrame> {
+    let gpu = common::gpu_with(settings.backend.wants_ray_queries())?;
+    let mut renderer = Renderer::with_tuning(gpu, &common::scene(path), settings.clone(), tuning).expect("renderer");
+    let frame = renderer.render().expect("render");
+    renderer.gpu().check_validation().expect("validation clean");
+    Some(frame)
+}
+
+/// Every layer and count equal.
+fn assert_same(a: &leakless::RenderedFrame, b: &leakless::RenderedFrame, what: &str) {
+    assert!(a.radiance == b.radiance && a.indirect == b.indirect && a.leaked == b.leaked, "{what}: images differ");
+    let (sa, sb) = (a.splat.as_ref().unwrap(), b.splat.as_ref().unwrap());
+    let counts = |s: &leakless::splatting::SplatStats| {
+        (s.photons_stored, s.photon_rays, s.list_entries, s.nodes_visited, s.photons_listed, s.candidate_tests)
+    };
+    assert_eq!(counts(sa), counts(sb), "{what}: counters differ");
+    assert_eq!((sa.accepted, sa.visibility_rays, sa.proven_clear), (sb.accepted, sb.visibility_rays, sb.proven_clear));
+}
+
+#[test]
+fn every_tuning_renders_the_cpu_presets_image() {
+    let Some(gpu) = common::gpu() else { return };
+    let report = gpu.report().clone();
+    drop(gpu);
+    let cpu = DeviceTuning::choose(&report, TuningChoice::Cpu);
+    let gpu_preset = DeviceTuning::choose(&report, TuningChoice::Gpu);
+    assert_eq!(gpu_preset.subgroup_counters, report.subgroup_arithmetic);
+    let odd = DeviceTuning {
+        ray_queue: 1,
+        gather_workgroup: 32,
+        paths_per_thread: 3,
+        subgroup_counters: report.subgroup_arithmetic,
+        ..cpu.clone()
+    };
+    for backend in common::choices() {
+        for method in [Method::Splat, Method::LeakLess] {
+            let settings = RenderSettings {
+                width: 48,
+                height: 36,
+                backend,
+                method,
+                splat: SplatSettings { paths: 3000, ..Default::default() },
+                ..Default::default()
+            };
+            let base = frame("scenes/doorway.gltf", &settings, cpu.clone()).unwrap();
+            assert!(base.splat.as_ref().unwrap().photons_stored > 0);
+            for (name, tuning) in [("gpu preset", gpu_preset.clone()), ("odd sizes", odd.clone())] {
+                let other = frame("scenes/doorway.gltf", &settings, tuning).unwrap();
+                assert_same(&base, &other, &format!("{name}, {} on {}", method.name(), backend.name()));
+            }
+        }
+    }
+}
+
+/// `leakless-capped` keeps each list's first photons, which depend on the order lists are
+/// appended to: its counters still agree.
+#[test]
+fn the_capped_methods_counts_do_not_depend_on_the_tuning() {
+    let Some(gpu) = common::gpu() else { return };
+    let report = gpu.report().clone();
+    drop(gpu);
+    let settings = RenderSettings {
+        width: 48,
+        height: 36,
+        method: Method::LeakLessCapped,
+        splat: SplatSettings { paths: 3000, ..Default::default() },
+        ..Default::default()
+    };
+    let a = frame("scenes/cornell-box.gltf", &settings, DeviceTuning::choose(&report, TuningChoice::Cpu)).unwrap();
+    let b = frame("scenes/cornell-box.gltf", &settings, DeviceTuning::choose(&report, TuningChoice::Gpu)).unwrap();
+    let (sa, sb) = (a.splat.unwrap(), b.splat.unwrap());
+    assert_eq!(
+        (sa.photons_stored, sa.list_entries, sa.nodes_visited),
+        (sb.photons_stored, sb.list_entries, sb.nodes_visited)
+    );
+}
+
+/// The specialization constants the tuning sets exist in the modules (the build reads them from
+/// the SPIR-V), and the pipelines take the tuning's workgroup size.
+#[test]
+fn the_tuning_specializes_the_modules_it_names() {
+    use leakless::shaders;
+    for module in [&shaders::GATHER_COMP_COMPUTE, &shaders::GATHER_COMP_RAYQUERY] {
+        let names: Vec<(&str, u32, u32)> = module.spec_constants.iter().map(|c| (c.name, c.id, c.default)).collect();
+        assert_eq!(
+            names,
+            [("local_size_x", 0, 64), ("SUBGROUP_COUNTERS", 1, 0), ("RAY_QUEUE", 2, 64)],
+            "{}",
+            module.name
+        );
+        assert_eq!(module.workgroup_size, [64, 1, 1]);
+    }
+    let tuning = DeviceTuning { gather_workgroup: 128, ray_queue: 8, ..DeviceTuning::cpu() };
+    assert_eq!(tuning.gather().workgroup_size(&shaders::GATHER_COMP_COMPUTE), [128, 1, 1]);
+    assert_eq!(tuning.gather().value(&shaders::GATHER_COMP_COMPUTE, "RAY_QUEUE"), Some(8));
+    for module in [&shaders::SPLAT_COMP, &shaders::PHOTONS_COMP_COMPUTE] {
+        assert!(module.spec_constants.iter().any(|c| c.name == "SUBGROUP_COUNTERS"), "{}", module.name);
+    }
+    // A constant the module lacks is refused with its name, not ignored.
+    let Some(gpu) = common::gpu() else { return };
+    let spec = leakless_device::Specialization::new().with("NO_SUCH_CONSTANT", 1);
+    let pass = &leakless::passes::splat::SPLAT;
+    let err = leakless_device::ComputePipeline::new(
+        &gpu,
+        "test",
+        &shaders::SPLAT_COMP,
+        &pass.decls(leakless::Backend::Compute),
+        pass.push.as_ref(),
+        &spec,
+    )
+    .err()
+    .expect("an unknown constant is an error");
+    assert!(err.to_string().contains("NO_SUCH_CONSTANT"), "{err}");
+}
+
+/// With GPU timestamps in one submission a frame reports its span on the device: from the
+/// first pass's start to the last one's end, so at least any one pass's time.
+#[test]
+fn a_timestamped_frame_reports_its_gpu_span() {
+    let Some(gpu) = common::gpu() else { return };
+    let settings = RenderSettings { width: 32, height: 24, ..Default::default() };
+    let mut renderer = Renderer::new(gpu, &common::scene("scenes/cornell-box.gltf"), settings).unwrap();
+    renderer.set_timing(leakless_graph::Timing::Timestamps);
+    let frame = renderer.render().unwrap();
+    let longest = frame.timings.iter().map(|t| t.ms).fold(0.0, f64::max);
+    assert!(frame.gpu_span_ms.is_finite() && frame.gpu_span_ms >= longest, "{} < {longest}", frame.gpu_span_ms);
+    assert!(frame.gpu_span_ms > 0.0);
+}
