@@ -13,6 +13,7 @@ mod corner_bias;
 mod device;
 mod direct_light;
 mod docs;
+mod gpu_report;
 mod identity;
 mod leak;
 mod leak_scenes;

@@ -7,6 +7,7 @@ mod bench_flicker;
 mod bench_leak;
 mod chart;
 mod chart_series;
+mod gpu_report;
 mod info;
 mod measure;
 mod options;
@@ -41,8 +42,12 @@ enum Command {
     /// light, relMSE, RMSE, HDR-FLIP, NaN/Inf, flicker, frame time) as a Markdown report, a
     /// CSV and a chart of leaks against wall thickness.
     Stability(stability::StabilityArgs),
-    /// Print the Vulkan devices, which one is used, what it can do, and the trace backend.
+    /// Print the Vulkan devices, which one is used, what it can do, the trace backend and the
+    /// device tuning.
     Info(info::InfoArgs),
+    /// The standard matrix a GPU is judged by (device, correctness against lavapipe, per-pass
+    /// times, rays, tuning sweeps) as gpu-report.md and gpu-report.json (tools/gpu-report).
+    GpuReport(gpu_report::GpuReportArgs),
 }
 
 fn main() -> ExitCode {
@@ -53,6 +58,7 @@ fn main() -> ExitCode {
         Command::Chart(args) => chart::run(args),
         Command::Stability(args) => stability::run(args),
         Command::Info(args) => info::run(args),
+        Command::GpuReport(args) => gpu_report::run(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
@@ -88,6 +94,10 @@ pub fn parse_size(s: &str) -> Result<(u32, u32), String> {
 /// `auto|rayquery|compute`.
 pub fn parse_backend(s: &str) -> Result<leakless::BackendChoice, String> {
     leakless::BackendChoice::parse(s).ok_or_else(|| format!("{s:?} is not auto, rayquery or compute"))
+}
+
+pub fn parse_tuning(s: &str) -> Result<leakless::TuningChoice, String> {
+    leakless::TuningChoice::parse(s).ok_or_else(|| format!("{s:?} is not auto, cpu or gpu"))
 }
 
 /// Opens the device the way a backend choice needs it (ray tracing unless `compute`).

@@ -1,0 +1,81 @@
+//! `tools/gpu-report --quick` runs end to end on this device, so the command a GPU session
+//! runs in its one call cannot rot: every section, every tuning variant's pipelines (with
+//! validation on), and the correctness fixtures, which on the device that made them must
+//! match bit for bit.
+
+use std::process::Command;
+
+use crate::common;
+
+#[test]
+fn the_quick_gpu_report_runs_end_to_end() {
+    if common::gpu().is_none() {
+        return;
+    }
+    let out = common::tmp_path("gpu-report-quick");
+    let _ = std::fs::remove_dir_all(&out);
+    let run = Command::new(common::root().join("tools/gpu-report"))
+        .arg(&out)
+        .arg("--quick")
+        .env("LEAKLESS_BIN", env!("CARGO_BIN_EXE_leakless"))
+        .current_dir(common::root())
+        .output()
+        .expect("run tools/gpu-report");
+    let (stdout, stderr) = (String::from_utf8_lossy(&run.stdout), String::from_utf8_lossy(&run.stderr));
+    assert!(run.status.success(), "tools/gpu-report failed:\n{stdout}\n{stderr}");
+    assert!(!stderr.contains("validation error"), "{stderr}");
+
+    let md = std::fs::read_to_string(out.join("gpu-report.md")).expect("gpu-report.md");
+    for section in ["## Correctness", "## Frames", "## Rays", "## Branching factor", "## The device tuning's choices"] {
+        assert!(md.contains(section), "gpu-report.md lacks {section:?}:\n{md}");
+    }
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("gpu-report.json")).expect("json")).expect("valid json");
+    assert_eq!(json["failures"].as_array().map(Vec::len), Some(0), "{}", json["failures"]);
+    assert!(json["validation"].as_bool().unwrap(), "the correctness renders run with validation on");
+
+    // Every shipped scene checked, each passing; on the fixtures' own device, bit for bit.
+    let checks = json["correctness"].as_array().expect("correctness");
+    let scenes = std::fs::read_dir(common::root().join("scenes"))
+        .unwrap()
+        .filter(|e| e.as_ref().unwrap().path().extension().is_some_and(|x| x == "gltf"))
+        .count();
+    assert_eq!(checks.len(), scenes);
+    let fixture = leakless::output::exr::read(&common::root().join("tests/fixtures/gpu-report/cornell-box.exr"))
+        .expect("fixture");
+    let gpu = common::gpu().unwrap();
+    let same_device = fixture.attribute("leakless.device") == Some(gpu.report().name.as_str())
+        && fixture.attribute("leakless.driver") == Some(gpu.report().driver.as_str());
+    for c in checks {
+        assert!(c["passed"].as_bool().unwrap(), "{c}");
+        if same_device {
+            let verdict = c["verdict"].as_str().unwrap();
+            assert!(
+                verdict == "bit-identical" || verdict.starts_with("black"),
+                "{c}: images changed on the fixtures' device (leakless gpu-report --make-fixtures records them anew)"
+            );
+        }
+    }
+
+    // The matrix: each method once, timed, counted; leakless traces visibility rays.
+    let frames = json["frames"].as_array().expect("frames");
+    let methods: Vec<&str> = frames.iter().map(|f| f["method"].as_str().unwrap()).collect();
+    assert_eq!(methods, ["splat", "leakless-capped", "leakless"]);
+    for f in frames {
+        assert!(f["frame_ms"].as_f64().unwrap() > 0.0, "{f}");
+        assert!(f["photons_stored"].as_u64().unwrap() > 0 && f["list_entries"].as_u64().unwrap() > 0, "{f}");
+    }
+    assert_eq!(frames[0]["visibility_rays"].as_u64(), Some(0), "splat traces no visibility ray");
+    assert!(frames[2]["visibility_rays"].as_u64().unwrap() + frames[2]["proven_clear"].as_u64().unwrap() > 0);
+    assert!(!json["rays"].as_array().unwrap().is_empty());
+    assert_eq!(json["branching"].as_array().unwrap().len(), 3);
+    // The device's tuning and each choice changed alone (subgroup counters where the device has
+    // them): the same photons and lists in every variant.
+    let sweep = json["tuning_sweep"].as_array().unwrap();
+    assert!(sweep.len() >= 7, "{}", sweep.len());
+    for v in sweep {
+        for counter in ["photons_stored", "list_entries", "candidate_tests", "visibility_rays", "proven_clear"] {
+            assert_eq!(v[counter], sweep[0][counter], "{counter} of {} differs from the device tuning's", v["variant"]);
+        }
+    }
+}
