@@ -123,9 +123,11 @@ fn compare(scene: &str, backend: String, image: &[[f32; 3]], reference: &[[f32; 
             0 => (true, "black, as on lavapipe".to_string()),
             n => (false, format!("{n} channels lit where lavapipe's image is black")),
         }
-    } else if !(rel_mse <= noise) {
+    } else if noise.is_nan() {
+        (false, format!("the fixture has no {NOISE_ATTRIBUTE} (leakless gpu-report --make-fixtures)"))
+    } else if rel_mse.is_nan() || rel_mse > noise {
         (false, "no closer to lavapipe's image than another seed's render".to_string())
-    } else if !((mean_ratio - 1.0).abs() <= 0.02) {
+    } else if mean_ratio.is_nan() || (mean_ratio - 1.0).abs() > 0.02 {
         (false, format!("mean off by {:+.1}%", 100.0 * (mean_ratio - 1.0)))
     } else if rel_mse == 0.0 {
         (true, "bit-identical".to_string())

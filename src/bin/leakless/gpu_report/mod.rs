@@ -58,6 +58,9 @@ pub struct Report {
     pub seconds: f64,
 }
 
+/// One section of the report: it adds its rows to the report.
+type Section<'a> = dyn Fn(&mut Report) -> anyhow::Result<()> + 'a;
+
 /// The matrix's sizes.
 pub struct Matrix {
     pub sizes: Vec<(u32, u32)>,
@@ -120,7 +123,7 @@ pub fn run(args: GpuReportArgs) -> anyhow::Result<()> {
     };
     save(&mut report)?;
 
-    let sections: [(&str, &dyn Fn(&mut Report) -> anyhow::Result<()>); 4] = [
+    let sections: [(&str, &Section); 4] = [
         ("correctness", &|r| correctness::run(r, &root)),
         ("frames", &|r| timing::frames(r, &root, &matrix)),
         ("rays", &|r| timing::rays(r, &root, &matrix)),
