@@ -27,7 +27,10 @@ layout(constant_id = 1) const bool SUBGROUP_COUNTERS = false;
 #endif
 
 // SLOT = atomicAdd(COUNTER, 1u): the subgroup's first active lane reserves a slot for every
-// active lane and each lane takes its rank among them.
+// active lane and each lane takes its rank among them. The lanes active at the ballot must be
+// those at the broadcast after the elected lane's branch, as on every driver that combines
+// atomics this way; the GPU report checks it where it matters, on the GPU: every tuning variant,
+// subgroup counters on and off, must store and list the same photons.
 #define RESERVE_ONE(COUNTER, SLOT)                                                           \
     if (SUBGROUP_COUNTERS) {                                                                 \
         uvec4 ballot_ = subgroupBallot(true);                                                \
@@ -40,14 +43,14 @@ layout(constant_id = 1) const bool SUBGROUP_COUNTERS = false;
         SLOT = atomicAdd(COUNTER, 1u);                                                       \
     }
 
-// COUNTER += VALUE (32-bit, wrapping alike either way).
+// COUNTER += VALUE (32-bit, wrapping alike either way); nothing is added where nothing counts.
 #define ADD_COUNT(COUNTER, VALUE)                                                            \
     if (SUBGROUP_COUNTERS) {                                                                 \
         uint total_ = subgroupAdd(VALUE);                                                    \
         if (subgroupElect() && total_ != 0u) {                                               \
             atomicAdd(COUNTER, total_);                                                      \
         }                                                                                    \
-    } else {                                                                                 \
+    } else if ((VALUE) != 0u) {                                                              \
         atomicAdd(COUNTER, VALUE);                                                           \
     }
 

@@ -233,6 +233,9 @@ void main() {
     while (true) {
         rays += 1u;
         if (!bounce(st)) {
+            if (params.threads >= params.paths) {
+                break;  // one path a thread (a GPU's tuning): no path is left to take
+            }
             taken = params.threads + atomicAdd(photon_counters.next_path, 1u);
             if (taken >= params.paths) {
                 break;

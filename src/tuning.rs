@@ -1,8 +1,10 @@
 //! Per-device tuning: the choices that make the same frame fast on a CPU driver or on a GPU,
 //! picked once from what the device reports and printed by `leakless info` and in `--stats`.
 //!
-//! Nothing else in the renderer may depend on the kind of device: a choice that does belongs
-//! here, with the reason it differs. The CPU preset is what lavapipe was measured and tuned
+//! Nothing else may depend on the kind of device: a choice that does belongs here, with the
+//! reason it differs. (The one older exception is `auto`'s trace backend, `trace.rs`, chosen
+//! before a renderer exists and printed with its reason; a chart's axis also says when its
+//! times are CPU time.) The CPU preset is what lavapipe was measured and tuned
 //! with (8-lane SIMD groups on a few cores, where a workgroup is a loop and local memory is
 //! cache); changing it changes lavapipe's images or speed, and the image-hash test guards the
 //! first. The GPU preset is the starting point for GPUs (32- or 64-lane subgroups, thousands
@@ -88,6 +90,13 @@ pub struct DeviceTuning {
     /// pass would add a fence wait to each of about 60 passes).
     #[serde(serialize_with = "timing_name")]
     pub timing: Timing,
+    /// The app's rendered size and render scale without `--size` / `--render-scale`: on a CPU,
+    /// where every pixel costs, 320×240 shown at twice its size; on a GPU 1280×720 at 1:1.
+    pub view_size: (u32, u32),
+    pub view_render_scale: f32,
+    /// The app times a frame pass by pass (each submitted alone) every this many frames, for
+    /// its bars, where timestamps in one submission do not bracket the work (0: never).
+    pub view_profile_every: u32,
 }
 
 fn timing_name<S: serde::Serializer>(timing: &Timing, s: S) -> std::result::Result<S::Ok, S::Error> {
@@ -129,6 +138,9 @@ impl DeviceTuning {
             gather_workgroup: 64,
             subgroup_counters: false,
             timing: Timing::PerPassSubmit,
+            view_size: (320, 240),
+            view_render_scale: 0.5,
+            view_profile_every: 30,
         }
     }
 
@@ -143,6 +155,9 @@ impl DeviceTuning {
             ray_queue: 16,
             subgroup_counters: subgroup_arithmetic,
             timing: Timing::Timestamps,
+            view_size: (1280, 720),
+            view_render_scale: 1.0,
+            view_profile_every: 0,
             ..Self::cpu()
         }
     }

@@ -150,7 +150,7 @@ impl Renderer {
     /// code paths) rather than `settings.tuning`'s preset.
     pub fn with_tuning(gpu: Gpu, scene: &Scene, settings: RenderSettings, tuning: DeviceTuning) -> Result<Renderer> {
         settings.validate()?;
-        tuning.validate(gpu.report())?;
+        check_tuning(&settings, &tuning, gpu.report())?;
         let resolved = resolve(&gpu, settings.backend)?;
         crate::limits::check(&settings, scene, resolved.backend, &gpu.report().limits)?;
         let gpu_scene = GpuScene::upload(&gpu, scene)?;
@@ -294,12 +294,21 @@ impl Renderer {
         settings.validate()?;
         let backend = resolve(&self.gpu, settings.backend)?;
         crate::limits::check(&settings, &self.scene, backend.backend, &self.gpu.report().limits)?;
-        if settings.tuning != self.settings.tuning {
+        // Everything that can fail before anything changes: the new tuning's pipelines are
+        // made aside, and replace the old ones last.
+        let retuned = if settings.tuning != self.settings.tuning {
             let tuning = DeviceTuning::choose(self.gpu.report(), settings.tuning);
-            self.gpu.wait_idle()?; // the pipelines of frames in flight
-            self.pipelines = Pipelines::new(&self.gpu, FRAME_PASSES, backend.backend, &tuning)?;
-        }
+            check_tuning(&settings, &tuning, self.gpu.report())?;
+            Some(Pipelines::new(&self.gpu, FRAME_PASSES, backend.backend, &tuning)?)
+        } else {
+            check_tuning(&settings, self.tuning(), self.gpu.report())?;
+            None
+        };
         self.prepare_backend(backend.backend)?;
+        if let Some(pipelines) = retuned {
+            self.gpu.wait_idle()?; // the pipelines of frames in flight
+            self.pipelines = pipelines;
+        }
         let capacity_inputs =
             |s: &RenderSettings| (s.splat.paths, s.max_bounces, s.width, s.height, s.splat.list_capacity);
         let regrow = capacity_inputs(&settings) != capacity_inputs(&self.settings);
@@ -470,6 +479,25 @@ fn accumulation_full(method: Method, accumulating: bool, accumulated: u32) -> bo
         // A single photon frame is drawn anew every time.
         (false, _) => false,
     }
+}
+
+/// `tuning` is valid on the device, and its gather workgroup fits `settings`' view samples in
+/// the device's workgroup count (`limits::check` counted them in 64-thread groups).
+fn check_tuning(
+    settings: &RenderSettings,
+    tuning: &DeviceTuning,
+    report: &leakless_device::DeviceReport,
+) -> Result<()> {
+    tuning.validate(report)?;
+    let groups = (settings.width as u64 * settings.height as u64).div_ceil(tuning.gather_workgroup as u64);
+    let most = report.limits.max_compute_work_group_count[0] as u64;
+    if settings.method.splats() && groups > most {
+        return Err(crate::RenderError::Settings(format!(
+            "--size {}x{}: the gather's {groups} workgroups of {} exceed the device's maxComputeWorkGroupCount ({most})",
+            settings.width, settings.height, tuning.gather_workgroup
+        )));
+    }
+    Ok(())
 }
 
 #[cfg(test)]

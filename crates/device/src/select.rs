@@ -60,8 +60,8 @@ pub struct DeviceReport {
     pub push_descriptor: bool,
     pub timestamp_period_ns: f32,
     pub subgroup_size: u32,
-    /// Subgroup ballot and arithmetic operations in compute shaders (what the tuning's
-    /// subgroup counters need).
+    /// Subgroup ballot and arithmetic operations in compute shaders: required (the modules
+    /// with the tuning's subgroup counters declare them even where the tuning leaves them off).
     pub subgroup_arithmetic: bool,
     /// `vendorID` (PCI vendor: 0x10de NVIDIA, 0x1002 AMD, 0x8086 Intel; 0x10005 Mesa).
     pub vendor_id: u32,
@@ -172,6 +172,10 @@ fn describe(
         ray_exts && fas.acceleration_structure == vk::TRUE && f12.buffer_device_address == vk::TRUE;
     let ray_query = acceleration_structure && frq.ray_query == vk::TRUE;
 
+    let subgroup_arithmetic = subgroup.supported_stages.contains(vk::ShaderStageFlags::COMPUTE)
+        && subgroup
+            .supported_operations
+            .contains(vk::SubgroupFeatureFlags::BALLOT | vk::SubgroupFeatureFlags::ARITHMETIC);
     let mut missing = Vec::new();
     if api_version < (1, 3, 0) {
         missing.push(format!("Vulkan {}.{} < 1.3", api_version.0, api_version.1));
@@ -184,6 +188,10 @@ fn describe(
     }
     if f13.maintenance4 != vk::TRUE {
         missing.push("maintenance4".into());
+    }
+    if !subgroup_arithmetic {
+        // counters.glsl declares the capabilities even where the tuning leaves them unused.
+        missing.push("subgroup ballot and arithmetic in compute shaders".into());
     }
     if f12.host_query_reset != vk::TRUE {
         missing.push("hostQueryReset".into());
@@ -221,10 +229,7 @@ fn describe(
         push_descriptor: has(khr::push_descriptor::NAME),
         timestamp_period_ns: props.limits.timestamp_period,
         subgroup_size: subgroup.subgroup_size,
-        subgroup_arithmetic: subgroup.supported_stages.contains(vk::ShaderStageFlags::COMPUTE)
-            && subgroup
-                .supported_operations
-                .contains(vk::SubgroupFeatureFlags::BALLOT | vk::SubgroupFeatureFlags::ARITHMETIC),
+        subgroup_arithmetic,
         vendor_id: props.vendor_id,
         scratch_alignment: (accel_props.min_acceleration_structure_scratch_offset_alignment as u64).max(1),
         limits: DeviceLimits {

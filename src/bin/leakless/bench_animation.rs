@@ -10,7 +10,6 @@ use std::time::Instant;
 
 use anyhow::{bail, Context};
 use leakless::{Backend, BackendChoice, Method, RenderSettings, Renderer, Scene, SplatSettings};
-use leakless_graph::Timing;
 
 pub fn run(path: &Path, (w, h): (u32, u32), paths: u32, frames: u32) -> anyhow::Result<()> {
     let scene = Scene::load(path).with_context(|| format!("loading {}", path.display()))?;
@@ -77,8 +76,9 @@ pub fn run(path: &Path, (w, h): (u32, u32), paths: u32, frames: u32) -> anyhow::
             }
             frozen.gpu().check_validation()?;
         }
-        // One more moving frame, each pass submitted alone, for the update passes' own times.
-        animated.set_timing(Timing::PerPassSubmit);
+        // One more moving frame, for the update passes' own times: each pass submitted alone on
+        // a CPU device, GPU timestamps on a GPU (the tuning's timing).
+        animated.set_timing(animated.tuning().timing);
         animated.set_time(0.25 * duration)?;
         animated.render_frame(None)?;
         animated.wait_idle()?;

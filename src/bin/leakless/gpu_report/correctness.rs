@@ -1,8 +1,9 @@
 //! The report's correctness section: every shipped scene rendered with validation on, against
 //! the same render made on lavapipe's compute backend (`tests/fixtures/gpu-report/`, made by
 //! `leakless gpu-report --make-fixtures`). Another device traces the same photons up to
-//! floating-point rounding, so a correct render is closer to the fixture than a render of
-//! another seed is: that seed's error is kept in the fixture as the yardstick.
+//! floating-point rounding, so a correct render is much closer to the fixture than a render of
+//! another seed is: that seed's error is kept in the fixture as the yardstick, and a render
+//! matches within half of it.
 
 use std::path::{Path, PathBuf};
 
@@ -18,6 +19,9 @@ use super::Report;
 const FIXTURES: &str = "tests/fixtures/gpu-report";
 const SIZE: (u32, u32) = (64, 48);
 const PATHS: u32 = 10_000;
+/// A render matches when its relMSE against the fixture is at most this share of another
+/// seed's: the same photons, up to rounding that sends some paths elsewhere.
+const MATCH_SHARE: f64 = 0.5;
 /// The attribute holding another seed's relMSE against the fixture.
 const NOISE_ATTRIBUTE: &str = "leakless.other_seed_relmse";
 
@@ -100,7 +104,7 @@ pub fn run(report: &mut Report, root: &Path) -> anyhow::Result<()> {
         let (r, g, b) = (channel("R")?, channel("G")?, channel("B")?);
         let reference: Vec<[f32; 3]> = (0..r.len()).map(|i| [r[i], g[i], b[i]]).collect();
         let noise: f64 = fixture.attribute(NOISE_ATTRIBUTE).and_then(|s| s.parse().ok()).unwrap_or(f64::NAN);
-        let gpu = super::open(true)?;
+        let gpu = open_validated()?;
         report.validation |= gpu.capabilities().validation;
         let (backend, image) = render(gpu, &scene, settings(BackendChoice::Auto, 0))?;
         let check = compare(&scene.name, backend, &image, &reference, noise);
@@ -108,6 +112,15 @@ pub fn run(report: &mut Report, root: &Path) -> anyhow::Result<()> {
         report.correctness.push(check);
     }
     Ok(())
+}
+
+/// The device with validation, or without where the layer is present but cannot load (a packed
+/// layer built for another C++ runtime): the report still runs, and says validation was off.
+fn open_validated() -> leakless::Result<leakless::Gpu> {
+    super::open(true).or_else(|e| {
+        eprintln!("gpu-report: no device with validation ({e}); rendering without it");
+        super::open(false)
+    })
 }
 
 fn compare(scene: &str, backend: String, image: &[[f32; 3]], reference: &[[f32; 3]], noise: f64) -> Check {
@@ -125,8 +138,8 @@ fn compare(scene: &str, backend: String, image: &[[f32; 3]], reference: &[[f32; 
         }
     } else if noise.is_nan() {
         (false, format!("the fixture has no {NOISE_ATTRIBUTE} (leakless gpu-report --make-fixtures)"))
-    } else if rel_mse.is_nan() || rel_mse > noise {
-        (false, "no closer to lavapipe's image than another seed's render".to_string())
+    } else if rel_mse.is_nan() || rel_mse > MATCH_SHARE * noise {
+        (false, format!("{:.0}% of another seed's error from lavapipe's image", 100.0 * rel_mse / noise))
     } else if mean_ratio.is_nan() || (mean_ratio - 1.0).abs() > 0.02 {
         (false, format!("mean off by {:+.1}%", 100.0 * (mean_ratio - 1.0)))
     } else if rel_mse == 0.0 {

@@ -150,6 +150,15 @@ pub fn sweeps(report: &mut Report, root: &Path, matrix: &Matrix) -> anyhow::Resu
         println!("  {}: {:.2} ms", r.variant, r.frame_ms);
         report.tuning_sweep.push(r);
     }
+    // No choice of the tuning may change what is stored and listed: on a driver where the
+    // subgroup counters' lanes did not reconverge, slots would be handed out twice.
+    let counts =
+        |r: &FrameRow| (r.photons_stored, r.list_entries, r.candidate_tests, r.visibility_rays, r.proven_clear);
+    if let Some(first) = report.tuning_sweep.first() {
+        let differ: Vec<&str> =
+            report.tuning_sweep.iter().filter(|r| counts(r) != counts(first)).map(|r| r.variant.as_str()).collect();
+        anyhow::ensure!(differ.is_empty(), "these tuning variants change the counters: {}", differ.join(", "));
+    }
     Ok(())
 }
 

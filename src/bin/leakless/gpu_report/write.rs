@@ -98,7 +98,7 @@ fn correctness(md: &mut String, r: &Report) -> anyhow::Result<()> {
     writeln!(
         md,
         "`leakless` at 64×48, 10k paths, seed 0, validation {validation}, against the same render on lavapipe's \
-         compute backend (`tests/fixtures/gpu-report/`). A correct render is closer to it than another seed's render is.\n"
+         compute backend (`tests/fixtures/gpu-report/`). A render matches when its relMSE is at most half another seed's.\n"
     )?;
     writeln!(md, "| scene | backend | relMSE | another seed's | mean ratio | verdict |\n|---|---|---|---|---|---|")?;
     for c in &r.correctness {

@@ -22,7 +22,7 @@ use std::time::Instant;
 
 use anyhow::{bail, Context};
 use leakless::{RenderSettings, Renderer, Scene};
-use leakless_device::{DeviceType, PresentMode, Swapchain};
+use leakless_device::{PresentMode, Swapchain};
 use raw_window_handle::{HasDisplayHandle, HasWindowHandle};
 use winit::application::ApplicationHandler;
 use winit::event::{ElementState, MouseButton, MouseScrollDelta, WindowEvent};
@@ -53,16 +53,6 @@ pub struct ViewArgs {
     /// GPUs). `--size` is the rendered size; the window is `--size` / this.
     #[arg(long)]
     render_scale: Option<f32>,
-}
-
-/// The rendered size and render scale without `--size` / `--render-scale`: on a CPU device,
-/// where every pixel costs, 320×240 shown in a 640×480 window; on a GPU, 1280×720 in a window
-/// of that size.
-fn device_defaults(device: DeviceType) -> ((u32, u32), f32) {
-    match device {
-        DeviceType::Cpu => ((320, 240), 0.5),
-        _ => ((1280, 720), 1.0),
-    }
 }
 
 /// The window size showing a `size` render at `scale`.
@@ -175,10 +165,11 @@ impl App {
     fn start(&mut self, event_loop: &ActiveEventLoop) -> anyhow::Result<Running> {
         let options = &self.args.options;
         let title = format!("leakless — {}", self.scene.name);
-        // The size needs the device type; the window comes first (the device must present to
-        // it), so it opens at the CPU size and grows if the device is a GPU.
-        let cpu = device_defaults(DeviceType::Cpu);
-        let (w, h) = window_size(options.size.unwrap_or(cpu.0), self.args.render_scale.unwrap_or(cpu.1));
+        // The size is the device tuning's; the window comes first (the device must present to
+        // it), so it opens at the CPU preset's size and grows if the device is a GPU.
+        let cpu = leakless::DeviceTuning::cpu();
+        let (w, h) =
+            window_size(options.size.unwrap_or(cpu.view_size), self.args.render_scale.unwrap_or(cpu.view_render_scale));
         let attributes =
             Window::default_attributes().with_title(title).with_inner_size(winit::dpi::PhysicalSize::new(w, h));
         let window = Arc::new(event_loop.create_window(attributes).context("opening the window")?);
@@ -192,10 +183,9 @@ impl App {
             window: Some(handles),
         };
         let gpu = leakless::Gpu::new(&gpu_options).context("opening a Vulkan device that presents to the window")?;
-        let device_type = gpu.report().device_type;
-        let defaults = device_defaults(device_type);
-        let render_scale = self.args.render_scale.unwrap_or(defaults.1);
-        let render_size = options.size.unwrap_or(defaults.0);
+        let tuning = leakless::DeviceTuning::choose(gpu.report(), options.tuning);
+        let render_scale = self.args.render_scale.unwrap_or(tuning.view_render_scale);
+        let render_size = options.size.unwrap_or(tuning.view_size);
         let size = window_size(render_size, render_scale);
         if size != (w, h) {
             let _ = window.request_inner_size(winit::dpi::PhysicalSize::new(size.0, size.1));
@@ -245,7 +235,7 @@ impl App {
             frame_ms: 0.0,
             batch_limit: options.max_batches,
             batches_fitted: false,
-            profile_every: if device_type == DeviceType::Cpu { 30 } else { 0 },
+            profile_every: tuning.view_profile_every as u64,
             refusal: None,
             timings: None,
             quit: false,
