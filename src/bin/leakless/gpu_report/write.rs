@@ -66,12 +66,8 @@ fn markdown(r: &Report) -> anyhow::Result<String> {
 }
 
 fn timing(r: &Report) -> &'static str {
-    match r.tuning.as_ref().map(|t| t.timing) {
-        Some(leakless_graph::Timing::Timestamps) => {
-            "GPU timestamps within one submission, frame = first pass start to last pass end"
-        }
-        _ => "each pass submitted alone and timed on the host, frame = their sum",
-    }
+    let timing = r.tuning.as_ref().map_or(leakless_graph::Timing::PerPassSubmit, |t| t.timing);
+    crate::measure::bench::timing_words(timing)
 }
 
 /// The line the README quotes: the 1080p leakless frame against splat and Moreau et al.

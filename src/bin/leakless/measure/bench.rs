@@ -63,9 +63,16 @@ pub fn rays(gpu: &Gpu, scene: &Scene, width: u32, height: u32, repeats: u32) -> 
 
 /// How the benchmarks time a frame on `gpu` (its tuning's timing), for their headers.
 pub fn timing_phrase(gpu: &Gpu) -> &'static str {
-    match leakless::DeviceTuning::choose(gpu.report(), leakless::TuningChoice::Auto).timing {
-        leakless_graph::Timing::PerPassSubmit => "wall time of each pass submitted alone",
-        leakless_graph::Timing::Timestamps => "GPU timestamps, one submission per frame",
+    timing_words(leakless::DeviceTuning::choose(gpu.report(), leakless::TuningChoice::Auto).timing)
+}
+
+/// What a frame's time is under `timing`.
+pub fn timing_words(timing: leakless_graph::Timing) -> &'static str {
+    match timing {
+        leakless_graph::Timing::PerPassSubmit => "wall time of each pass submitted alone, the frame their sum",
+        leakless_graph::Timing::Timestamps => {
+            "GPU timestamps in one submission, the frame from the first pass's start to the last one's end"
+        }
     }
 }
 
