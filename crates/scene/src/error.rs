@@ -40,7 +40,7 @@ pub enum SceneError {
 
     /// docs/architecture.md §4: a scene without a light renders black, which is never what the
     /// user meant, so it is refused.
-    #[error("scene {} has no light: add a KHR_lights_punctual light", one_line(name))]
+    #[error("scene {} has no light: add a KHR_lights_punctual light or an emissive material", one_line(name))]
     NoLight { name: String },
 
     /// Nothing to render (no triangle primitive reachable from the scene's nodes).

@@ -11,7 +11,8 @@ use json::validation::Checked;
 
 /// Extensions the loader implements; every other one in `extensionsUsed` is
 /// reported as ignored.
-pub(crate) const IMPLEMENTED_EXTENSIONS: &[&str] = &["KHR_lights_punctual", "KHR_mesh_quantization"];
+pub(crate) const IMPLEMENTED_EXTENSIONS: &[&str] =
+    &["KHR_lights_punctual", "KHR_mesh_quantization", "KHR_materials_emissive_strength"];
 
 /// Collects what a file has that the renderer does not use.
 #[derive(Default)]
@@ -62,8 +63,8 @@ impl Ignored {
         }
         for m in &root.materials {
             let pbr = &m.pbr_metallic_roughness;
-            if m.emissive_factor.0 != [0.0; 3] || m.emissive_texture.is_some() {
-                ig.add("emission");
+            if m.emissive_texture.as_ref().is_some_and(|t| t.tex_coord != 0) {
+                ig.add("emissive textures on texcoord sets other than 0");
             }
             // glTF's default metallicFactor is 1 (metal); a diffuse file says 0.
             // Roughness alone is not reported: it only shapes a specular lobe that a

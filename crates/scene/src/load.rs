@@ -118,7 +118,9 @@ pub(crate) fn load(path: &Path) -> Result<Scene, SceneError> {
     if g.vertices.is_empty() {
         return Err(SceneError::NoTriangles { name });
     }
-    if walk.lights.is_empty() {
+    // A light is a punctual light or a triangle whose material emits.
+    let emissive = |m: &u32| materials.get(*m as usize).is_some_and(|m| m.emits());
+    if walk.lights.is_empty() && !g.triangle_material.iter().any(emissive) {
         return Err(SceneError::NoLight { name });
     }
     let mut warnings: Vec<String> = ignored.line().into_iter().collect();

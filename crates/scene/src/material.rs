@@ -1,7 +1,8 @@
-//! Lambertian albedo: `baseColorFactor` × `baseColorTexture`, plus `MASK` cut-outs.
+//! Lambertian albedo: `baseColorFactor` × `baseColorTexture`, plus `MASK` cut-outs, and
+//! emission: `emissiveFactor` × `emissiveTexture` × `KHR_materials_emissive_strength`.
 //!
 //! The renderer is diffuse-only (docs/architecture.md §1), so a glTF material reduces to its
-//! base colour. Textures are decoded to RGBA8 once, here, so the GPU side only
+//! base colour and, for surfaces that are lights, the radiance they emit. Textures are decoded to RGBA8 once, here, so the GPU side only
 //! uploads bytes; they stay sRGB-encoded so an `*_SRGB` image format decodes them
 //! in the sampler.
 
@@ -28,6 +29,21 @@ pub struct Material {
     /// `Some(cutoff)` only for `alphaMode: MASK` (glTF default 0.5): a surface point
     /// whose alpha is below it does not exist (no hit, no shadow, no photon).
     pub alpha_cutoff: Option<f32>,
+    /// Emitted radiance (W/m²/sr, linear RGB): `emissiveFactor` × `emissive_strength`, times
+    /// the emissive texture where there is one. Zero for surfaces that are not lights.
+    pub emission: glam::Vec3,
+    /// Index into [`crate::Scene::textures`] of the emissive texture (texcoord set 0).
+    pub emission_texture: Option<u32>,
+    /// glTF `doubleSided`: emission leaves both faces; otherwise only the front face, the
+    /// one the counter-clockwise winding faces (reflection is two-sided either way).
+    pub double_sided: bool,
+}
+
+impl Material {
+    /// Whether the surface is a light.
+    pub fn emits(&self) -> bool {
+        self.emission.max_element() > 0.0
+    }
 }
 
 impl Material {
@@ -39,6 +55,9 @@ impl Material {
             base_color: Vec4::new(0.8, 0.8, 0.8, 1.0),
             texture: None,
             alpha_cutoff: None,
+            emission: glam::Vec3::ZERO,
+            emission_texture: None,
+            double_sided: false,
         }
     }
 }
@@ -81,32 +100,42 @@ pub(crate) fn load(root: &json::Root, data: &Data, base: &Path) -> Result<Loaded
     let mut by_image: HashMap<usize, u32> = HashMap::new();
     let mut blend = Vec::new();
     let mut clamped = Vec::new();
+    let mut invalid_emission = Vec::new();
     for (i, m) in root.materials.iter().enumerate() {
         let name = m.name.clone().unwrap_or_else(|| format!("material {i}"));
         let pbr = &m.pbr_metallic_roughness;
-        let mut texture = None;
-        // Other texcoord sets are not loaded; the ignored-features line says so.
-        if let Some(info) = pbr.base_color_texture.as_ref().filter(|t| t.tex_coord == 0) {
+        let mut slot_of = |index: usize| -> Result<u32, ImageError> {
             let image = root
                 .textures
-                .get(info.index.value())
+                .get(index)
                 .map(|t| t.source.value())
                 // Unreachable after validation; kept so that no index is trusted.
-                .ok_or_else(|| ImageError {
-                    index: info.index.value(),
-                    message: format!("material '{name}' references a missing texture"),
-                })?;
-            let slot = match by_image.get(&image) {
-                Some(&slot) => slot,
-                None => {
-                    textures.push(decode(root, data, base, image)?);
-                    let slot = (textures.len() - 1) as u32;
-                    by_image.insert(image, slot);
-                    slot
-                }
-            };
-            texture = Some(slot);
-        }
+                .ok_or_else(|| ImageError { index, message: format!("material '{name}' references a missing texture") })?;
+            if let Some(&slot) = by_image.get(&image) {
+                return Ok(slot);
+            }
+            textures.push(decode(root, data, base, image)?);
+            let slot = (textures.len() - 1) as u32;
+            by_image.insert(image, slot);
+            Ok(slot)
+        };
+        // Other texcoord sets are not loaded; the ignored-features line says so.
+        let texture = match pbr.base_color_texture.as_ref().filter(|t| t.tex_coord == 0) {
+            Some(info) => Some(slot_of(info.index.value())?),
+            None => None,
+        };
+        let emission_texture = match m.emissive_texture.as_ref().filter(|t| t.tex_coord == 0) {
+            Some(info) => Some(slot_of(info.index.value())?),
+            None => None,
+        };
+        let strength = m.extensions.as_ref().and_then(|e| e.emissive_strength.as_ref()).map_or(1.0, |s| s.emissive_strength.0);
+        let emission = glam::Vec3::from(m.emissive_factor.0) * strength;
+        // Negative or non-finite emission is no light at all (a NaN would poison every
+        // estimate it reaches).
+        let emission = if emission.is_finite() { emission.max(glam::Vec3::ZERO) } else {
+            invalid_emission.push(format!("'{name}'"));
+            glam::Vec3::ZERO
+        };
         let alpha_cutoff = match m.alpha_mode {
             Checked::Valid(json::material::AlphaMode::Mask) => Some(m.alpha_cutoff.as_ref().map_or(0.5, |c| c.0)),
             Checked::Valid(json::material::AlphaMode::Blend) => {
@@ -122,7 +151,8 @@ pub(crate) fn load(root: &json::Root, data: &Data, base: &Path) -> Result<Loaded
         if base_color != factor {
             clamped.push(format!("'{name}'"));
         }
-        materials.push(Material { name, base_color, texture, alpha_cutoff });
+        let double_sided = m.double_sided;
+        materials.push(Material { name, base_color, texture, alpha_cutoff, emission, emission_texture, double_sided });
     }
     let mut warnings = Vec::new();
     if !blend.is_empty() {
@@ -135,6 +165,10 @@ pub(crate) fn load(root: &json::Root, data: &Data, base: &Path) -> Result<Loaded
     if !clamped.is_empty() {
         let s = if clamped.len() > 1 { "s" } else { "" };
         warnings.push(format!("baseColorFactor clamped to [0, 1]: material{s} {}", clamped.join(", ")));
+    }
+    if !invalid_emission.is_empty() {
+        let s = if invalid_emission.len() > 1 { "s" } else { "" };
+        warnings.push(format!("emission that is not a finite number is dropped: material{s} {}", invalid_emission.join(", ")));
     }
     Ok(Loaded { materials, textures, warnings })
 }

@@ -47,7 +47,7 @@ fn directory_is_unreadable() {
 fn no_light_is_refused_with_advice() {
     let e = Scene::load(&repo("tests/scenes/no-light.gltf")).unwrap_err();
     assert!(matches!(e, SceneError::NoLight { .. }), "{e:?}");
-    assert_eq!(one_line(&e), "scene no-light has no light: add a KHR_lights_punctual light");
+    assert_eq!(one_line(&e), "scene no-light has no light: add a KHR_lights_punctual light or an emissive material");
 }
 
 #[test]
@@ -305,7 +305,7 @@ fn skipped_things_each_get_one_warning_line() {
     assert_eq!(
         s.warnings,
         [
-            "ignored: emission, metalness",
+            "ignored: metalness",
             "alphaMode BLEND is rendered opaque: material 'glass'",
             "skipped primitives that are not triangles: 1 LINES",
             "camera 0 is orthographic: skipped",
@@ -324,5 +324,30 @@ fn alpha_mask_defaults_to_half() {
     assert_eq!(s.materials.len(), 1, "the file's material is used, no default added");
     assert_eq!((s.materials[0].name.as_str(), s.materials[0].alpha_cutoff), ("material 0", Some(0.5)));
     assert_eq!(s.materials[0].base_color, glam::Vec4::ONE);
+    assert!(s.warnings.is_empty(), "{:?}", s.warnings);
+}
+
+#[test]
+fn emissive_materials_are_lights() {
+    let dir = scratch("emissive");
+    // No punctual light: the emissive triangle alone makes the scene lit.
+    let s = triangle_scene(&dir, TRI, |j| {
+        j.replace("\"extensionsUsed\": [\"KHR_lights_punctual\"],", "\"extensionsUsed\": [\"KHR_materials_emissive_strength\"],")
+            .replace("\"extensions\": {\"KHR_lights_punctual\": {\"lights\": [{\"type\": \"point\"}]}},", "")
+            .replace(", {\"extensions\": {\"KHR_lights_punctual\": {\"light\": 0}}, \"translation\": [0, 0, 1]}", "")
+            .replace("\"scenes\": [{\"nodes\": [0, 1]}]", "\"scenes\": [{\"nodes\": [0]}]")
+            .replace(
+                NODE0,
+                "\"materials\": [{\"pbrMetallicRoughness\": {\"metallicFactor\": 0}, \"emissiveFactor\": [1, 0.5, 0.25], \"doubleSided\": true, \
+                 \"extensions\": {\"KHR_materials_emissive_strength\": {\"emissiveStrength\": 4}}}], \
+                 \"nodes\": [{\"mesh\": 0,",
+            )
+            .replace("{\"attributes\": {\"POSITION\": 0}}", "{\"attributes\": {\"POSITION\": 0}, \"material\": 0}")
+    })
+    .unwrap();
+    assert!(s.lights.is_empty());
+    let m = &s.materials[s.triangle_material[0] as usize];
+    assert_eq!(m.emission, glam::Vec3::new(4.0, 2.0, 1.0));
+    assert!(m.double_sided && m.emits() && m.emission_texture.is_none());
     assert!(s.warnings.is_empty(), "{:?}", s.warnings);
 }

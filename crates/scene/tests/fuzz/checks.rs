@@ -50,13 +50,19 @@ pub(crate) fn check_scene(s: &Scene) -> Result<(), String> {
         if m.texture.is_some_and(|t| t as usize >= s.textures.len()) {
             return Err(format!("material {i} texture {:?} out of {}", m.texture, s.textures.len()));
         }
+        if !(m.emission.is_finite() && m.emission.min_element() >= 0.0) {
+            return Err(format!("material {i} has emission {}", m.emission));
+        }
+        if m.emission_texture.is_some_and(|t| t as usize >= s.textures.len()) {
+            return Err(format!("material {i} emissive texture {:?} out of {}", m.emission_texture, s.textures.len()));
+        }
     }
     for (i, t) in s.textures.iter().enumerate() {
         if t.texels.len() as u64 != u64::from(t.width) * u64::from(t.height) || t.texels.is_empty() {
             return Err(format!("texture {i}: {} texels for {}x{}", t.texels.len(), t.width, t.height));
         }
     }
-    if s.lights.is_empty() {
+    if s.lights.is_empty() && !s.triangle_material.iter().any(|&m| s.materials[m as usize].emits()) {
         return Err("no lights".into());
     }
     for l in &s.lights {
