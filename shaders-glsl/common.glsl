@@ -12,8 +12,8 @@ const float PI = 3.14159265358979323846;
     vec4 camera_position; \
     uint width; \
     uint height; \
-    uint light_count; \
-    uint pad0; \
+    uint light_count;   /* punctual lights */ \
+    uint emitter_count; /* emissive triangles (emitters.glsl) */ \
 } frame
 
 // glTF KHR_lights_punctual, in world space. `intensity` is colour × intensity: radiant
@@ -37,6 +37,12 @@ struct Material {
     uint texture_width;   // 0: no texture
     uint texture_height;
     float alpha_cutoff;   // < 0: opaque
+    vec3 emission;        // emitted radiance (W/m²/sr) × the emissive texture; 0: not a light
+    uint double_sided;    // 1: emits from both faces; 0: from the front (counter-clockwise) face
+    uint emission_texture_offset;
+    uint emission_texture_width;  // 0: no emissive texture
+    uint emission_texture_height;
+    uint pad0;
 };
 
 // Bit i of the low `bits` bits of v moved to bit stride·i: interleaved, these make the Morton

@@ -1,10 +1,16 @@
 #version 460
-// Direct light: radiance reflected toward the camera by a Lambertian surface from every
-// punctual light it sees, L = ρ/π · Σ V · E_light, with one shadow ray per light (V).
+// Direct light: radiance reflected toward the camera by a Lambertian surface, L = ρ/π · E,
+// from every punctual light it sees (one shadow ray per light, exact) and from the emissive
+// triangles (resampled next-event estimation, area_light.glsl: an estimate per frame that an
+// accumulation averages), plus the radiance the surface itself emits toward the camera.
 #include "trace.glsl"
 #include "common.glsl"
 #include "gbuffer.glsl"
 #include "light.glsl"
+#include "emitters.glsl"
+#include "lowdiscrepancy.glsl"
+#include "random.glsl"
+#include "area_light.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
 
@@ -12,6 +18,24 @@ FRAME_BLOCK(0);
 layout(set = 0, binding = 1, std430) readonly buffer Lights { Light lights[]; } lights;
 GBUFFER_BINDINGS(2)
 layout(set = 0, binding = 5, rgba32f) uniform writeonly image2D direct;
+layout(push_constant) uniform DirectParams {
+    uint sample_set;   // the frame's index in its accumulation: sets continue one sequence
+    uint samples;      // shadow rays to emitters per pixel
+    uint candidates;   // emitter points resampled per shadow ray
+    uint seed;
+} params;
+
+// Barycentrics (ray-query convention) of `p` on the plane of `triangle`.
+vec2 barycentrics_of(uint triangle, vec3 p) {
+    vec3 p0 = vertex_position(3u * triangle);
+    vec3 e1 = vertex_position(3u * triangle + 1u) - p0;
+    vec3 e2 = vertex_position(3u * triangle + 2u) - p0;
+    vec3 d = p - p0;
+    float d11 = dot(e1, e1), d12 = dot(e1, e2), d22 = dot(e2, e2);
+    float d1 = dot(d, e1), d2 = dot(d, e2);
+    float det = d11 * d22 - d12 * d12;
+    return det != 0.0 ? vec2(d22 * d1 - d12 * d2, d11 * d2 - d12 * d1) / det : vec2(1.0 / 3.0);
+}
 
 void main() {
     ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
@@ -33,7 +57,15 @@ void main() {
         for (uint i = 0u; i < frame.light_count; ++i) {
             e += visible_irradiance(lights.lights[i], origin, n, ng);
         }
+        if (frame.emitter_count > 0u && params.samples > 0u) {
+            uint pixel_seed = ld_hash_combine(params.seed, uint(pixel.y) * frame.width + uint(pixel.x));
+            Rng rng = rng_seed(uvec2(pixel), params.sample_set, params.seed ^ 0x9e3779b9u);
+            e += area_light_irradiance(origin, n, ng, frame.emitter_count, params.sample_set, params.samples,
+                                       params.candidates, pixel_seed, rng);
+        }
         radiance = albedo / PI * e;
+        vec3 toward_surface = position.xyz - frame.camera_position.xyz;
+        radiance += triangle_emission(triangle, barycentrics_of(triangle, position.xyz), toward_surface);
     }
     imageStore(direct, pixel, vec4(radiance, 1.0));
 }

@@ -12,12 +12,14 @@
 #include "lowdiscrepancy.glsl"
 #include "photon.glsl"
 #include "counters.glsl"
+#include "emitters.glsl"
 
 layout(local_size_x = 64) in;
 
 // One light's entry in the power CDF. Twin: `PhotonLight` in src/passes/photons.rs.
 struct PhotonLight {
-    vec3 flux;  // power_rgb / p(light): a path from this light carries flux / paths
+    vec3 flux;  // power_rgb / p(light): a path from this light carries flux / paths; for an
+                // emissive triangle 1 / p, times the power it emits where the path starts
     float cdf;  // Σ p(light j) for j <= this light; the last is 1
 };
 
@@ -33,7 +35,7 @@ layout(push_constant) uniform PhotonParams {
     uint path_offset;    // index of path 0 in the sequence: accumulated frames continue it
     uint threads;        // threads dispatched: paths beyond them are taken as others end
     uint ordered;        // 1: take paths in `path_order`; 0: in index order (the same photons)
-    uint pad0;
+    uint punctual_count; // lights before the emissive triangles in the table
     uint pad1;
     uint pad2;
 } params;
@@ -53,6 +55,9 @@ layout(set = 0, binding = 4, std430) buffer PhotonCounters {
 // Sample groups of a path (lowdiscrepancy.glsl): emission, then one per bounce.
 const uint GROUP_EMISSION = 0u;
 const uint GROUP_FIRST_BOUNCE = 1u;
+// Where on an emissive triangle a path starts, and from which face: a group of its own, far
+// past the bounces', so that the emission pair keeps placing the direction.
+const uint GROUP_EMITTER_POINT = 0x8000u;
 
 // The first light whose CDF exceeds u (lights of zero power are never chosen).
 uint select_light(float u) {
@@ -157,6 +162,20 @@ PathState emit(uint path) {
     st.h = 0u;
     vec3 u = ld_sample3(st.index, GROUP_EMISSION, params.seed);
     st.light_index = select_light(u.z);
+    if (st.light_index >= params.punctual_count) {
+        // An emissive triangle: a uniform point, a face (either, for a two-sided surface), a
+        // cosine-distributed direction; flux π·A·s·Le(x) / p.
+        vec3 v = ld_sample3(st.index, GROUP_EMITTER_POINT, params.seed);
+        EmitterPoint e = emitter_point(emitters.emitters[st.light_index - params.punctual_count].triangle, v.xy);
+        bool two_sided = e.material.double_sided != 0u;
+        vec3 n = two_sided && v.z >= 0.5 ? -e.normal : e.normal;
+        float sides = two_sided ? 2.0 : 1.0;
+        st.flux = photon_lights.entries[st.light_index].flux * (PI * e.area * sides) * emitted_toward(e, n)
+                / float(params.paths);
+        st.dir = sample_cosine(n, u.x, u.y);
+        st.origin = offset_ray(e.position, n);
+        return st;
+    }
     Light light = lights.lights[st.light_index];
     st.flux = photon_lights.entries[st.light_index].flux / float(params.paths);
     if (light.kind == LIGHT_DIRECTIONAL) {

@@ -1,13 +1,18 @@
 #version 460
 // Reference path tracer of the same light transport as the splatting methods: Lambertian
-// surfaces, punctual lights, next-event estimation at every path vertex. It estimates the
-// indirect radiance leaving each view sample of the G-buffer (the direct part is exact and
-// comes from the direct pass) and adds `sample_count` samples to a running sum.
+// surfaces, punctual lights and emissive triangles, next-event estimation at every path
+// vertex (for emitters one sample by power, weighted by multiple importance sampling against
+// the next bounce's cosine sample, which counts the emitters it hits: Veach's power
+// heuristic). It estimates the indirect radiance leaving each view sample of the G-buffer (the
+// direct part comes from the direct pass) and adds `sample_count` samples to a running sum.
 #include "trace.glsl"
 #include "common.glsl"
 #include "gbuffer.glsl"
 #include "light.glsl"
 #include "random.glsl"
+#include "emitters.glsl"
+#include "lowdiscrepancy.glsl"
+#include "area_light.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
 
@@ -40,6 +45,42 @@ vec3 direct_at(vec3 p, vec3 n, vec3 ng) {
     return e;
 }
 
+// Veach's power heuristic: the weight of a sample drawn with density `a` where another
+// strategy would have drawn it with density `b`.
+float power_heuristic(float a, float b) {
+    return a * a / max(a * a + b * b, 1e-30);
+}
+
+// Irradiance at `p` from one emitter sample (by power, uniform on the triangle) with its shadow
+// ray; `mis`: weighted against the cosine sample of the next bounce, which will also count it.
+vec3 emitter_sample(vec3 p, vec3 n, vec3 ng, bool mis, inout Rng rng) {
+    if (frame.emitter_count == 0u) {
+        return vec3(0.0);
+    }
+    Emitter em = emitters.emitters[select_emitter(rng_next(rng), frame.emitter_count)];
+    float u0 = rng_next(rng);
+    EmitterPoint e = emitter_point(em.triangle, vec2(u0, rng_next(rng)));
+    vec3 l;
+    float dist;
+    vec3 irr = unshadowed_irradiance(e, p, n, ng, l, dist);
+    if (irr == vec3(0.0)) {
+        return irr;
+    }
+    vec3 origin = offset_ray(p, ng);
+    vec3 end = nudge_toward(e.position, p);
+    vec3 d = end - origin;
+    float len = length(d);
+    if (!(len > 0.0) || traceOccluded(origin, d / len, 0.0, len)) {
+        return vec3(0.0);
+    }
+    float weight = 1.0;
+    if (mis) {
+        float pdf_light = emitter_solid_angle_pdf(em.probability, e.area, dist, abs(dot(e.normal, l)));
+        weight = power_heuristic(pdf_light, dot(n, l) / PI);
+    }
+    return irr * (weight * e.area / em.probability);
+}
+
 // Whether the point at barycentrics `b` lies within `d` of the triangle's boundary: its distance
 // to the edge opposite vertex k is w_k times that vertex's altitude, 2·area / |edge k|.
 bool near_boundary(uint triangle, vec2 b, float d) {
@@ -65,6 +106,18 @@ vec3 indirect_sample(vec3 p, vec3 n, vec3 ng, vec3 albedo, inout Rng rng) {
         if (hit.triangle == NO_HIT) {
             break;
         }
+        // Emission that this cosine sample finds, from the second bounce on (light the first
+        // bounce finds is direct light), weighted against the emitter sample at `p`.
+        if (bounce >= 2u && frame.emitter_count > 0u) {
+            vec3 le = triangle_emission(hit.triangle, hit.barycentrics, dir);
+            if (le != vec3(0.0)) {
+                float probability = emitter_probability(hit.triangle, frame.emitter_count);
+                vec3 x_hit = triangle_position(hit.triangle, hit.barycentrics);
+                float cos_light = abs(dot(triangle_geometric_normal(hit.triangle), dir));
+                float pdf_light = emitter_solid_angle_pdf(probability, triangle_area(hit.triangle), distance(from, x_hit), cos_light);
+                radiance += throughput * le * power_heuristic(dot(n, dir) / PI, pdf_light);
+            }
+        }
         // Into its triangle by a lift, toward the centroid, as photons are stored
         // (nudge_toward), so that a hit on an edge that a sealed wall shares does not send the
         // path on from beyond the wall. Except within a lift of the triangle's boundary: a ray
@@ -88,7 +141,9 @@ vec3 indirect_sample(vec3 p, vec3 n, vec3 ng, vec3 albedo, inout Rng rng) {
         }
         vec3 ngy = oriented_geometric_normal(hit.triangle, ny);
         vec3 rho = material_albedo(triangle_material(hit.triangle), triangle_uv(hit.triangle, hit.barycentrics)).rgb;
-        radiance += throughput * rho / PI * direct_at(y, ny, ngy);
+        // The emitter sample is weighted against the next bounce's unless this vertex is the last.
+        vec3 e = direct_at(y, ny, ngy) + emitter_sample(y, ny, ngy, bounce < params.max_bounces, rng);
+        radiance += throughput * rho / PI * e;
         throughput *= rho;
         if (bounce >= params.roulette_start) {
             float survive = clamp(max(throughput.r, max(throughput.g, throughput.b)), 0.05, 1.0);

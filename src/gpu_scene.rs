@@ -8,8 +8,9 @@ use leakless_device::{Buffer, Gpu, GpuStruct};
 use leakless_graph::{shader_bindings, BufferHandle, Graph, PassBuilder, Stage};
 use leakless_scene::{LightKind, Scene};
 
+use crate::emitters::EmitterTable;
 use crate::error::{RenderError, Result};
-use crate::gpu_types::{self, Light, Material, VERTEX_LAYOUT};
+use crate::gpu_types::{self, Emitter, Light, Material, VERTEX_LAYOUT};
 use crate::trace::SceneBvh;
 
 shader_bindings! {
@@ -21,6 +22,14 @@ shader_bindings! {
         texels: read array(u32::LAYOUT),
     }
     pub struct SceneResources;
+}
+
+shader_bindings! {
+    /// What `emitters.glsl` binds: the emissive triangles and their NEE CDF.
+    pub struct EmitterBindings {
+        emitters: read array(Emitter::LAYOUT),
+    }
+    pub struct EmitterResources;
 }
 
 /// The G-buffer stores `triangle + 1` in a float channel, exact up to 2^24.
@@ -41,6 +50,9 @@ pub struct GpuScene {
     /// The BVH over `vertices` (the compute backend traverses it; every backend's clearance
     /// pass searches it) and the scene's trace scale.
     pub bvh: SceneBvh,
+    /// The emissive triangles (`emitters.glsl`), and their table on the CPU.
+    pub emitters: Buffer,
+    pub emitter_table: EmitterTable,
     /// The pose version whose instance vertices `vertices` holds (`ScenePose::version`).
     pub placed_version: u64,
 }
@@ -74,13 +86,29 @@ impl GpuScene {
             .materials
             .iter()
             .map(|m| {
-                let texture = m.texture.map(|i| (texture_offsets[i as usize], &scene.textures[i as usize]));
+                let slot = |t: Option<u32>| match t {
+                    Some(i) => (
+                        texture_offsets[i as usize],
+                        scene.textures[i as usize].width,
+                        scene.textures[i as usize].height,
+                    ),
+                    None => (0, 0, 0),
+                };
+                let (texture_offset, texture_width, texture_height) = slot(m.texture);
+                let (emission_texture_offset, emission_texture_width, emission_texture_height) =
+                    slot(m.emission_texture);
                 Material {
                     base_color: m.base_color.to_array(),
-                    texture_offset: texture.map_or(0, |(o, _)| o),
-                    texture_width: texture.map_or(0, |(_, t)| t.width),
-                    texture_height: texture.map_or(0, |(_, t)| t.height),
+                    texture_offset,
+                    texture_width,
+                    texture_height,
                     alpha_cutoff: m.alpha_cutoff.unwrap_or(-1.0),
+                    emission: m.emission.to_array(),
+                    double_sided: m.double_sided as u32,
+                    emission_texture_offset,
+                    emission_texture_width,
+                    emission_texture_height,
+                    pad0: 0,
                 }
             })
             .collect();
@@ -89,8 +117,12 @@ impl GpuScene {
         let neighbours = scene.coplanar_neighbours();
         let coplanar_neighbours =
             Buffer::with_data(gpu, "coplanar neighbours", storage, bytemuck::cast_slice(&neighbours))?;
+        let emitter_table = EmitterTable::from_scene(scene);
+        let emitters = Buffer::with_data(gpu, "emitters", storage, bytemuck::cast_slice(&emitter_table.emitters))?;
         let bvh = SceneBvh::build(gpu, scene)?;
         Ok(GpuScene {
+            emitters,
+            emitter_table,
             vertices,
             vertex_count: scene.vertices.len() as u32,
             triangle_materials,
@@ -111,6 +143,7 @@ impl GpuScene {
             materials: graph.import_buffer(&self.materials),
             texels: graph.import_buffer(&self.texels),
             coplanar_neighbours: graph.import_buffer(&self.coplanar_neighbours),
+            emitters: graph.import_buffer(&self.emitters),
         }
     }
 }
@@ -123,6 +156,8 @@ pub struct SceneHandles {
     pub texels: BufferHandle,
     /// Only the visible-disk pass binds it (visible_disk.rs): it is not part of scene.glsl.
     pub coplanar_neighbours: BufferHandle,
+    /// Only the passes that light surfaces or emit photons bind it (`emitters.glsl`).
+    pub emitters: BufferHandle,
 }
 
 impl SceneHandles {
@@ -135,6 +170,11 @@ impl SceneHandles {
             texels: &self.texels,
         };
         SceneBindings::declare(pass, stage, resources)
+    }
+
+    /// Declares that `pass` reads the emissive triangles (`emitters.glsl`) in `stage`.
+    pub fn declare_emitters(&self, pass: &mut PassBuilder<'_, '_>, stage: Stage) -> EmitterBindings {
+        EmitterBindings::declare(pass, stage, EmitterResources { emitters: &self.emitters })
     }
 }
 

@@ -16,7 +16,7 @@ gpu_struct! {
         pub width: u32,
         pub height: u32,
         pub light_count: u32,
-        pub pad0: u32,
+        pub emitter_count: u32,
     }
 }
 
@@ -46,6 +46,24 @@ gpu_struct! {
         pub texture_width: u32,
         pub texture_height: u32,
         pub alpha_cutoff: f32,
+        pub emission: [f32; 3],
+        pub double_sided: u32,
+        pub emission_texture_offset: u32,
+        pub emission_texture_width: u32,
+        pub emission_texture_height: u32,
+        pub pad0: u32,
+    }
+}
+
+gpu_struct! {
+    /// `struct Emitter` of emitters.glsl: one emissive triangle and its place in the CDF that
+    /// next-event estimation picks emitters by.
+    #[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
+    pub struct Emitter {
+        pub triangle: u32,
+        pub cdf: f32,
+        pub probability: f32,
+        pub pad0: u32,
     }
 }
 

@@ -9,9 +9,13 @@
 //! * directional: E·π·R², the irradiance E (W/m²) through a disk of the radius R of the
 //!   geometry's bounding sphere (the disk the shader emits from).
 //!
+//! * emissive triangle: π·A·s·Le (`emitters.rs`), after the punctual lights in one table.
+//!
 //! Lights are picked with probability p ∝ Rec.709 luminance of that power, and a path from
 //! light ℓ carries flux power_rgb(ℓ) / (N·p(ℓ)), so the expected flux of N paths is the total
-//! power, colour by colour.
+//! power, colour by colour. An emissive triangle's entry holds 1/p: the shader multiplies by
+//! the power it emits where the path starts (π·A·s·Le(x), the texture and the posed area
+//! there), so its estimate is exact even though the table's power is a mean.
 
 use std::f64::consts::PI;
 
@@ -20,6 +24,7 @@ use glam::Vec3;
 use leakless_graph::{BufferHandle, Graph};
 use leakless_scene::{Aabb, Scene};
 
+use crate::emitters::EmitterTable;
 use crate::error::Result;
 use crate::gpu_scene::gpu_light;
 use crate::gpu_types::{Light, LIGHT_DIRECTIONAL, LIGHT_POINT, LIGHT_SPOT};
@@ -68,8 +73,10 @@ pub struct LightTable {
     /// Centre and radius of the geometry's bounding sphere (directional emission disks).
     pub center: Vec3,
     pub radius: f32,
-    /// Emitted power of each light (W, RGB).
+    /// Emitted power of each light (W, RGB): the punctual lights, then the emitters.
     pub powers: Vec<[f64; 3]>,
+    /// Punctual lights at the start of the table (emissive triangles follow).
+    pub punctual: usize,
     /// The probability with which the uploaded CDF selects each light (the width of its f32
     /// CDF interval; ∝ luminance of the power up to rounding).
     pub probabilities: Vec<f64>,
@@ -81,12 +88,13 @@ impl LightTable {
     /// The table of the scene's lights (converted exactly as `GpuScene` uploads them).
     pub fn from_scene(scene: &Scene) -> LightTable {
         let lights: Vec<Light> = scene.lights.iter().map(gpu_light).collect();
-        LightTable::new(&lights, &scene.bounds())
+        LightTable::new(&lights, &EmitterTable::from_scene(scene), &scene.bounds())
     }
 
-    pub fn new(lights: &[Light], bounds: &Aabb) -> LightTable {
+    pub fn new(lights: &[Light], emitters: &EmitterTable, bounds: &Aabb) -> LightTable {
         let (center, radius) = (bounds.center(), bounds.bounding_radius());
-        let powers: Vec<[f64; 3]> = lights.iter().map(|l| light_power(l, radius)).collect();
+        let mut powers: Vec<[f64; 3]> = lights.iter().map(|l| light_power(l, radius)).collect();
+        powers.extend(&emitters.powers);
         let weights: Vec<f64> = powers.iter().map(|p| luminance(*p).max(0.0)).collect();
         let total: f64 = weights.iter().sum();
         let last = weights.iter().rposition(|&w| w > 0.0);
@@ -103,12 +111,17 @@ impl LightTable {
             .iter()
             .zip(&probabilities)
             .zip(&cdf)
-            .map(|((power, &p), &cdf)| PhotonLight {
-                flux: if p > 0.0 { power.map(|c| (c / p) as f32) } else { [0.0; 3] },
+            .enumerate()
+            .map(|(i, ((power, &p), &cdf))| PhotonLight {
+                flux: match (p > 0.0, i < lights.len()) {
+                    (false, _) => [0.0; 3],
+                    (true, true) => power.map(|c| (c / p) as f32),
+                    (true, false) => [(1.0 / p) as f32; 3],
+                },
                 cdf,
             })
             .collect();
-        LightTable { center, radius, powers, probabilities, entries }
+        LightTable { center, radius, powers, punctual: lights.len(), probabilities, entries }
     }
 
     /// Total emitted power (W, RGB): the expected flux of all paths together.
@@ -131,11 +144,17 @@ pub struct LightHandles {
     pub count: u32,
 }
 
-/// Uploads `lights` (in the scene's order) and their photon table for this frame; `bounds`
-/// is the geometry a directional light's emission disk covers.
-pub fn upload_lights(graph: &mut Graph<'_>, lights: &[leakless_scene::Light], bounds: &Aabb) -> Result<LightHandles> {
+/// Uploads `lights` (in the scene's order) and their photon table, with the scene's
+/// `emitters` after them, for this frame; `bounds` is the geometry a directional light's
+/// emission disk covers.
+pub fn upload_lights(
+    graph: &mut Graph<'_>,
+    lights: &[leakless_scene::Light],
+    emitters: &EmitterTable,
+    bounds: &Aabb,
+) -> Result<LightHandles> {
     let gpu_lights: Vec<Light> = lights.iter().map(gpu_light).collect();
-    let table = LightTable::new(&gpu_lights, bounds);
+    let table = LightTable::new(&gpu_lights, emitters, bounds);
     let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
     Ok(LightHandles {
         lights: graph.upload("lights", storage, bytemuck::cast_slice(&gpu_lights))?,

@@ -47,7 +47,7 @@ mod tests {
             m("width", 80),
             m("height", 84),
             m("light_count", 88),
-            m("pad0", 92),
+            m("emitter_count", 92),
         ];
         assert_eq!(frame.members, &members);
         assert_eq!(frame.size, 96);

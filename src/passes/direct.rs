@@ -1,14 +1,37 @@
 //! Direct light: Lambertian reflection of every punctual light at each view sample, with one
-//! shadow ray per light (`direct.comp`).
+//! shadow ray per light, of the emissive triangles by resampled next-event estimation, and the
+//! emission the camera sees (`direct.comp`).
 
+use bytemuck::{Pod, Zeroable};
+use leakless_device::{gpu_struct, GpuStruct};
 use leakless_graph::{shader_bindings, Graph, ImageHandle, PassName, Stage};
 
-use crate::gpu_scene::SceneBindings;
+use crate::gpu_scene::{EmitterBindings, SceneBindings};
 use crate::passes::gbuffer::GBufferBindings;
 use crate::passes::names::group;
 use crate::passes::{ViewBindings, ViewInputs};
 use crate::pipelines::ComputePassDef;
 use crate::shaders;
+
+gpu_struct! {
+    /// The `DirectParams` push constants of direct.comp.
+    #[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
+    pub struct DirectParams {
+        /// The frame's index in its accumulation (0 outside one): the emitter samples of
+        /// successive frames continue one stratified sequence.
+        pub sample_set: u32,
+        /// Shadow rays toward emitters per pixel.
+        pub samples: u32,
+        /// Emitter points resampled for each shadow ray.
+        pub candidates: u32,
+        pub seed: u32,
+    }
+}
+
+/// Shadow rays toward emissive triangles per pixel and frame.
+pub const EMITTER_SAMPLES: u32 = 2;
+/// Candidate emitter points each of those rays is resampled from (no rays: arithmetic only).
+pub const EMITTER_CANDIDATES: u32 = 8;
 
 shader_bindings! {
     /// The pass's own bindings, after those of [`ViewInputs`].
@@ -21,13 +44,15 @@ shader_bindings! {
 pub static DIRECT: ComputePassDef = ComputePassDef::traced(
     PassName::new("direct", group::DIRECT),
     (&shaders::DIRECT_COMP_RAYQUERY, &shaders::DIRECT_COMP_COMPUTE),
-    &[ViewBindings::DECLS, GBufferBindings::DECLS, SceneBindings::DECLS, DirectBindings::DECLS],
-);
+    &[ViewBindings::DECLS, GBufferBindings::DECLS, SceneBindings::DECLS, EmitterBindings::DECLS, DirectBindings::DECLS],
+)
+.push(DirectParams::LAYOUT);
 
-pub fn add<'r>(graph: &mut Graph<'r>, view: &ViewInputs<'_>, direct: &mut ImageHandle) {
+pub fn add<'r>(graph: &mut Graph<'r>, params: DirectParams, view: &ViewInputs<'_>, direct: &mut ImageHandle) {
     let extent = direct.extent();
     let mut pass = graph.pass(DIRECT.name);
     let inputs = view.declare(&mut pass);
+    let emitters = view.scene.declare_emitters(&mut pass, Stage::Compute);
     let own = DirectBindings::declare(&mut pass, Stage::Compute, DirectResources { direct });
-    pass.dispatch(DIRECT.name, (inputs, own), (), [extent.width, extent.height, 1]);
+    pass.dispatch(DIRECT.name, (inputs, emitters, own), params, [extent.width, extent.height, 1]);
 }

@@ -15,7 +15,7 @@ use leakless_graph::{shader_bindings, Access, BufferHandle, Fill, Graph, GraphRu
 use leakless_scene::Scene;
 
 use crate::error::{RenderError, Result};
-use crate::gpu_scene::{GpuScene, SceneBindings, SceneHandles};
+use crate::gpu_scene::{EmitterBindings, GpuScene, SceneBindings, SceneHandles};
 use crate::gpu_types::Light;
 use crate::passes::emission_order::{self, EmissionOrderParams};
 use crate::passes::names::{self, group};
@@ -69,7 +69,8 @@ gpu_struct! {
     /// `struct PhotonLight` of photons.comp: one light's entry of the selection CDF.
     #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
     pub struct PhotonLight {
-        /// power_rgb / p(light) (W): a path from this light carries `flux / paths`.
+        /// power_rgb / p(light) (W): a path from this light carries `flux / paths`. For an
+        /// emissive triangle 1 / p: the shader multiplies by the power where it emits.
         pub flux: [f32; 3],
         /// Σ p over the lights up to this one; the last emitting light's (and later ones') is 1.
         pub cdf: f32,
@@ -93,7 +94,8 @@ gpu_struct! {
         pub threads: u32,
         /// 1: threads take paths in emission order (emission_order.rs); 0: in index order.
         pub ordered: u32,
-        pub pad0: u32,
+        /// Punctual lights at the start of the light table; emissive triangles follow.
+        pub punctual_count: u32,
         pub pad1: u32,
         pub pad2: u32,
     }
@@ -172,7 +174,7 @@ const PHOTON_COUNTERS: PassName = PassName::new("photon counters", group::PHOTON
 pub static PHOTONS: ComputePassDef = ComputePassDef::traced(
     PassName::new("photons", group::PHOTONS),
     (&shaders::PHOTONS_COMP_RAYQUERY, &shaders::PHOTONS_COMP_COMPUTE),
-    &[PhotonBindings::DECLS, SceneBindings::DECLS],
+    &[PhotonBindings::DECLS, SceneBindings::DECLS, EmitterBindings::DECLS],
 )
 .push(PhotonPush::LAYOUT)
 .specialize(DeviceTuning::counters);
@@ -223,6 +225,7 @@ pub fn add<'r>(
         path_offset: params.path_offset,
         threads: paths.div_ceil(per_thread),
         ordered: params.emission_order as u32,
+        punctual_count: table.punctual as u32,
         ..Default::default()
     };
 
@@ -247,8 +250,9 @@ pub fn add<'r>(
         },
     );
     let surfaces = scene.declare(&mut pass, Stage::Compute);
+    let emitters = scene.declare_emitters(&mut pass, Stage::Compute);
     let trace = trace.declare(&mut pass);
-    pass.dispatch(PHOTONS.name, (own, surfaces, trace), push, [push.threads, 1, 1]);
+    pass.dispatch(PHOTONS.name, (own, surfaces, emitters, trace), push, [push.threads, 1, 1]);
     Ok(())
 }
 
@@ -360,7 +364,7 @@ impl<'g> PhotonTracer<'g> {
     /// The light table photons are emitted from.
     pub fn light_table(&self) -> LightTable {
         let lights: Vec<Light> = self.lights.iter().map(crate::gpu_scene::gpu_light).collect();
-        LightTable::new(&lights, &self.bounds)
+        LightTable::new(&lights, &self.scene.emitter_table, &self.bounds)
     }
 
     pub fn trace(&mut self, params: &PhotonParams) -> Result<PhotonTrace> {
@@ -403,7 +407,7 @@ impl<'g> PhotonTracer<'g> {
         let mut graph = self.runner.graph(self.gpu)?.with_pipelines(self.pipelines.table(self.backend));
         let scene = self.scene.import(&mut graph);
         let trace = self.trace.import(&mut graph, &self.scene, &self.pose)?;
-        let lights = upload_lights(&mut graph, &self.lights, &self.bounds)?;
+        let lights = upload_lights(&mut graph, &self.lights, &self.scene.emitter_table, &self.bounds)?;
         let mut photons = graph.import_buffer(&self.photons);
         let mut counters = graph.import_buffer(&self.counters);
         // The pass writes up to the capacity, never into the guard after it.

@@ -5,7 +5,7 @@ use bytemuck::{Pod, Zeroable};
 use leakless_device::{gpu_struct, GpuStruct};
 use leakless_graph::{shader_bindings, Graph, ImageHandle, PassName, Stage};
 
-use crate::gpu_scene::SceneBindings;
+use crate::gpu_scene::{EmitterBindings, SceneBindings};
 use crate::passes::gbuffer::GBufferBindings;
 use crate::passes::names::group;
 use crate::passes::{ViewBindings, ViewInputs};
@@ -44,7 +44,13 @@ shader_bindings! {
 pub static REFERENCE: ComputePassDef = ComputePassDef::traced(
     PassName::new("reference", group::REFERENCE),
     (&shaders::REFERENCE_COMP_RAYQUERY, &shaders::REFERENCE_COMP_COMPUTE),
-    &[ViewBindings::DECLS, GBufferBindings::DECLS, SceneBindings::DECLS, ReferenceBindings::DECLS],
+    &[
+        ViewBindings::DECLS,
+        GBufferBindings::DECLS,
+        SceneBindings::DECLS,
+        EmitterBindings::DECLS,
+        ReferenceBindings::DECLS,
+    ],
 )
 .push(ReferenceParams::LAYOUT);
 
@@ -56,8 +62,9 @@ pub fn add<'r>(graph: &mut Graph<'r>, params: ReferenceParams, view: &ViewInputs
     for params in dispatches(params, extent.width as u64 * extent.height as u64) {
         let mut pass = graph.pass(REFERENCE.name);
         let inputs = view.declare(&mut pass);
+        let emitters = view.scene.declare_emitters(&mut pass, Stage::Compute);
         let own = ReferenceBindings::declare(&mut pass, Stage::Compute, ReferenceResources { accumulated });
-        pass.dispatch(REFERENCE.name, (inputs, own), params, [extent.width, extent.height, 1]);
+        pass.dispatch(REFERENCE.name, (inputs, emitters, own), params, [extent.width, extent.height, 1]);
     }
 }
 

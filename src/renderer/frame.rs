@@ -16,6 +16,7 @@ use crate::error::Result;
 use crate::gpu_types::Frame;
 use crate::passes::accumulate::{self, Accumulated, FrameLayers, Means, Sums};
 use crate::passes::compose::{self, ComposeImages, ComposeParams};
+use crate::passes::direct::DirectParams;
 use crate::passes::gather::{self, GatherCounters, GatherOutputs};
 use crate::passes::gbuffer::{self, GBufferHandles};
 use crate::passes::luminance::{self, LuminanceInputs, LuminanceStats};
@@ -115,7 +116,7 @@ impl Renderer {
             width: self.settings.width,
             height: self.settings.height,
             light_count: self.lights.len() as u32,
-            pad0: 0,
+            emitter_count: self.gpu_scene.emitter_table.len() as u32,
         };
         let extent = self.extent();
         // Instances moved since the vertex buffer was last written: this frame copies them.
@@ -130,7 +131,7 @@ impl Renderer {
         // The camera, the lights and the scene of this frame.
         let frame =
             g.upload("frame", ash::vk::BufferUsageFlags::UNIFORM_BUFFER, bytemuck::bytes_of(&frame_constants))?;
-        let lights = upload_lights(&mut g, &self.lights, &self.scene.bounds())?;
+        let lights = upload_lights(&mut g, &self.lights, &self.gpu_scene.emitter_table, &self.scene.bounds())?;
         let mut scene = self.gpu_scene.import(&mut g);
         if place_instances {
             let first_vertex = 3 * self.scene.static_triangle_count();
@@ -150,7 +151,13 @@ impl Renderer {
         let mut direct = layer(&mut g, "direct")?;
         let view =
             ViewInputs { frame: &frame, lights: &lights.lights, scene: &scene, trace: &trace, gbuffer: &gbuffer };
-        direct::add(&mut g, &view, &mut direct);
+        let direct_params = DirectParams {
+            sample_set: index,
+            samples: direct::EMITTER_SAMPLES,
+            candidates: direct::EMITTER_CANDIDATES,
+            seed,
+        };
+        direct::add(&mut g, direct_params, &view, &mut direct);
 
         // Indirect light: photons splatted and gathered, or path-traced samples accumulated.
         let mut indirect_sum = layer(&mut g, "indirect sum")?;

@@ -6,6 +6,7 @@
 mod common;
 
 mod animation;
+mod area_lights;
 mod bindings;
 mod chart;
 mod cli;

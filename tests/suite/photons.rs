@@ -81,7 +81,7 @@ fn light_cdf_is_proportional_to_luminance_of_power() {
         light(LIGHT_SPOT, [3.0, 0.0, 1.0], 0.8, 0.9),
         light(LIGHT_POINT, [0.0; 3], -1.0, -1.0),
     ];
-    let t = LightTable::new(&lights, &bounds);
+    let t = LightTable::new(&lights, &Default::default(), &bounds);
     assert!((t.powers[0][1] - 4.0 * PI).abs() < 1e-9, "point: 4πI");
     // Directional: E·πR² with R = √3, the bounding radius of the cube.
     assert!((t.powers[2][1] - 2.0 * PI * 3.0).abs() < 1e-4, "directional: {}", t.powers[2][1]);
@@ -100,7 +100,7 @@ fn light_cdf_is_proportional_to_luminance_of_power() {
         assert!((expected - power).abs() <= 1e-6 * power, "channel {c}: {expected} vs {power}");
     }
     assert!(t.emits());
-    assert!(!LightTable::new(&lights[1..2], &bounds).emits());
+    assert!(!LightTable::new(&lights[1..2], &Default::default(), &bounds).emits());
 }
 
 // ---------------------------------------------------------------------------- GPU: photons

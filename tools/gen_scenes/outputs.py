@@ -4,6 +4,7 @@ import sys
 from pathlib import Path
 
 from .cornell import cornell_box
+from .emissive import cornell_panel, glowing_box, sealed_panel
 from .sphere import sphere
 from .fixtures import (
     MALFORMED, convex_ball, floor_light, no_light, occluder, spot_sun, textured, textured_quad,
@@ -26,6 +27,7 @@ def outputs():
     glb = textured()
     return {
         "scenes/cornell-box.gltf": cornell_box(),
+        "scenes/cornell-panel.gltf": cornell_panel(),
         "scenes/sphere.gltf": sphere(),
         "scenes/two-rooms.gltf": two_rooms(),
         "scenes/doorway.gltf": doorway(),
@@ -48,7 +50,9 @@ def outputs():
         "scenes/stress/far-degenerate.gltf": far_degenerate(),
         "scenes/stress/hundred-lights.gltf": hundred_lights(),
         "scenes/stress/grazing-spot.gltf": grazing_spot(),
+        "scenes/stress/sealed-panel.gltf": sealed_panel(),
         "tests/scenes/floor-light.gltf": floor_light(),
+        "tests/scenes/glowing-box.gltf": glowing_box(),
         "tests/scenes/textured.glb": glb,
         "tests/scenes/textured-quad.gltf": textured_quad(),
         "tests/scenes/occluder.gltf": occluder(),

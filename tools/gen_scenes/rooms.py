@@ -40,7 +40,8 @@ def rooms_build(door, thickness=ROOMS_PARTITION, embed=ROOMS_EMBED, scale=1.0, w
     the planes of the floor, ceiling and side walls); scale: every length (and znear) times
     `scale`, the light intensity times scale² so the image stays the same; window:
     (y0, y1, z0, z1) of an opening in the partition that does not reach the floor (door
-    takes precedence); eye and target: the camera (default: the two-rooms or doorway view)."""
+    takes precedence); eye and target: the camera (default: the two-rooms or doorway view);
+    light None: no point light (the caller adds its own)."""
     g = Gltf()
     white = g.material("white", ROOMS_WHITE)
     red = g.material("red", ROOMS_RED)
@@ -77,9 +78,10 @@ def rooms_build(door, thickness=ROOMS_PARTITION, embed=ROOMS_EMBED, scale=1.0, w
         idx = [i for i in range(len(pos)) if keep(a_side[i])]
         nodes.append(node(name, ([pos[i] for i in idx], [nrm[i] for i in idx]), mat))
     intensity = ROOMS_LIGHT_INTENSITY * scale ** 2
-    nodes.append(g.light("room A light", {"name": "room A light", "type": "point", "color": [1.0, 1.0, 1.0],
-                                          "intensity": intensity},
-                         translation=list(sc(light))))
+    if light is not None:
+        nodes.append(g.light("room A light", {"name": "room A light", "type": "point", "color": [1.0, 1.0, 1.0],
+                                              "intensity": intensity},
+                             translation=list(sc(light))))
     if eye is None:
         eye, target = (DOOR_CAMERA, DOOR_CAMERA_TARGET) if door else (ROOMS_CAMERA, ROOMS_CAMERA_TARGET)
     nodes.append(camera_node(g, camera_name, sc(eye), sc(target), znear=znear * scale))

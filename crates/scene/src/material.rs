@@ -110,7 +110,10 @@ pub(crate) fn load(root: &json::Root, data: &Data, base: &Path) -> Result<Loaded
                 .get(index)
                 .map(|t| t.source.value())
                 // Unreachable after validation; kept so that no index is trusted.
-                .ok_or_else(|| ImageError { index, message: format!("material '{name}' references a missing texture") })?;
+                .ok_or_else(|| ImageError {
+                    index,
+                    message: format!("material '{name}' references a missing texture"),
+                })?;
             if let Some(&slot) = by_image.get(&image) {
                 return Ok(slot);
             }
@@ -128,11 +131,14 @@ pub(crate) fn load(root: &json::Root, data: &Data, base: &Path) -> Result<Loaded
             Some(info) => Some(slot_of(info.index.value())?),
             None => None,
         };
-        let strength = m.extensions.as_ref().and_then(|e| e.emissive_strength.as_ref()).map_or(1.0, |s| s.emissive_strength.0);
+        let strength =
+            m.extensions.as_ref().and_then(|e| e.emissive_strength.as_ref()).map_or(1.0, |s| s.emissive_strength.0);
         let emission = glam::Vec3::from(m.emissive_factor.0) * strength;
         // Negative or non-finite emission is no light at all (a NaN would poison every
         // estimate it reaches).
-        let emission = if emission.is_finite() { emission.max(glam::Vec3::ZERO) } else {
+        let emission = if emission.is_finite() {
+            emission.max(glam::Vec3::ZERO)
+        } else {
             invalid_emission.push(format!("'{name}'"));
             glam::Vec3::ZERO
         };
@@ -168,7 +174,10 @@ pub(crate) fn load(root: &json::Root, data: &Data, base: &Path) -> Result<Loaded
     }
     if !invalid_emission.is_empty() {
         let s = if invalid_emission.len() > 1 { "s" } else { "" };
-        warnings.push(format!("emission that is not a finite number is dropped: material{s} {}", invalid_emission.join(", ")));
+        warnings.push(format!(
+            "emission that is not a finite number is dropped: material{s} {}",
+            invalid_emission.join(", ")
+        ));
     }
     Ok(Loaded { materials, textures, warnings })
 }
