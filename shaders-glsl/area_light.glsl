@@ -27,9 +27,10 @@ vec3 unshadowed_irradiance(EmitterPoint e, vec3 p, vec3 n, vec3 ng, out vec3 l, 
 }
 
 // Irradiance at `p` from the emitters: the mean of `samples` resampled estimates with a shadow
-// ray each. Point k of the sequence (`sequence_seed`) is candidate c of estimate s of sample
-// set `set`, so successive sets (frames of an accumulation) continue one stratified sequence.
-vec3 area_light_irradiance(vec3 p, vec3 n, vec3 ng, uint emitter_count, uint set, uint samples, uint candidates,
+// ray each, estimates first .. first + samples − 1 of the pixel's sequence (`sequence_seed`),
+// whose point (estimate · candidates + c) is candidate c: the frames of an accumulation
+// continue one stratified sequence.
+vec3 area_light_irradiance(vec3 p, vec3 n, vec3 ng, uint emitter_count, uint first, uint samples, uint candidates,
                            uint sequence_seed, inout Rng rng) {
     vec3 total = vec3(0.0);
     for (uint s = 0u; s < samples; ++s) {
@@ -40,7 +41,7 @@ vec3 area_light_irradiance(vec3 p, vec3 n, vec3 ng, uint emitter_count, uint set
         float chosen_dist = 0.0;
         vec3 chosen_position = vec3(0.0);
         for (uint c = 0u; c < candidates; ++c) {
-            vec3 u = ld_sample3((set * samples + s) * candidates + c, 0u, sequence_seed);
+            vec3 u = ld_sample3((first + s) * candidates + c, 0u, sequence_seed);
             uint k = select_emitter(u.z, emitter_count);
             Emitter em = emitters.emitters[k];
             EmitterPoint e = emitter_point(em.triangle, u.xy);

@@ -19,7 +19,7 @@ layout(set = 0, binding = 1, std430) readonly buffer Lights { Light lights[]; } 
 GBUFFER_BINDINGS(2)
 layout(set = 0, binding = 5, rgba32f) uniform writeonly image2D direct;
 layout(push_constant) uniform DirectParams {
-    uint sample_set;   // the frame's index in its accumulation: sets continue one sequence
+    uint first_sample; // the frame's first emitter sample: an accumulation continues one sequence
     uint samples;      // shadow rays to emitters per pixel
     uint candidates;   // emitter points resampled per shadow ray
     uint seed;
@@ -59,8 +59,8 @@ void main() {
         }
         if (frame.emitter_count > 0u && params.samples > 0u) {
             uint pixel_seed = ld_hash_combine(params.seed, uint(pixel.y) * frame.width + uint(pixel.x));
-            Rng rng = rng_seed(uvec2(pixel), params.sample_set, params.seed ^ 0x9e3779b9u);
-            e += area_light_irradiance(origin, n, ng, frame.emitter_count, params.sample_set, params.samples,
+            Rng rng = rng_seed(uvec2(pixel), params.first_sample, params.seed ^ 0x9e3779b9u);
+            e += area_light_irradiance(origin, n, ng, frame.emitter_count, params.first_sample, params.samples,
                                        params.candidates, pixel_seed, rng);
         }
         radiance = albedo / PI * e;

@@ -56,8 +56,12 @@ EmitterPoint emitter_point(uint triangle, vec2 u) {
                         triangle_material(triangle));
 }
 
-// Radiance the point emits along unit `dir` (away from it).
+// Radiance the point emits along unit `dir` (away from it); none where an alpha mask cuts the
+// surface away (tracing never finds such points; sampling the triangle's area can).
 vec3 emitted_toward(EmitterPoint e, vec3 dir) {
+    if (e.material.alpha_cutoff >= 0.0 && material_albedo(e.material, e.uv).a < e.material.alpha_cutoff) {
+        return vec3(0.0);
+    }
     return material_emission(e.material, e.uv, dot(e.normal, dir) > 0.0);
 }
 

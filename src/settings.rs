@@ -33,6 +33,11 @@ pub struct RenderSettings {
     pub max_batches: u32,
     /// Which device tuning (`--tuning`): the device's own, or the CPU's or the GPU's preset.
     pub tuning: TuningChoice,
+    /// Shadow rays toward emissive triangles per pixel and frame (`--light-samples`).
+    pub light_samples: u32,
+    /// Candidate emitter points each of those rays is resampled from (`--light-candidates`;
+    /// 1: plain next-event estimation by power).
+    pub light_candidates: u32,
 }
 
 /// What computes the indirect light (docs/architecture.md §2).
@@ -91,12 +96,21 @@ impl Default for RenderSettings {
             frames: 1,
             max_batches: DEFAULT_MAX_BATCHES,
             tuning: TuningChoice::Auto,
+            light_samples: DEFAULT_LIGHT_SAMPLES,
+            light_candidates: DEFAULT_LIGHT_CANDIDATES,
         }
     }
 }
 
 /// The thesis' per-pixel photon cap.
 pub const DEFAULT_CAP: u32 = 25;
+
+/// Emitter sampling of the direct pass: 2 shadow rays a pixel, each resampled from 8 candidate
+/// points (arithmetic only, no rays).
+pub const DEFAULT_LIGHT_SAMPLES: u32 = 2;
+pub const DEFAULT_LIGHT_CANDIDATES: u32 = 8;
+pub const MAX_LIGHT_SAMPLES: u32 = 64;
+pub const MAX_LIGHT_CANDIDATES: u32 = 256;
 
 /// Upper bounds that keep a typo from asking for hours or gigabytes.
 pub const MAX_SPP: u32 = 1 << 20;
@@ -121,6 +135,15 @@ impl RenderSettings {
         }
         if self.spp == 0 || self.spp > MAX_SPP {
             return bad(format!("--spp {} must be within 1..={MAX_SPP}", self.spp));
+        }
+        if self.light_samples == 0 || self.light_samples > MAX_LIGHT_SAMPLES {
+            return bad(format!("--light-samples {} must be within 1..={MAX_LIGHT_SAMPLES}", self.light_samples));
+        }
+        if self.light_candidates == 0 || self.light_candidates > MAX_LIGHT_CANDIDATES {
+            return bad(format!(
+                "--light-candidates {} must be within 1..={MAX_LIGHT_CANDIDATES}",
+                self.light_candidates
+            ));
         }
         if self.splat.paths == 0 {
             // Each photon carries the light's power over the paths traced: none would divide by 0.
@@ -193,6 +216,10 @@ impl RenderSettings {
                 }
             }
             Method::Direct => {}
+        }
+        // Only where they differ from the defaults, so that existing descriptions stay as they were.
+        if (self.light_samples, self.light_candidates) != (DEFAULT_LIGHT_SAMPLES, DEFAULT_LIGHT_CANDIDATES) {
+            s += &format!(" light_samples={} light_candidates={}", self.light_samples, self.light_candidates);
         }
         s
     }

@@ -41,7 +41,10 @@ pub struct Stats {
     pub width: u32,
     pub height: u32,
     pub triangles: usize,
+    /// Punctual lights.
     pub lights: usize,
+    /// Emissive triangles (area lights).
+    pub emitters: usize,
     pub trace_build: TraceBuild,
     /// Photon counts, for methods that splat.
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -91,6 +94,7 @@ impl Stats {
             height: frame.height,
             triangles: scene.triangle_count(),
             lights: scene.lights.len(),
+            emitters: renderer.emitter_count(),
             trace_build: TraceBuild {
                 backend: t.backend.name().into(),
                 build_ms: t.build_ms,

@@ -17,9 +17,9 @@ gpu_struct! {
     /// The `DirectParams` push constants of direct.comp.
     #[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
     pub struct DirectParams {
-        /// The frame's index in its accumulation (0 outside one): the emitter samples of
-        /// successive frames continue one stratified sequence.
-        pub sample_set: u32,
+        /// Index of the frame's first emitter sample in the pixel's sequence: the frames of an
+        /// accumulation continue one stratified sequence.
+        pub first_sample: u32,
         /// Shadow rays toward emitters per pixel.
         pub samples: u32,
         /// Emitter points resampled for each shadow ray.
@@ -28,10 +28,9 @@ gpu_struct! {
     }
 }
 
-/// Shadow rays toward emissive triangles per pixel and frame.
-pub const EMITTER_SAMPLES: u32 = 2;
-/// Candidate emitter points each of those rays is resampled from (no rays: arithmetic only).
-pub const EMITTER_CANDIDATES: u32 = 8;
+/// Shadow rays toward emitters one pixel may trace in a frame (a reference frame of many
+/// samples asks for `light_samples` per sample).
+pub const MAX_SAMPLES: u32 = 1024;
 
 shader_bindings! {
     /// The pass's own bindings, after those of [`ViewInputs`].

@@ -151,10 +151,24 @@ impl Renderer {
         let mut direct = layer(&mut g, "direct")?;
         let view =
             ViewInputs { frame: &frame, lights: &lights.lights, scene: &scene, trace: &trace, gbuffer: &gbuffer };
+        // The reference's samples: progressive, frame `index` restarts the sum and continues
+        // the sequence.
+        let first_sample = if progressive {
+            first_batch.wrapping_mul(self.settings.spp)
+        } else if first {
+            0
+        } else {
+            self.accumulated
+        };
+        // The emitters' direct light grows with the frame's work as the indirect light does:
+        // `light_samples` per photon batch, or per reference sample, continuing one sequence.
+        let (direct_first, direct_units) =
+            if method == Method::Reference { (first_sample, samples) } else { (first_batch, frame_batches) };
+        let light_samples = self.settings.light_samples;
         let direct_params = DirectParams {
-            sample_set: index,
-            samples: direct::EMITTER_SAMPLES,
-            candidates: direct::EMITTER_CANDIDATES,
+            first_sample: direct_first.wrapping_mul(light_samples),
+            samples: direct_units.max(1).saturating_mul(light_samples).min(direct::MAX_SAMPLES),
+            candidates: self.settings.light_candidates,
             seed,
         };
         direct::add(&mut g, direct_params, &view, &mut direct);
@@ -176,14 +190,6 @@ impl Renderer {
             splat_counters = Some(splatting::add(&mut g, splat, &view, &lights, out)?);
         }
         if render && method == Method::Reference {
-            // Progressive: frame `index` restarts the sum and continues the sequence.
-            let first_sample = if progressive {
-                first_batch.wrapping_mul(self.settings.spp)
-            } else if first {
-                0
-            } else {
-                self.accumulated
-            };
             let params = ReferenceParams {
                 first_sample,
                 // Progressive frames are whole images; a single reference starts over at its first.

@@ -273,6 +273,11 @@ impl Renderer {
     }
 
     /// The seed the next photon frame uses.
+    /// Emissive triangles the renderer lights the scene with.
+    pub fn emitter_count(&self) -> usize {
+        self.gpu_scene.emitter_table.len()
+    }
+
     pub fn frame_seed(&self) -> u32 {
         self.settings.seed.wrapping_add(self.seed_offset)
     }

@@ -62,6 +62,18 @@ fn settings_without_meaning_are_refused() {
         assert!(!out.status.success() && stderr.contains("positive number"), "{exposure}: {stderr}");
         assert!(!stderr.contains("panicked"), "{stderr}");
     }
+    for (flag, needle) in
+        [("--light-samples=0", "--light-samples 0"), ("--light-candidates=1000", "--light-candidates 1000")]
+    {
+        let out = leakless(&["render", "scenes/cornell-panel.gltf", flag, "--out", "/dev/null"], &[]);
+        assert_one_line_error(&out, needle);
+    }
+    // A scene lit only by emissive geometry has no punctual light to move.
+    let out = leakless(
+        &["render", "scenes/cornell-panel.gltf", "--light-position", "0,0,0", "--size", "8x8", "--out", "/dev/null"],
+        &[],
+    );
+    assert_one_line_error(&out, "no punctual light to move");
 }
 
 /// A benchmark's counts are held to what it can measure: a best of no repeats, and changes of

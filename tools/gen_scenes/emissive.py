@@ -3,7 +3,7 @@ closed glowing box (analytic), and the sealed rooms lit by a panel against the p
 
 from .cornell import cornell_geometry
 from .gltf import Gltf, gltf_text
-from .rooms import ROOMS_PARTITION, finish_scene, rooms_build
+from .rooms import ROOMS_HEIGHT, ROOMS_PARTITION, finish_scene, rooms_build
 from .solids import camera_node
 from .vecmath import oriented_triangles
 
@@ -79,3 +79,33 @@ def sealed_panel():
                              "1 mm from the partition in room A: room B gets no light")
     del extras["light_intensity_w_per_sr"]
     return finish_scene(g, "sealed panel", nodes, extras)
+
+
+# The doorway scene lit only by a ceiling panel in room A, tessellated into 16 × 8 quads (256
+# emitting triangles, as an exporter writes a subdivided light): room B, where the camera is,
+# gets its light through the door. Radiance 8 W/m²/sr over 1.2 m × 0.8 m: about the 25 W the
+# doorway's point light emits.
+DOORWAY_PANEL = (-1.5, 0.3)   # centre (x, z) of the panel in room A
+DOORWAY_PANEL_SIZE = (1.2, 0.8)
+DOORWAY_PANEL_GRID = (16, 8)
+DOORWAY_PANEL_RADIANCE = 8.0
+
+
+def doorway_panel():
+    g, nodes, extras = rooms_build(True, light=None)
+    lamp = emissive_material(g, "ceiling panel", (0.8, 0.8, 0.8), (1.0, 1.0, 1.0), DOORWAY_PANEL_RADIANCE)
+    y = ROOMS_HEIGHT - 0.001
+    (cx, cz), (sx, sz), (nx, nz) = DOORWAY_PANEL, DOORWAY_PANEL_SIZE, DOORWAY_PANEL_GRID
+    quads = []
+    for i in range(nx):
+        for j in range(nz):
+            x0, x1 = cx - sx / 2 + sx * i / nx, cx - sx / 2 + sx * (i + 1) / nx
+            z0, z1 = cz - sz / 2 + sz * j / nz, cz - sz / 2 + sz * (j + 1) / nz
+            quads.append([(x0, y, z0), (x1, y, z0), (x1, y, z1), (x0, y, z1)])
+    pos, nrm = oriented_triangles(quads, True, (cx, 0.0, cz))  # facing the floor
+    nodes.append(g.add("nodes", {"name": "ceiling panel", "mesh": g.mesh("ceiling panel", pos, nrm, lamp)}))
+    extras["description"] = ("the doorway rooms lit only by a ceiling panel of 256 emitting triangles in room A; "
+                             "room B sees its light through the door")
+    extras["panel_triangles"] = 2 * nx * nz
+    del extras["light_intensity_w_per_sr"]
+    return finish_scene(g, "doorway (ceiling panel)", nodes, extras)

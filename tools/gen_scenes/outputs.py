@@ -4,7 +4,7 @@ import sys
 from pathlib import Path
 
 from .cornell import cornell_box
-from .emissive import cornell_panel, glowing_box, sealed_panel
+from .emissive import cornell_panel, doorway_panel, glowing_box, sealed_panel
 from .sphere import sphere
 from .fixtures import (
     MALFORMED, convex_ball, floor_light, no_light, occluder, spot_sun, textured, textured_quad,
@@ -31,6 +31,7 @@ def outputs():
         "scenes/sphere.gltf": sphere(),
         "scenes/two-rooms.gltf": two_rooms(),
         "scenes/doorway.gltf": doorway(),
+        "scenes/doorway-panel.gltf": doorway_panel(),
         "scenes/atrium.gltf": atrium(),
         "scenes/door.gltf": door(),
         "scenes/moving-light.gltf": moving_light(),

@@ -3,7 +3,8 @@
 //! docs/architecture.md §4 ("model no more than a scene needs") fixes the subset: triangle
 //! meshes flattened to world space, Lambertian albedo (`baseColorFactor` ×
 //! `baseColorTexture`), `alphaMode: MASK` cut-outs, the first perspective camera,
-//! `KHR_lights_punctual` lights and node animation (below). Everything else in a
+//! `KHR_lights_punctual` lights, emissive materials (area lights: `emissiveFactor` ×
+//! `emissiveTexture` × `KHR_materials_emissive_strength`) and node animation (below). Everything else in a
 //! file is ignored with one warning line, never an error, so that any exporter's
 //! output loads.
 //!

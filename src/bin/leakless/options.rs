@@ -79,6 +79,13 @@ pub struct RenderOptions {
     /// Indirect bounces after the first surface.
     #[arg(long, default_value_t = 8)]
     pub max_bounces: u32,
+    /// Shadow rays toward emissive triangles per pixel and frame (direct light).
+    #[arg(long, default_value_t = leakless::settings::DEFAULT_LIGHT_SAMPLES)]
+    pub light_samples: u32,
+    /// Candidate emitter points each of those shadow rays is resampled from, by the light each
+    /// would bring (1: plain next-event estimation by power).
+    #[arg(long, default_value_t = leakless::settings::DEFAULT_LIGHT_CANDIDATES)]
+    pub light_candidates: u32,
     /// Seed of every random sequence (a fixed seed gives an identical frame).
     #[arg(long, default_value_t = 0)]
     pub seed: u32,
@@ -190,6 +197,8 @@ impl RenderOptions {
             method: Method::parse(&self.method).expect("clap checked the value"),
             spp: self.spp,
             max_bounces: self.max_bounces,
+            light_samples: self.light_samples,
+            light_candidates: self.light_candidates,
             seed: self.seed,
             frames: self.frames,
             max_batches: self.max_batches,
@@ -229,7 +238,10 @@ impl RenderOptions {
             renderer.set_camera(spec.camera(scene)?);
         }
         if let Some(p) = self.light_position {
-            let mut light = renderer.lights()[0].clone();
+            let Some(light) = renderer.lights().first() else {
+                anyhow::bail!("--light-position: scene {} has no punctual light to move", scene.name);
+            };
+            let mut light = light.clone();
             light.position = p;
             renderer.set_light(0, light)?;
         }

@@ -48,14 +48,17 @@ impl Running {
                     Err(leakless::RenderError::Limit("B: this device has no ray queries".into()))
                 }
             }
-            Action::MoveLight(d) => {
-                let step = 0.02 * scene.bounds().bounding_radius();
-                let mut light = r.lights()[0].clone();
-                light.position += glam::Vec3::new(d[0] as f32, d[1] as f32, d[2] as f32) * step;
-                r.set_light(0, light)?;
-                self.light_moved = true;
-                Ok(())
-            }
+            // Emissive geometry moves with its node's animation, not by key.
+            Action::MoveLight(d) => match r.lights().first().cloned() {
+                None => Err(leakless::RenderError::Settings("the scene has no punctual light to move".into())),
+                Some(mut light) => {
+                    let step = 0.02 * scene.bounds().bounding_radius();
+                    light.position += glam::Vec3::new(d[0] as f32, d[1] as f32, d[2] as f32) * step;
+                    r.set_light(0, light)?;
+                    self.light_moved = true;
+                    Ok(())
+                }
+            },
             Action::FreezeSeed => {
                 self.seed_frozen = !self.seed_frozen;
                 r.set_advance_seed(!self.seed_frozen);
