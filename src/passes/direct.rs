@@ -28,9 +28,14 @@ gpu_struct! {
     }
 }
 
-/// Shadow rays toward emitters one pixel may trace in a frame (a reference frame of many
-/// samples asks for `light_samples` per sample).
+/// Shadow rays toward emitters one pixel may trace in a frame.
 pub const MAX_SAMPLES: u32 = 1024;
+
+/// A reference frame traces `light_samples` emitter rays per this many of its path samples:
+/// one set per sample made the direct pass cost more than the paths on lavapipe (8 candidates
+/// a ray are arithmetic, but many), while the direct light's noise was already far below the
+/// indirect light's.
+pub const REFERENCE_SAMPLES_PER_DIRECT: u32 = 8;
 
 shader_bindings! {
     /// The pass's own bindings, after those of [`ViewInputs`].

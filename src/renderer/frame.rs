@@ -161,9 +161,14 @@ impl Renderer {
             self.accumulated
         };
         // The emitters' direct light grows with the frame's work as the indirect light does:
-        // `light_samples` per photon batch, or per reference sample, continuing one sequence.
-        let (direct_first, direct_units) =
-            if method == Method::Reference { (first_sample, samples) } else { (first_batch, frame_batches) };
+        // `light_samples` per photon batch, or per REFERENCE_SAMPLES_PER_DIRECT reference
+        // samples, continuing one sequence.
+        let per = direct::REFERENCE_SAMPLES_PER_DIRECT;
+        let (direct_first, direct_units) = if method == Method::Reference {
+            (first_sample.div_ceil(per), samples.div_ceil(per))
+        } else {
+            (first_batch, frame_batches)
+        };
         let light_samples = self.settings.light_samples;
         let direct_params = DirectParams {
             first_sample: direct_first.wrapping_mul(light_samples),

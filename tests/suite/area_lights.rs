@@ -36,6 +36,12 @@ fn a_glowing_box_has_its_closed_form_radiance() {
         eprintln!("{backend:?}: direct {d:.5} (exact {direct:.5}), reference indirect {i:.5} (exact {indirect:.5})");
         assert!((d - direct).abs() / direct < 0.01, "{backend:?}: direct {d} vs {direct}");
         assert!((i - indirect).abs() / indirect < 0.01, "{backend:?}: reference indirect {i} vs {indirect}");
+        // Pixel by pixel: every pixel's exact radiance is the same, Le·Σρ^k.
+        let exact = direct + indirect;
+        let rel_mse = reference.radiance.iter().map(|p| (p[1] as f64 - exact).powi(2)).sum::<f64>()
+            / (reference.radiance.len() as f64 * exact * exact);
+        eprintln!("{backend:?}: reference relMSE against the closed form {rel_mse:.2e}");
+        assert!(rel_mse < 0.05, "{backend:?}: relMSE {rel_mse}");
         let photons = RenderSettings {
             method: Method::LeakLess,
             frames: 8,
