@@ -35,8 +35,9 @@ mod tests {
         assert_eq!(s.spirv[0], 0x0723_0203, "SPIR-V magic number");
         let b = s.reflection.expect("naga parses direct.comp:compute");
         // Its own six, the trace backend's five (16, 17, 18, 19, 24: bottom-level nodes and
-        // triangles, the top level, the scale, the instances) and the scene's four (20..=23).
-        assert_eq!(b.len(), 15);
+        // triangles, the top level, the scale, the instances), the scene's four (20..=23) and
+        // the emitters (26).
+        assert_eq!(b.len(), 16);
 
         use BindingKind::*;
         assert_eq!(id(&b[0]), ("frame", 0, 0, UniformBuffer));
@@ -82,6 +83,7 @@ mod tests {
             ("materials", 22),
             ("texels", 23),
             ("bvh_instances", 24),
+            ("emitters", 26),
         ];
         assert_eq!(names, expected);
     }
