@@ -1,6 +1,6 @@
 //! Photon tracing (`photons.comp`, docs/architecture.md §1): N light paths from the scene's lights, each
-//! storing a photon at every hit after the first (the first is direct light, computed exactly
-//! elsewhere), at most `max_bounces` per path, appended to a fixed-capacity buffer through an
+//! storing a photon at every hit after the first (the first is direct light, the direct
+//! pass's), at most `max_bounces` per path, appended to a fixed-capacity buffer through an
 //! atomic counter that also counts what did not fit.
 //!
 //! Order: the photon buffer is an atomic append, so the ORDER of photons depends on how the
@@ -124,7 +124,7 @@ pub struct PhotonParams {
     /// Scrambles the low-discrepancy sequence: same seed, same photons.
     pub seed: u32,
     /// Diagnostic: also store the first hit (bounce 0), i.e. the emitted light arriving
-    /// directly. Off in rendering, where direct light is computed exactly.
+    /// directly. Off in rendering, where the direct pass computes direct light.
     pub store_direct: bool,
     /// Index of path 0 in the low-discrepancy sequence: frame i of an accumulation traces
     /// paths i·N .. (i+1)·N of one sequence, so frames continue it rather than reseed.
