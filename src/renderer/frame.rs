@@ -176,7 +176,9 @@ impl Renderer {
             candidates: self.settings.light_candidates,
             seed,
         };
-        direct::add(&mut g, direct_params, &view, &mut direct);
+        if render {
+            direct::add(&mut g, direct_params, &view, &mut direct);
+        }
 
         // Indirect light: photons splatted and gathered, or path-traced samples accumulated.
         let mut indirect_sum = layer(&mut g, "indirect sum")?;
@@ -252,6 +254,15 @@ impl Renderer {
                 },
             );
             (direct, indirect, leaked, radiance) = (mean_direct, mean_indirect, mean_leaked, mean_radiance);
+        } else if !render && self.image_is_mean {
+            // Nothing new: the image is the accumulation's mean, kept in the pool by name.
+            direct = layer(&mut g, "mean direct")?;
+            indirect = layer(&mut g, "mean indirect")?;
+            leaked = layer(&mut g, "mean leaked")?;
+            radiance = layer(&mut g, "mean radiance")?;
+        }
+        if render {
+            self.image_is_mean = progressive;
         }
 
         // What the frame shows, and its luminance statistics (exposure, leaked energy).
@@ -307,6 +318,7 @@ impl Renderer {
         self.pending.push_back(Pending {
             index,
             shown_only: !render,
+            readback: request.is_some(),
             seed,
             splat,
             accumulated,
@@ -388,9 +400,12 @@ impl Renderer {
             }
         }
         if pending.shown_only {
-            // Only the luminance is new: the image is the last one.
+            // Only the luminance is new: the image is the last one, copied out again if asked.
             if let Some(last) = &mut self.last {
                 last.luminance = counters.luminance;
+                if pending.readback {
+                    last.slot = done.slot;
+                }
                 return Ok(());
             }
         }

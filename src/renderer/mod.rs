@@ -61,6 +61,9 @@ struct Pending {
     index: u64,
     /// The frame only showed the last image (paused): its report keeps the last counts.
     shown_only: bool,
+    /// The frame copied its layers out (a readback request): a shown-only frame's copy is
+    /// what the next `read_layers` reads.
+    readback: bool,
     seed: u32,
     splat: Option<SplatFrame>,
     /// Samples (reference) or frames (photons) in the image after this frame.
@@ -123,6 +126,9 @@ pub struct Renderer {
     accumulated: u32,
     /// Photon batches in those frames.
     batches: u32,
+    /// The image is an accumulation's mean (the last frame that rendered was progressive): a
+    /// frame that renders nothing (paused, full) shows the mean layers again, not that frame's.
+    image_is_mean: bool,
     /// Reference samples each frame adds.
     samples_per_frame: u32,
     /// Photon frames advance the seed unless frozen (a fixed seed fixes the frame).
@@ -180,6 +186,7 @@ impl Renderer {
             exposure: None,
             accumulated: 0,
             batches: 0,
+            image_is_mean: false,
             samples_per_frame: 1,
             advance_seed: false,
             progressive: false,
@@ -291,6 +298,7 @@ impl Renderer {
     fn restart(&mut self) {
         self.accumulated = 0;
         self.batches = 0;
+        self.image_is_mean = false;
     }
 
     /// Changes any settings at once; validated first, and a change that needs a new backend

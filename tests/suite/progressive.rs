@@ -235,3 +235,32 @@ fn frames_hold_no_more_batches_than_the_lists_take() {
         assert!(lists_hold < 64 && lists_hold < fits, "the lists hold {lists_hold} batches here");
     }
 }
+
+/// Paused after an accumulation (and so also once it is full: the same frame that renders
+/// nothing), the view keeps showing the accumulation's mean, bit for bit, not its last frame.
+#[test]
+fn a_paused_view_shows_the_accumulated_mean() {
+    // Lists large enough from the start: a frame whose lists grow restarts the accumulation.
+    let mut s = settings(32, 24, 1000, 0.2, 4, 1);
+    s.splat.list_capacity = Some(1 << 20);
+    let Some(mut app) = renderer("scenes/cornell-panel.gltf", s) else { return };
+    app.set_progressive(true);
+    for _ in 0..3 {
+        app.render_frame(None).expect("a still frame");
+    }
+    let still = app.capture_frame().expect("the fourth frame");
+    app.set_paused(true);
+    let paused = app.capture_frame().expect("a paused frame");
+    app.gpu().check_validation().expect("validation clean");
+    assert_eq!((still.accumulated, paused.accumulated), (4, 4));
+    for (name, a, b) in [
+        ("radiance", &still.radiance, &paused.radiance),
+        ("direct", &still.direct, &paused.direct),
+        ("indirect", &still.indirect, &paused.indirect),
+        ("leaked", &still.leaked, &paused.leaked),
+    ] {
+        let differing = a.iter().zip(b).filter(|(x, y)| x != y).count();
+        assert_eq!(differing, 0, "paused, {differing} pixels of the {name} layer are not the accumulation's");
+    }
+    assert!(still.display == paused.display, "the shown image changed when paused");
+}
