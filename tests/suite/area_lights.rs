@@ -145,12 +145,13 @@ fn emissive_triangles_emit_their_power_as_photons() {
 /// over the mean, for the direct pass's default (2 shadow rays resampled from 8 candidates),
 /// the same rays without resampling, and one plain sample (what a path tracer's next-event
 /// estimation gives at 1 sample per pixel), over the pixels whose direct light varies.
-/// Resampling must lower the noise at equal rays.
+/// Resampling must lower the noise at equal rays, and keep it with the panel split into 512.
 #[test]
 fn resampled_emitter_samples_are_less_noisy_than_plain_ones() {
     let scene = common::scene("scenes/cornell-panel.gltf");
     let Some(&backend) = common::choices().first() else { return };
-    let noise = |light_samples: u32, light_candidates: u32| -> f64 {
+    let split = subdivide_emitters(&scene, 4);
+    let noise_in = |scene: &Scene, light_samples: u32, light_candidates: u32| -> f64 {
         let frames: Vec<RenderedFrame> = (0..8)
             .map(|seed| {
                 let settings = RenderSettings {
@@ -163,7 +164,7 @@ fn resampled_emitter_samples_are_less_noisy_than_plain_ones() {
                     light_candidates,
                     ..Default::default()
                 };
-                render(&scene, settings)
+                render(scene, settings)
             })
             .collect();
         let lum = |p: [f32; 3]| 0.2126 * p[0] as f64 + 0.7152 * p[1] as f64 + 0.0722 * p[2] as f64;
@@ -180,7 +181,13 @@ fn resampled_emitter_samples_are_less_noisy_than_plain_ones() {
         }
         std_sum / mean_sum
     };
+    let noise = |samples, candidates| noise_in(&scene, samples, candidates);
     let (ours, unresampled, plain) = (noise(2, 8), noise(2, 1), noise(1, 1));
+    // The same panel as 512 triangles: picking by power then spreads candidates over all of
+    // them, and resampling keeps the noise where it was.
+    let ours_split = noise_in(&split, 2, 8);
+    eprintln!("{backend:?}: the panel as 512 triangles: 2 rays x 8 candidates {ours_split:.4}");
+    assert!(ours_split < 1.2 * ours, "{ours_split} with 512 emitters, {ours} with 2");
     eprintln!(
         "{backend:?}: direct-light noise (std over seeds / mean): 2 rays x 8 candidates {ours:.4}, \
          2 rays x 1 candidate {unresampled:.4}, 1 ray x 1 candidate {plain:.4}"
