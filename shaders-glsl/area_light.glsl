@@ -26,6 +26,16 @@ vec3 unshadowed_irradiance(EmitterPoint e, vec3 p, vec3 n, vec3 ng, out vec3 l, 
     return emitted_toward(e, -l) * (cos_surface * cos_light / (dist * dist));
 }
 
+// Whether the segment from `p` (geometric normal `ng`, on the side of the light) to a point
+// of an emitter is free. It ends a lift short of the emitter, on the segment: it cannot meet
+// the emitter itself, and meets anything between, however close to the emitter.
+bool emitter_visible(vec3 p, vec3 ng, vec3 emitter_position) {
+    vec3 origin = offset_ray(p, ng);
+    vec3 d = nudge_toward(emitter_position, p) - origin;
+    float len = length(d);
+    return len > 0.0 && !traceOccluded(origin, d / len, 0.0, len);
+}
+
 // Irradiance at `p` from the emitters: the mean of `samples` resampled estimates with a shadow
 // ray each, estimates first .. first + samples − 1 of the pixel's sequence (`sequence_seed`),
 // whose point (estimate · candidates + c) is candidate c: the frames of an accumulation
@@ -63,13 +73,7 @@ vec3 area_light_irradiance(vec3 p, vec3 n, vec3 ng, uint emitter_count, uint fir
         if (chosen_target <= 0.0) {
             continue;
         }
-        // The shadow ray ends a lift short of the emitter, on the segment: it cannot meet the
-        // emitter itself, and meets anything between.
-        vec3 origin = offset_ray(p, ng);
-        vec3 end = nudge_toward(chosen_position, p);
-        vec3 d = end - origin;
-        float len = length(d);
-        if (!(len > 0.0) || traceOccluded(origin, d / len, 0.0, len)) {
+        if (!emitter_visible(p, ng, chosen_position)) {
             continue;
         }
         total += chosen_e * (weight_sum / (float(candidates) * chosen_target));

@@ -66,11 +66,7 @@ vec3 emitter_sample(vec3 p, vec3 n, vec3 ng, bool mis, inout Rng rng) {
     if (irr == vec3(0.0)) {
         return irr;
     }
-    vec3 origin = offset_ray(p, ng);
-    vec3 end = nudge_toward(e.position, p);
-    vec3 d = end - origin;
-    float len = length(d);
-    if (!(len > 0.0) || traceOccluded(origin, d / len, 0.0, len)) {
+    if (!emitter_visible(p, ng, e.position)) {
         return vec3(0.0);
     }
     float weight = 1.0;
