@@ -161,13 +161,17 @@ impl Renderer {
             self.accumulated
         };
         // The emitters' direct light grows with the frame's work as the indirect light does:
-        // `light_samples` per photon batch, or per REFERENCE_SAMPLES_PER_DIRECT reference
-        // samples, continuing one sequence.
+        // `light_samples` per photon batch, or per REFERENCE_SAMPLES_PER_DIRECT samples of a
+        // progressive reference frame, continuing one sequence. A reference outside an
+        // accumulation adds samples to one image over many frames while its direct layer is
+        // each frame's own: a frame that is seen (shown or read back) estimates it anew for all
+        // the image's samples, and one that is not skips it.
         let per = direct::REFERENCE_SAMPLES_PER_DIRECT;
-        let (direct_first, direct_units) = if method == Method::Reference {
-            (first_sample.div_ceil(per), samples.div_ceil(per))
-        } else {
-            (first_batch, frame_batches)
+        let seen = display.is_some() || request.is_some();
+        let (direct_first, direct_units, direct_needed) = match method {
+            Method::Reference if progressive => (first_sample.div_ceil(per), samples.div_ceil(per), true),
+            Method::Reference => (0, accumulated.div_ceil(per), seen),
+            _ => (first_batch, frame_batches, true),
         };
         let light_samples = self.settings.light_samples;
         let direct_params = DirectParams {
@@ -176,7 +180,7 @@ impl Renderer {
             candidates: self.settings.light_candidates,
             seed,
         };
-        if render {
+        if render && direct_needed {
             direct::add(&mut g, direct_params, &view, &mut direct);
         }
 
