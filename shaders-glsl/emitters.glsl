@@ -1,6 +1,6 @@
 // Emissive triangles as area lights (src/emitters.rs): picking one by power, a point on it,
-// and the light it sends to a surface point. Needs scene.glsl (and trace.glsl for the shadow
-// rays of `emitter_light`) included before it.
+// what it emits, and the densities MIS needs. Needs scene.glsl included before it (the shadow
+// rays are area_light.glsl's).
 #ifndef LEAKLESS_EMITTERS_GLSL
 #define LEAKLESS_EMITTERS_GLSL
 #include "common.glsl"

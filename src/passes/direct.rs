@@ -31,10 +31,10 @@ gpu_struct! {
 /// Shadow rays toward emitters one pixel may trace in a frame.
 pub const MAX_SAMPLES: u32 = 1024;
 
-/// A reference frame traces `light_samples` emitter rays per this many of its path samples:
-/// one set per sample made the direct pass cost more than the paths on lavapipe (8 candidates
-/// a ray are arithmetic, but many), while the direct light's noise was already far below the
-/// indirect light's.
+/// A reference frame traces `light_samples` emitter rays per this many of its path samples: a
+/// set per sample would cost more than the paths on lavapipe (8 candidates a ray are
+/// arithmetic, but many), for direct light whose noise is already far below the indirect
+/// light's.
 pub const REFERENCE_SAMPLES_PER_DIRECT: u32 = 8;
 
 shader_bindings! {
