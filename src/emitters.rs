@@ -12,7 +12,7 @@ use glam::{Vec2, Vec3};
 use leakless_scene::{Scene, Texture};
 
 use crate::gpu_types::Emitter;
-use crate::photon_lights::luminance;
+use crate::photon_lights::{luminance, selection_cdf};
 
 /// The scene's emissive triangles, in triangle order.
 #[derive(Clone, Debug, Default)]
@@ -48,10 +48,11 @@ impl EmitterTable {
             }
         }
         let weights: Vec<f64> = powers.iter().map(|p| luminance(*p)).collect();
-        let emitters = cdf(&weights)
-            .into_iter()
-            .zip(&triangles)
-            .map(|((cdf, probability), &triangle)| Emitter { triangle, cdf, probability, pad0: 0 })
+        let (cdf, probabilities) = selection_cdf(&weights);
+        let emitters = triangles
+            .iter()
+            .zip(cdf.iter().zip(&probabilities))
+            .map(|(&triangle, (&cdf, &p))| Emitter { triangle, cdf, probability: p as f32, pad0: 0 })
             .collect();
         EmitterTable { emitters, powers }
     }
@@ -63,25 +64,6 @@ impl EmitterTable {
     pub fn is_empty(&self) -> bool {
         self.emitters.is_empty()
     }
-}
-
-/// The f32 CDF of positive `weights` and the probability each entry is chosen with by
-/// `u < cdf` (its interval's width), the last entry exactly 1 so that any u < 1 finds one.
-pub fn cdf(weights: &[f64]) -> Vec<(f32, f32)> {
-    let total: f64 = weights.iter().sum();
-    let mut sum = 0.0;
-    let mut last = 0.0f32;
-    weights
-        .iter()
-        .enumerate()
-        .map(|(i, w)| {
-            sum += w;
-            let c = if i + 1 == weights.len() { 1.0 } else { (sum / total) as f32 };
-            let p = c - last;
-            last = c;
-            (c, p)
-        })
-        .collect()
 }
 
 /// The texture's linear-RGB mean over 36 stratified points of the triangle with texcoords
@@ -113,18 +95,5 @@ fn srgb(c: u8) -> f32 {
         ((c + 0.055) / 1.055).powf(2.4)
     } else {
         c / 12.92
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn the_cdf_ends_at_one_and_its_widths_are_the_weights_shares() {
-        let c = cdf(&[1.0, 3.0, 4.0]);
-        assert_eq!(c.last().unwrap().0, 1.0);
-        let p: Vec<f32> = c.iter().map(|e| e.1).collect();
-        assert_eq!(p, [0.125, 0.375, 0.5]);
     }
 }

@@ -67,6 +67,23 @@ pub fn light_power(light: &Light, scene_radius: f32) -> [f64; 3] {
     light.intensity.map(|c| c as f64 * factor)
 }
 
+/// The f32 CDF that picks entry i with probability ∝ `weights[i]` (≥ 0) by the first CDF value
+/// above u ∈ [0, 1), and the probability each entry is then picked with (the width of its f32
+/// interval, ∝ its weight up to rounding; 0 for weights of 0). From the last positive weight
+/// on, the CDF is exactly 1, so any u < 1 finds an entry.
+pub fn selection_cdf(weights: &[f64]) -> (Vec<f32>, Vec<f64>) {
+    let total: f64 = weights.iter().sum();
+    let last = weights.iter().rposition(|&w| w > 0.0);
+    let mut cdf = Vec::with_capacity(weights.len());
+    let mut sum = 0.0;
+    for (i, w) in weights.iter().enumerate() {
+        sum += w;
+        cdf.push(if last.is_some_and(|l| i >= l) { 1.0 } else { (sum / total) as f32 });
+    }
+    let probabilities = (0..cdf.len()).map(|i| cdf[i] as f64 - if i == 0 { 0.0 } else { cdf[i - 1] as f64 }).collect();
+    (cdf, probabilities)
+}
+
 /// The lights' powers and the selection CDF, in the scene's light order.
 #[derive(Clone, Debug)]
 pub struct LightTable {
@@ -96,17 +113,7 @@ impl LightTable {
         let mut powers: Vec<[f64; 3]> = lights.iter().map(|l| light_power(l, radius)).collect();
         powers.extend(&emitters.powers);
         let weights: Vec<f64> = powers.iter().map(|p| luminance(*p).max(0.0)).collect();
-        let total: f64 = weights.iter().sum();
-        let last = weights.iter().rposition(|&w| w > 0.0);
-        let mut cdf = Vec::with_capacity(lights.len());
-        let mut sum = 0.0;
-        for (i, w) in weights.iter().enumerate() {
-            sum += w;
-            // From the last emitting light on, exactly 1: u < 1 always finds a light.
-            cdf.push(if last.is_some_and(|l| i >= l) { 1.0 } else { (sum / total) as f32 });
-        }
-        let probabilities: Vec<f64> =
-            (0..cdf.len()).map(|i| cdf[i] as f64 - if i == 0 { 0.0 } else { cdf[i - 1] as f64 }).collect();
+        let (cdf, probabilities) = selection_cdf(&weights);
         let entries = powers
             .iter()
             .zip(&probabilities)
@@ -162,4 +169,16 @@ pub fn upload_lights(
         count: gpu_lights.len() as u32,
         table,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_cdf_ends_at_one_and_its_widths_are_the_weights_shares() {
+        let (cdf, p) = selection_cdf(&[1.0, 0.0, 3.0, 4.0, 0.0]);
+        assert_eq!(cdf, [0.125, 0.125, 0.5, 1.0, 1.0], "exactly 1 from the last positive weight on");
+        assert_eq!(p, [0.125, 0.0, 0.375, 0.5, 0.0]);
+    }
 }
