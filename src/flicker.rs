@@ -14,10 +14,11 @@ fn luminance(p: &[f32; 3]) -> f64 {
 /// Flicker: `frames` frames of the renderer's current view and settings, each with fresh
 /// photons (the next seed) and no accumulation; each pixel's temporal standard deviation of
 /// luminance over its temporal mean, averaged over the pixels whose mean is above zero (a pixel
-/// that is black in every frame does not flicker). Leaves the renderer without accumulation.
+/// that is black in every frame does not flicker). The method's own flicker: without temporal
+/// reuse, which would average the frames. Leaves the renderer without accumulation or reuse.
 pub fn flicker(renderer: &mut Renderer, frames: u32) -> Result<f64> {
     renderer.set_progressive(false);
-    renderer.update(|s| s.frames = 1)?;
+    renderer.update(|s| (s.frames, s.reuse) = (1, false))?;
     renderer.set_advance_seed(true);
     let mut series = Vec::with_capacity(frames as usize);
     for _ in 0..frames {

@@ -38,6 +38,11 @@ pub struct RenderSettings {
     /// Candidate emitter points each of those rays is resampled from (`--light-candidates`;
     /// 1: plain next-event estimation by power).
     pub light_candidates: u32,
+    /// Temporal reuse of the indirect light (`--reuse`): frames after a change of camera,
+    /// light or object start from the frames before, reprojected (docs/architecture.md §1,
+    /// "Motion"). A render from scratch has no frames before, so a single image is the same
+    /// either way.
+    pub reuse: bool,
 }
 
 /// What computes the indirect light (docs/architecture.md §2).
@@ -98,6 +103,7 @@ impl Default for RenderSettings {
             tuning: TuningChoice::Auto,
             light_samples: DEFAULT_LIGHT_SAMPLES,
             light_candidates: DEFAULT_LIGHT_CANDIDATES,
+            reuse: true,
         }
     }
 }
@@ -220,6 +226,9 @@ impl RenderSettings {
         // Only where they differ from the defaults, so that existing descriptions stay as they were.
         if (self.light_samples, self.light_candidates) != (DEFAULT_LIGHT_SAMPLES, DEFAULT_LIGHT_CANDIDATES) {
             s += &format!(" light_samples={} light_candidates={}", self.light_samples, self.light_candidates);
+        }
+        if !self.reuse {
+            s += " reuse=off";
         }
         s
     }

@@ -23,6 +23,7 @@ pub mod reference;
 pub mod scan;
 pub mod sort;
 pub mod splat;
+pub mod temporal;
 pub mod tonemap;
 pub mod visible_disk;
 
@@ -60,6 +61,7 @@ pub static FRAME_PASSES: &[&ComputePassDef] = &[
     &gather::GATHER,
     &compose::COMPOSE,
     &accumulate::ACCUMULATE,
+    &temporal::TEMPORAL,
     &luminance::LUMINANCE_TILES,
     &luminance::LUMINANCE_TOTAL,
 ];

@@ -27,6 +27,8 @@ pub mod group {
     pub const REFERENCE: &str = "reference";
     /// Direct + indirect, and the running mean of an accumulation.
     pub const COMPOSE: &str = "compose";
+    /// Temporal and spatial reuse of the indirect light across frames and pixels.
+    pub const REUSE: &str = "reuse";
     pub const LUMINANCE: &str = "luminance";
     /// The tonemap, the app's overlay and the hand-over to the window.
     pub const DISPLAY: &str = "display";

@@ -23,6 +23,7 @@ use crate::passes::luminance::{self, LuminanceInputs, LuminanceStats};
 use crate::passes::photons::PhotonCounters;
 use crate::passes::reference::{self, ReferenceParams};
 use crate::passes::splat::SplatCounters;
+use crate::passes::temporal::{self, Reused, TemporalHistories, TemporalInputs, TemporalMode};
 use crate::passes::tonemap::ViewLayer;
 use crate::passes::{direct, instance_vertices, names, readback, ViewInputs};
 use crate::photon_lights::upload_lights;
@@ -76,6 +77,12 @@ impl Renderer {
         let method = self.settings.method;
         let FramePlan { render, first, progressive, index, first_batch, frame_batches, samples, accumulated, batches } =
             plan::plan(&self.plan_state());
+        // Temporal reuse averages frames after a change: each must trace fresh photons (the
+        // accumulation that follows, when nothing moves, continues this frame's sequence).
+        let reuse = render && self.settings.reuse && method.splats();
+        if reuse && self.advance_seed && progressive && index == 0 {
+            self.seed_offset = self.seed_offset.wrapping_add(1);
+        }
         let seed = self.frame_seed();
         let mut splat = None;
         if let Some(mut settings) = self.settings.photon_settings().filter(|_| render) {
@@ -265,8 +272,45 @@ impl Renderer {
             leaked = layer(&mut g, "mean leaked")?;
             radiance = layer(&mut g, "mean radiance")?;
         }
+        // Temporal reuse: the frames before, reprojected, with this frame (or, while nothing
+        // moves, weighing into the accumulation's mean).
+        let mut reused = None;
+        if reuse {
+            let mut histories = TemporalHistories::new(&mut g, extent)?;
+            let mode = match (histories.valid(), progressive && index > 0) {
+                (false, _) => TemporalMode::Restart,
+                (true, true) => TemporalMode::Still,
+                (true, false) => TemporalMode::Motion,
+            };
+            let instances_moved = mode == TemporalMode::Motion && self.reuse.pose_version != self.pose.version;
+            let zero = [0u8; std::mem::size_of::<leakless_scene::Vertex>()];
+            let previous: &[u8] = if instances_moved { bytemuck::cast_slice(&self.reuse.vertices) } else { &zero };
+            let storage = ash::vk::BufferUsageFlags::STORAGE_BUFFER;
+            let previous_vertices = g.upload("previous instance vertices", storage, previous)?;
+            let first_moving = self.scene.static_triangle_count() as u32;
+            let params = self.reuse.params(mode, batches, first_moving, instances_moved);
+            let mut reused_indirect = layer(&mut g, "reused indirect")?;
+            let mut reused_radiance = layer(&mut g, "reused radiance")?;
+            let inputs = TemporalInputs {
+                frame: &frame,
+                gbuffer: &gbuffer,
+                scene: &scene,
+                previous_vertices: &previous_vertices,
+                direct: &direct,
+                indirect: &indirect,
+                radiance: &radiance,
+            };
+            let out = Reused { indirect: &mut reused_indirect, radiance: &mut reused_radiance };
+            temporal::add(&mut g, params, inputs, &mut histories, out);
+            (indirect, radiance) = (reused_indirect, reused_radiance);
+            reused = Some(mode);
+        } else if !render && self.image_is_reused {
+            indirect = layer(&mut g, "reused indirect")?;
+            radiance = layer(&mut g, "reused radiance")?;
+        }
         if render {
             self.image_is_mean = progressive;
+            self.image_is_reused = reuse;
         }
 
         // What the frame shows, and its luminance statistics (exposure, leaked energy).
@@ -318,6 +362,10 @@ impl Renderer {
             hang.add(&mut g);
         }
         let _in_flight = g.submit(&sync)?;
+        if matches!(reused, Some(TemporalMode::Motion | TemporalMode::Restart)) {
+            let camera = self.camera.position();
+            self.reuse.remember(self.view_proj(), camera, self.pose.version, &self.pose.vertices);
+        }
         let index = self.runner.next_frame() - 1;
         self.pending.push_back(Pending {
             index,
@@ -396,9 +444,11 @@ impl Renderer {
                     grown_batch_capacity(self.list_capacity, frame.batches, &counters.lists, max_entries)
                 {
                     if grown > self.list_capacity {
-                        // The frame lost photons: an accumulation restarts without it.
+                        // The frame lost photons: an accumulation restarts without it, and
+                        // temporal reuse forgets it.
                         self.list_capacity = grown;
                         self.restart();
+                        self.runner.invalidate_histories();
                     }
                 }
             }

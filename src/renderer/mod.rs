@@ -15,6 +15,7 @@ mod frame;
 mod motion;
 mod plan;
 mod readback;
+mod reuse;
 
 use std::collections::VecDeque;
 
@@ -129,6 +130,10 @@ pub struct Renderer {
     /// The image is an accumulation's mean (the last frame that rendered was progressive): a
     /// frame that renders nothing (paused, full) shows the mean layers again, not that frame's.
     image_is_mean: bool,
+    /// The image's indirect light is temporal reuse's (the last frame that rendered ran it).
+    image_is_reused: bool,
+    /// What temporal reuse remembers of its history's frame.
+    reuse: reuse::ReuseState,
     /// Reference samples each frame adds.
     samples_per_frame: u32,
     /// Photon frames advance the seed unless frozen (a fixed seed fixes the frame).
@@ -161,6 +166,7 @@ impl Renderer {
         crate::limits::check(&settings, scene, resolved.backend, &gpu.report().limits)?;
         let gpu_scene = GpuScene::upload(&gpu, scene)?;
         let pose = ScenePose::new(scene, &gpu_scene.bvh.bvh);
+        let reuse = reuse::ReuseState::new(pose.version, &pose.vertices);
         let passes = Passes {
             gbuffer: GBufferPass::new(&gpu)?,
             tonemaps: vec![TonemapPass::new(&gpu, readback::DISPLAY_FORMAT)?],
@@ -187,6 +193,8 @@ impl Renderer {
             accumulated: 0,
             batches: 0,
             image_is_mean: false,
+            image_is_reused: false,
+            reuse,
             samples_per_frame: 1,
             advance_seed: false,
             progressive: false,
@@ -299,6 +307,7 @@ impl Renderer {
         self.accumulated = 0;
         self.batches = 0;
         self.image_is_mean = false;
+        self.image_is_reused = false;
     }
 
     /// Changes any settings at once; validated first, and a change that needs a new backend
@@ -327,6 +336,8 @@ impl Renderer {
         let regrow = capacity_inputs(&settings) != capacity_inputs(&self.settings);
         if settings != self.settings {
             self.restart();
+            // The frames before are another estimate: temporal reuse starts over.
+            self.runner.invalidate_histories();
         }
         self.settings = settings;
         self.backend = backend;
@@ -379,6 +390,18 @@ impl Renderer {
             self.progressive = progressive;
             self.restart();
         }
+    }
+
+    /// Frames a pixel's temporal history holds at most (about half a second of frames: the
+    /// app sets it from its frame rate, a sequence from its own).
+    pub fn set_reuse_history_frames(&mut self, frames: u32) {
+        self.reuse.history_frames = frames.clamp(1, reuse::MAX_HISTORY_FRAMES);
+    }
+
+    /// Forgets the frames before: the next frame starts temporal reuse anew (a render from
+    /// scratch).
+    pub fn forget_history(&mut self) {
+        self.runner.invalidate_histories();
     }
 
     /// Whether the image holds as much as one accumulation may: `MAX_FRAMES` frames, or a

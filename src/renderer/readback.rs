@@ -77,6 +77,7 @@ impl Renderer {
         let start = std::time::Instant::now();
         self.wait_idle()?;
         self.restart();
+        self.forget_history();
         // A reference of several frames renders `spp` samples per frame (`accumulating`).
         let frames = self.settings.frames.max(1);
         let total = if self.settings.method == Method::Reference && frames == 1 { self.settings.spp } else { frames };
@@ -172,17 +173,32 @@ pub(super) fn merged_by_name(run: &[PassTiming]) -> Vec<PassTiming> {
 
 impl Timings {
     fn add(&mut self, run: &[PassTiming]) {
-        for t in run {
-            match self.0.iter_mut().find(|x| x.name == t.name) {
-                Some(x) => {
-                    x.ms += t.ms;
-                    x.wall_ms = match (x.wall_ms, t.wall_ms) {
-                        (Some(a), Some(b)) => Some(a + b),
-                        (a, b) => a.or(b),
-                    };
-                }
-                None => self.0.push(t.clone()),
+        add_timings(&mut self.0, run);
+    }
+}
+
+impl RenderedFrame {
+    /// Adds `later`'s pass times and frame times to this frame's (the totals of a run of
+    /// frames: a sequence's stats).
+    pub fn add_times(&mut self, later: &RenderedFrame) {
+        add_timings(&mut self.timings, &later.timings);
+        self.gpu_span_ms += later.gpu_span_ms;
+        self.wall_ms += later.wall_ms;
+    }
+}
+
+/// Adds `run`'s pass times to `sums`, by pass name, in first-run order.
+fn add_timings(sums: &mut Vec<PassTiming>, run: &[PassTiming]) {
+    for t in run {
+        match sums.iter_mut().find(|x| x.name == t.name) {
+            Some(x) => {
+                x.ms += t.ms;
+                x.wall_ms = match (x.wall_ms, t.wall_ms) {
+                    (Some(a), Some(b)) => Some(a + b),
+                    (a, b) => a.or(b),
+                };
             }
+            None => sums.push(t.clone()),
         }
     }
 }

@@ -223,3 +223,46 @@ fn info_reports_the_device() {
     assert!(stdout.contains("using device"), "{stdout}");
     assert!(stdout.contains("ray queries:"), "{stdout}");
 }
+
+/// `render --sequence` writes every frame's EXR and PNG, and sequence.json with each frame's
+/// index, time, camera and frame_ms, the door shutting in its last frame; a range that runs
+/// backwards, and `--frames` with a sequence, are refused.
+#[test]
+fn a_sequence_writes_its_frames_and_their_times() {
+    if common::gpu().is_none() {
+        return;
+    }
+    let dir = common::tmp_path("cli-sequence");
+    let _ = std::fs::remove_dir_all(&dir);
+    let base = ["render", "scenes/door.gltf", "--size", "32x24", "--paths", "2000", "--out", dir.to_str().unwrap()];
+    let stats = common::tmp_path("cli-sequence-stats.json");
+    let out =
+        leakless(&[&base[..], &["--sequence", "1.9:2:20", "--png", "--stats", stats.to_str().unwrap()]].concat(), &[]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{stderr}");
+    assert!(stats.is_file(), "the run's stats");
+    for k in 0..3 {
+        for ext in ["exr", "png"] {
+            assert!(dir.join(format!("{k:04}.{ext}")).is_file(), "frame {k}'s {ext}");
+        }
+    }
+    assert!(!dir.join("0003.exr").exists(), "one frame too many");
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("sequence.json")).expect("sequence.json")).unwrap();
+    let frames = json["frames"].as_array().expect("frames");
+    let times: Vec<f64> = frames.iter().map(|f| f["time"].as_f64().unwrap()).collect();
+    assert_eq!(frames.len(), 3);
+    assert!((times[1] - 1.95).abs() < 1e-6 && (times[2] - 2.0).abs() < 1e-6, "{times:?}");
+    for (k, f) in frames.iter().enumerate() {
+        assert_eq!(f["index"].as_u64(), Some(k as u64));
+        assert!(f["frame_ms"].as_f64().unwrap() > 0.0 && f["camera"]["eye"].as_array().unwrap().len() == 3);
+    }
+    assert_eq!(json["reuse"].as_bool(), Some(true));
+    let shut = leakless::output::exr::read(&dir.join("0002.exr")).expect("the last frame");
+    assert!(shut.channel("R").unwrap().iter().all(|&v| v == 0.0), "the shut door's frame is not black");
+
+    let out = leakless(&[&base[..], &["--sequence", "2:1:30"]].concat(), &[]);
+    assert!(!out.status.success() && String::from_utf8_lossy(&out.stderr).contains("before the start"));
+    let out = leakless(&[&base[..], &["--sequence", "0:1:10", "--frames", "2"]].concat(), &[]);
+    assert_one_line_error(&out, "--frames 2");
+}

@@ -18,6 +18,7 @@ mod gpu_report;
 mod identity;
 mod leak;
 mod leak_scenes;
+mod motion;
 mod output;
 mod photons;
 mod progressive;

@@ -7,6 +7,7 @@ use leakless_device::{
 };
 
 use crate::bindings::{Bindings, PassContext};
+use crate::history::{pair_name, History};
 use crate::name::PassName;
 use crate::pipelines::PipelineTable;
 use crate::pool::PoolKey;
@@ -156,6 +157,31 @@ impl<'r> Graph<'r> {
         self.runner.pool.ensure_image(self.gpu, key.clone(), desc, frame)?;
         self.sources.push(Source::PoolImage(key));
         Ok(ImageHandle { id: self.sources.len() - 1, extent: desc.extent, format: desc.format })
+    }
+
+    /// The history pair named `desc.name` ([`History`]): this frame writes `current`, and
+    /// `previous` holds what the last frame that asked for the pair wrote, when `valid`.
+    pub fn history_image(&mut self, desc: &ImageDesc<'_>) -> Result<History> {
+        let name = desc.name;
+        let keys = [0, 1].map(|i| PoolKey::Persistent(pair_name(name, i)));
+        for key in &keys {
+            self.check_first(key, true)?;
+        }
+        let frame = self.runner.frame_index();
+        let mut remade = false;
+        for key in &keys {
+            remade |= self.runner.pool.ensure_image(self.gpu, key.clone(), desc, frame)?;
+        }
+        let (current, valid) = self.runner.pool.histories.entry(name.to_string()).or_default().advance(remade);
+        let [a, b] = keys;
+        let (current_key, previous_key) = if current == 0 { (a, b) } else { (b, a) };
+        let mut handle = |key| {
+            self.sources.push(Source::PoolImage(key));
+            ImageHandle { id: self.sources.len() - 1, extent: desc.extent, format: desc.format }
+        };
+        let current = handle(current_key);
+        let previous = handle(previous_key);
+        Ok(History { current, previous, valid })
     }
 
     /// A buffer with one copy per frame in flight: this frame's copy is not used by any frame

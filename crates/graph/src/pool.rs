@@ -7,6 +7,7 @@ use std::collections::HashMap;
 
 use leakless_device::{Buffer, BufferDesc, Gpu, Image, ImageDesc, MemoryLocation, Result};
 
+use crate::history::PairState;
 use crate::vk;
 
 /// How a buffer is made: what a changed description is compared on.
@@ -44,9 +45,16 @@ pub struct ResourcePool {
     /// Replaced resources and the frame that was being built when they were replaced: frames
     /// before it may still read them.
     retired: Vec<(u64, Retired)>,
+    /// The history pairs by name.
+    pub(crate) histories: HashMap<String, PairState>,
 }
 
 impl ResourcePool {
+    /// Forgets what every history pair holds (`GraphRunner::invalidate_histories`).
+    pub(crate) fn invalidate_histories(&mut self) {
+        self.histories.values_mut().for_each(PairState::invalidate);
+    }
+
     /// Makes sure `key` names a buffer made from `desc`, creating or replacing it; `frame` is
     /// the frame being built.
     pub(crate) fn ensure_buffer(&mut self, gpu: &Gpu, key: PoolKey, desc: &BufferDesc<'_>, frame: u64) -> Result<()> {
@@ -61,16 +69,17 @@ impl ResourcePool {
         Ok(())
     }
 
-    pub(crate) fn ensure_image(&mut self, gpu: &Gpu, key: PoolKey, desc: &ImageDesc<'_>, frame: u64) -> Result<()> {
+    /// Makes sure `key` names an image made from `desc`; true when it was made now.
+    pub(crate) fn ensure_image(&mut self, gpu: &Gpu, key: PoolKey, desc: &ImageDesc<'_>, frame: u64) -> Result<bool> {
         let want = ImageKey { extent: desc.extent, format: desc.format, usage: desc.usage };
         if matches!(self.images.get(&key), Some((have, _)) if *have == want) {
-            return Ok(());
+            return Ok(false);
         }
         let image = Box::new(Image::new(gpu, desc)?);
         if let Some((_, old)) = self.images.insert(key, (want, image)) {
             self.retired.push((frame, Retired::Image(old)));
         }
-        Ok(())
+        Ok(true)
     }
 
     pub(crate) fn buffer(&self, key: &PoolKey) -> &Buffer {

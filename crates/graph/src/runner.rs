@@ -166,6 +166,13 @@ impl GraphRunner {
         self.frame
     }
 
+    /// Forgets what every history image holds: the next frame that asks for one gets no valid
+    /// history (a change of scene, method or settings that makes the last frames' images
+    /// another estimate).
+    pub fn invalidate_histories(&mut self) {
+        self.pool.invalidate_histories();
+    }
+
     /// The resources graphs made by name (read per-frame buffers of a completed frame here).
     pub fn pool(&self) -> &ResourcePool {
         &self.pool

@@ -12,6 +12,7 @@ mod info;
 mod measure;
 mod options;
 mod render;
+mod sequence;
 mod stability;
 mod view;
 

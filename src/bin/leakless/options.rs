@@ -89,6 +89,11 @@ pub struct RenderOptions {
     /// Seed of every random sequence (a fixed seed gives an identical frame).
     #[arg(long, default_value_t = 0)]
     pub seed: u32,
+    /// Temporal reuse of the indirect light: frames after a change start from the frames
+    /// before, reprojected (`render --sequence`, the app). `off` renders every frame afresh.
+    /// A single image is the same either way.
+    #[arg(long, default_value = "on", value_parser = ["on", "off"])]
+    pub reuse: String,
     /// The view, instead of the scene's camera: EYE,TARGET,UP,YFOV as ten numbers
     /// `ex,ey,ez,tx,ty,tz,ux,uy,uz,yfov_degrees` (the app's captures write it).
     #[arg(long, value_parser = parse_camera)]
@@ -200,6 +205,7 @@ impl RenderOptions {
             light_samples: self.light_samples,
             light_candidates: self.light_candidates,
             seed: self.seed,
+            reuse: self.reuse == "on",
             frames: self.frames,
             max_batches: self.max_batches,
             splat: SplatSettings {

@@ -13,12 +13,19 @@ use crate::options::RenderOptions;
 pub struct RenderArgs {
     #[command(flatten)]
     options: RenderOptions,
-    /// Output EXR (default: <scene name>.exr in the current directory).
+    /// Output EXR (default: <scene name>.exr in the current directory); with `--sequence`,
+    /// the directory the frames go to (default: <scene name>/).
     #[arg(long)]
     out: Option<PathBuf>,
-    /// Also write the tonemapped PNG (what the window shows).
-    #[arg(long)]
-    png: Option<PathBuf>,
+    /// Also write the tonemapped PNG (what the window shows): to PNG, or without a value next
+    /// to the EXR (a sequence's DIR/NNNN.png).
+    #[arg(long, num_args = 0..=1)]
+    png: Option<Option<PathBuf>>,
+    /// Renders the animation from T0 to T1 seconds at FPS frames a second, in order, as the
+    /// app does between frames: DIR/0000.exr, DIR/0001.exr, … and DIR/sequence.json (each
+    /// frame's index, time, camera and frame_ms).
+    #[arg(long, value_name = "T0:T1:FPS", value_parser = crate::sequence::parse_sequence)]
+    sequence: Option<crate::sequence::Sequence>,
     /// Write per-pass GPU times, build costs and counts as JSON.
     #[arg(long)]
     stats: Option<PathBuf>,
@@ -45,6 +52,14 @@ pub fn run(args: RenderArgs) -> anyhow::Result<()> {
         "timestamps" => Timing::Timestamps,
         _ => renderer.tuning().timing,
     });
+    if let Some(sequence) = args.sequence {
+        let dir = args.out.unwrap_or_else(|| PathBuf::from(&scene.name));
+        if matches!(args.png, Some(Some(_))) {
+            anyhow::bail!("--png with --sequence takes no path: the frames' PNGs go next to their EXRs");
+        }
+        let (png, stats) = (args.png.is_some(), args.stats.as_deref());
+        return crate::sequence::run(&mut renderer, &args.options.scene, sequence, &dir, png, stats);
+    }
     let frame = render_with_bar(&mut renderer, settings.method)?;
     if let Some(s) = &frame.splat {
         if s.photons_dropped > 0 || s.list_entries_dropped > 0 {
@@ -54,11 +69,9 @@ pub fn run(args: RenderArgs) -> anyhow::Result<()> {
             );
         }
     }
-    let paths = OutputPaths {
-        exr: args.out.unwrap_or_else(|| PathBuf::from(format!("{}.exr", scene.name))),
-        png: args.png,
-        stats: args.stats,
-    };
+    let exr = args.out.unwrap_or_else(|| PathBuf::from(format!("{}.exr", scene.name)));
+    let png = args.png.map(|png| png.unwrap_or_else(|| exr.with_extension("png")));
+    let paths = OutputPaths { exr, png, stats: args.stats };
     for path in output::write_render(&paths, &args.options.scene, &renderer, &frame, None)? {
         println!("wrote {}", path.display());
     }

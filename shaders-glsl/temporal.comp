@@ -1,0 +1,203 @@
+#version 460
+// Temporal reuse of the indirect light (docs/architecture.md §1, "Motion"). The history is
+// demodulated irradiance (the indirect layer over albedo, so texture detail is never smeared)
+// with the frames it holds in .a, and the surface each pixel saw (position and triangle,
+// viewer-facing normal), in history pairs of the graph.
+//
+// MODE_RESTART: no history; the frame passes through and starts one.
+// MODE_MOTION: the camera, a light or an instance moved, and this is the first frame of a new
+//   accumulation. Each pixel's surface point is carried back to where it was last frame (the
+//   same barycentric point of its triangle for animated instances), projected with last
+//   frame's camera, and the history is read bilinearly from the taps that saw the same surface:
+//   the same static geometry or the same animated triangle, within a slope-aware distance of
+//   its plane, facing the same way. A pixel with no such tap starts anew. The history is
+//   clamped to the new frame's pixel and neighbourhood mean, widened by `clamp_relative`: a
+//   photon frame's low-frequency noise is averaged out, a change of the lighting is followed
+//   within a few frames. Where the new
+//   frame's whole neighbourhood is exactly zero the output is exactly zero: a shut door or a
+//   sealed room is black at once. Then new = lerp(history, frame, 1/n), n the frames the
+//   pixel's history holds with this one, at most `max_history`.
+// MODE_STILL: nothing moved since the last motion frame, and the progressive accumulation
+//   holds the frames since (`still_batches` photon batches). The history is carried unchanged,
+//   and the image is their weighted mean, the history counting for the n - 1 frames it holds
+//   before the accumulation's first: its weight falls as the accumulation grows, so the still
+//   view converges to what accumulation alone converges to.
+#include "common.glsl"
+#include "gbuffer.glsl"
+#include "scene.glsl"
+
+layout(local_size_x = 8, local_size_y = 8) in;
+
+const uint MODE_RESTART = 0u;
+const uint MODE_MOTION = 1u;
+const uint MODE_STILL = 2u;
+
+FRAME_BLOCK(0);
+GBUFFER_BINDINGS(1)
+layout(set = 0, binding = 4, rgba32f) uniform readonly image2D direct;
+layout(set = 0, binding = 5, rgba32f) uniform readonly image2D indirect;
+layout(set = 0, binding = 6, rgba32f) uniform readonly image2D history_previous;
+layout(set = 0, binding = 7, rgba32f) uniform writeonly image2D history_current;
+layout(set = 0, binding = 8, rgba32f) uniform readonly image2D surface_previous;
+layout(set = 0, binding = 9, rgba32f) uniform writeonly image2D surface_current;
+layout(set = 0, binding = 10, rgba32f) uniform readonly image2D normal_previous;
+layout(set = 0, binding = 11, rgba32f) uniform writeonly image2D normal_current;
+layout(set = 0, binding = 12, rgba32f) uniform writeonly image2D reused_indirect;
+layout(set = 0, binding = 13, rgba32f) uniform writeonly image2D reused_radiance;
+// The animated instances' vertices as they were in the history's frame, from the first moving
+// triangle's first vertex on (read only when `instances_moved`).
+layout(set = 0, binding = 15, rgba32f) uniform readonly image2D radiance;
+layout(set = 0, binding = 14, std430) readonly buffer PreviousVertices { SceneVertex vertices[]; } previous_vertices;
+
+layout(push_constant) uniform TemporalParams {
+    mat4 previous_view_proj;  // the history's frame's camera
+    vec4 previous_camera;     // its position (.xyz)
+    uint mode;
+    float max_history;        // frames a history holds at most
+    float still_batches;      // MODE_STILL: photon batches in the accumulation's mean
+    uint first_moving_triangle;
+    uint instances_moved;     // 1: previous_vertices differ from the scene's vertices
+    float clamp_relative;
+    uint pad0;
+    uint pad1;
+} params;
+
+vec3 demodulate(vec3 l, vec3 albedo) {
+    return vec3(albedo.r > 0.0 ? l.r / albedo.r : 0.0, albedo.g > 0.0 ? l.g / albedo.g : 0.0,
+                albedo.b > 0.0 ? l.b / albedo.b : 0.0);
+}
+
+vec3 irradiance_at(ivec2 p) {
+    return demodulate(imageLoad(indirect, p).rgb, imageLoad(gbuffer_albedo, p).rgb);
+}
+
+vec3 previous_vertex(uint v) {
+    SceneVertex s = previous_vertices.vertices[v - 3u * params.first_moving_triangle];
+    return vec3(s.position[0], s.position[1], s.position[2]);
+}
+
+// Where the surface point `p` of `triangle` was in the history's frame.
+vec3 previous_position(vec3 p, uint triangle) {
+    if (params.instances_moved == 0u || triangle < params.first_moving_triangle) {
+        return p;
+    }
+    vec3 a = vertex_position(3u * triangle), b = vertex_position(3u * triangle + 1u);
+    vec3 c = vertex_position(3u * triangle + 2u);
+    vec3 ab = b - a, ac = c - a, ap = p - a;
+    float d00 = dot(ab, ab), d01 = dot(ab, ac), d11 = dot(ac, ac);
+    float d20 = dot(ap, ab), d21 = dot(ap, ac);
+    float det = d00 * d11 - d01 * d01;
+    float v = det > 0.0 ? (d11 * d20 - d01 * d21) / det : 0.0;
+    float w = det > 0.0 ? (d00 * d21 - d01 * d20) / det : 0.0;
+    return (1.0 - v - w) * previous_vertex(3u * triangle) + v * previous_vertex(3u * triangle + 1u)
+         + w * previous_vertex(3u * triangle + 2u);
+}
+
+// The history at the surface point `p` of `triangle` with normal `n` (.a = its frames; 0 when
+// no tap of last frame saw the same surface).
+vec4 reprojected_history(vec3 p, uint triangle, vec3 n) {
+    vec3 was = previous_position(p, triangle);
+    vec4 clip = params.previous_view_proj * vec4(was, 1.0);
+    if (clip.w <= 0.0) {
+        return vec4(0.0);
+    }
+    vec2 size = vec2(frame.width, frame.height);
+    vec2 at = (clip.xy / clip.w * 0.5 + 0.5) * size - 0.5;
+    ivec2 base = ivec2(floor(at));
+    vec2 f = at - vec2(base);
+    // Slope-aware: the distance from the tap's point to the plane of this one, against a
+    // tolerance growing with the distance to the camera (the raster's precision).
+    float tolerance = 0.01 * length(was - params.previous_camera.xyz) + 1e-4;
+    bool moving = triangle >= params.first_moving_triangle;
+    vec4 sum = vec4(0.0);
+    float weight = 0.0;
+    for (int k = 0; k < 4; k++) {
+        ivec2 q = base + ivec2(k & 1, k >> 1);
+        if (any(lessThan(q, ivec2(0))) || any(greaterThanEqual(q, ivec2(size)))) {
+            continue;
+        }
+        vec4 s = imageLoad(surface_previous, q);
+        if (s.w == 0.0) {
+            continue;
+        }
+        uint t = uint(s.w) - 1u;
+        bool same = moving ? t == triangle : t < params.first_moving_triangle;
+        vec3 nq = imageLoad(normal_previous, q).xyz;
+        if (!same || abs(dot(nq, s.xyz - was)) > tolerance || (!moving && dot(nq, n) < 0.9)) {
+            continue;
+        }
+        float w = (k & 1) == 1 ? f.x : 1.0 - f.x;
+        w *= (k >> 1) == 1 ? f.y : 1.0 - f.y;
+        if (w > 0.0) {
+            sum += w * imageLoad(history_previous, q);
+            weight += w;
+        }
+    }
+    // A history read mostly from taps of other surfaces is not this surface's.
+    return weight > 0.25 ? sum / weight : vec4(0.0);
+}
+
+// The range the history may take at `pixel`, whose new estimate is `e`: within
+// `clamp_relative` of the span between `e` and the new frame's mean over a 19×19 footprint (49
+// taps). A single photon frame's noise is correlated over the kernel's footprint and often
+// larger than its mean, so a box of the footprint's extremes or a few deviations would clamp
+// the history to this frame's blotches and average nothing; the footprint's mean is steadier,
+// and a change of the lighting moves it. Holding `e` in the range keeps a sharp feature that a
+// still camera sees the same every frame. Where every tap is exactly zero, `e` and the mean
+// are, and so is the range.
+void neighbourhood(ivec2 pixel, vec3 e, out vec3 lo, out vec3 hi) {
+    vec3 sum = vec3(0.0);
+    ivec2 size = ivec2(frame.width, frame.height);
+    for (int y = -3; y <= 3; y++) {
+        for (int x = -3; x <= 3; x++) {
+            sum += irradiance_at(clamp(pixel + 3 * ivec2(x, y), ivec2(0), size - 1));
+        }
+    }
+    vec3 mean = sum / 49.0;
+    lo = max(1.0 - params.clamp_relative, 0.0) * min(e, mean);
+    hi = (1.0 + params.clamp_relative) * max(e, mean);
+}
+
+void main() {
+    ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
+    if (pixel.x >= int(frame.width) || pixel.y >= int(frame.height)) {
+        return;
+    }
+    vec4 surface = imageLoad(gbuffer_position, pixel);
+    vec3 n = imageLoad(gbuffer_normal, pixel).xyz;
+    vec4 l = imageLoad(indirect, pixel);
+    vec3 albedo = imageLoad(gbuffer_albedo, pixel).rgb;
+    vec3 l_direct = imageLoad(direct, pixel).rgb;
+    // Where nothing is reused the frame passes through bit for bit.
+    vec3 reused = l.rgb;
+    if (params.mode == MODE_STILL) {
+        vec4 history = imageLoad(history_previous, pixel);
+        imageStore(history_current, pixel, history);
+        imageStore(surface_current, pixel, imageLoad(surface_previous, pixel));
+        imageStore(normal_current, pixel, imageLoad(normal_previous, pixel));
+        float w = history.a - 1.0;
+        if (w > 0.0 && surface.w != 0.0) {
+            vec3 e = demodulate(l.rgb, albedo);
+            reused = albedo * ((params.still_batches * e + w * history.rgb) / (params.still_batches + w));
+        }
+    } else {
+        vec3 e = demodulate(l.rgb, albedo);
+        float frames = surface.w != 0.0 ? 1.0 : 0.0;
+        if (params.mode == MODE_MOTION && surface.w != 0.0) {
+            vec4 history = reprojected_history(surface.xyz, uint(surface.w) - 1u, n);
+            if (history.a > 0.0) {
+                vec3 lo, hi;
+                neighbourhood(pixel, e, lo, hi);
+                frames = min(history.a + 1.0, params.max_history);
+                e = mix(clamp(history.rgb, lo, hi), e, 1.0 / frames);
+                reused = albedo * e;
+            }
+        }
+        imageStore(history_current, pixel, vec4(e, frames));
+        imageStore(surface_current, pixel, surface);
+        imageStore(normal_current, pixel, vec4(n, 0.0));
+    }
+    imageStore(reused_indirect, pixel, vec4(reused, l.a));
+    vec4 composed = reused == l.rgb ? imageLoad(radiance, pixel) : vec4(l_direct + reused, 1.0);
+    imageStore(reused_radiance, pixel, composed);
+}

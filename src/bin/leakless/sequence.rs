@@ -1,0 +1,169 @@
+//! `leakless render --sequence T0:T1:FPS`: the scene's animation as frames, rendered in order
+//! by one renderer doing what the app does between frames (one photon batch a frame while
+//! anything moves, accumulation while nothing does, temporal reuse unless `--reuse off`).
+
+use std::path::Path;
+
+use anyhow::{bail, Context};
+use leakless::output::{self, OutputPaths};
+use leakless::{RenderedFrame, Renderer};
+use serde::Serialize;
+
+/// `T0:T1:FPS`: frames k = 0 … round((T1 − T0)·FPS) at T0 + k/FPS.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Sequence {
+    pub start: f32,
+    pub end: f32,
+    pub fps: f32,
+}
+
+/// The most frames one sequence renders (an hour at 60 frames a second would be 216 000).
+pub const MAX_FRAMES: u32 = 100_000;
+
+impl Sequence {
+    pub fn frame_count(&self) -> u32 {
+        ((self.end - self.start) * self.fps).round() as u32 + 1
+    }
+
+    pub fn time(&self, k: u32) -> f32 {
+        self.start + k as f32 / self.fps
+    }
+
+    /// Frames in about half a second: what a pixel's history holds.
+    pub fn history_frames(&self) -> u32 {
+        (0.5 * self.fps).round().max(1.0) as u32
+    }
+}
+
+pub fn parse_sequence(s: &str) -> Result<Sequence, String> {
+    let parts: Vec<&str> = s.split(':').collect();
+    let [t0, t1, fps] = parts[..] else {
+        return Err(format!("{s:?} is not T0:T1:FPS (start and end seconds, frames per second)"));
+    };
+    let num = |x: &str| x.trim().parse::<f32>().ok().filter(|v| v.is_finite());
+    let (Some(start), Some(end), Some(fps)) = (num(t0), num(t1), num(fps)) else {
+        return Err(format!("{s:?}: T0, T1 and FPS must be finite numbers"));
+    };
+    if end < start {
+        return Err(format!("{s:?}: the end {end} s is before the start {start} s"));
+    }
+    if !(fps > 0.0 && fps <= 1000.0) {
+        return Err(format!("{s:?}: FPS {fps} must be within (0, 1000]"));
+    }
+    let sequence = Sequence { start, end, fps };
+    if (end - start) * fps > MAX_FRAMES as f32 {
+        return Err(format!("{s:?}: more than {MAX_FRAMES} frames"));
+    }
+    Ok(sequence)
+}
+
+/// One frame's line of `sequence.json`.
+#[derive(Serialize)]
+struct FrameEntry {
+    index: u32,
+    time: f32,
+    camera: CameraEntry,
+    frame_ms: f64,
+}
+
+#[derive(Serialize)]
+struct CameraEntry {
+    eye: [f32; 3],
+    forward: [f32; 3],
+    up: [f32; 3],
+    yfov_degrees: f32,
+}
+
+#[derive(Serialize)]
+struct SequenceJson {
+    scene: String,
+    parameters: String,
+    reuse: bool,
+    fps: f32,
+    frames: Vec<FrameEntry>,
+}
+
+/// Renders `sequence` into `dir` (made if missing); the renderer is set up for the view.
+pub fn run(
+    renderer: &mut Renderer,
+    scene_path: &Path,
+    sequence: Sequence,
+    dir: &Path,
+    png: bool,
+    stats: Option<&Path>,
+) -> anyhow::Result<()> {
+    if renderer.settings().frames > 1 {
+        bail!("--frames {}: a sequence's frames are its times; drop --frames", renderer.settings().frames);
+    }
+    std::fs::create_dir_all(dir).with_context(|| format!("making {}", dir.display()))?;
+    renderer.set_progressive(true);
+    renderer.set_advance_seed(true);
+    renderer.set_reuse_history_frames(sequence.history_frames());
+    let mut entries = Vec::new();
+    let mut whole_run: Option<RenderedFrame> = None;
+    let count = sequence.frame_count();
+    for k in 0..count {
+        let t = sequence.time(k);
+        renderer.set_time(t)?;
+        let frame = renderer.capture_frame().with_context(|| format!("rendering frame {k} at {t} s"))?;
+        let paths = OutputPaths {
+            exr: dir.join(format!("{k:04}.exr")),
+            png: png.then(|| dir.join(format!("{k:04}.png"))),
+            stats: None,
+        };
+        output::write_render(&paths, scene_path, renderer, &frame, None)?;
+        let c = renderer.camera();
+        entries.push(FrameEntry {
+            index: k,
+            time: t,
+            camera: CameraEntry {
+                eye: c.position().to_array(),
+                forward: c.forward().to_array(),
+                up: c.up().to_array(),
+                yfov_degrees: c.yfov.to_degrees(),
+            },
+            frame_ms: frame.wall_ms,
+        });
+        // The stats are the last frame's, with the times of the whole run.
+        whole_run = Some(match whole_run {
+            None => frame,
+            Some(mut run) => {
+                run.add_times(&frame);
+                RenderedFrame { timings: run.timings, gpu_span_ms: run.gpu_span_ms, wall_ms: run.wall_ms, ..frame }
+            }
+        });
+    }
+    let json = SequenceJson {
+        scene: scene_path.display().to_string(),
+        parameters: renderer.settings().describe(),
+        reuse: renderer.settings().reuse,
+        fps: sequence.fps,
+        frames: entries,
+    };
+    let path = dir.join("sequence.json");
+    std::fs::write(&path, serde_json::to_string_pretty(&json)? + "\n")
+        .with_context(|| format!("writing {}", path.display()))?;
+    println!("wrote {count} frames and {}", path.display());
+    if let (Some(stats), Some(run)) = (stats, &whole_run) {
+        output::stats::write(stats, &output::stats::Stats::new(renderer, run, None))?;
+        println!("wrote {}", stats.display());
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_sequence_spans_its_ends_at_its_rate() {
+        let s = parse_sequence("0:2:30").unwrap();
+        assert_eq!(s.frame_count(), 61);
+        assert_eq!(s.time(60), 2.0);
+        assert_eq!(s.history_frames(), 15);
+        assert_eq!(parse_sequence("1.5:1.5:24").unwrap().frame_count(), 1);
+        for bad in ["0:2", "2:1:30", "0:1:0", "0:1:-5", "a:1:30", "0:1:inf", "0:1e9:60"] {
+            assert!(parse_sequence(bad).is_err(), "{bad}");
+        }
+    }
+}

@@ -1,0 +1,164 @@
+//! Temporal reuse: the indirect light of the frames before, reprojected to this one, rejected
+//! where the surface differs, clamped to this frame's neighbourhood and blended with it
+//! (`temporal.comp`; docs/architecture.md §1, "Motion").
+
+use ash::vk;
+use bytemuck::{Pod, Zeroable};
+use leakless_device::{gpu_struct, GpuStruct, ImageDesc};
+use leakless_graph::{shader_bindings, BufferHandle, Graph, History, ImageHandle, PassName, Stage};
+
+use crate::error::Result;
+use crate::gpu_scene::{SceneBindings, SceneHandles};
+use crate::gpu_types::{Frame, VERTEX_LAYOUT};
+use crate::passes::gbuffer::{self, GBufferBindings, GBufferHandles};
+use crate::passes::names::group;
+use crate::pipelines::ComputePassDef;
+use crate::shaders;
+
+/// What the pass does with the history (`MODE_*` of temporal.comp).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum TemporalMode {
+    /// No history: the frame passes through and starts one.
+    Restart = 0,
+    /// Something moved: reproject, reject, clamp, blend.
+    Motion = 1,
+    /// Nothing moved: the history is carried and weighs into the accumulation's mean.
+    Still = 2,
+}
+
+gpu_struct! {
+    /// The `TemporalParams` push constants of temporal.comp.
+    #[derive(Clone, Copy, Debug, Pod, Zeroable)]
+    pub struct TemporalParams {
+        /// The view-projection of the frame the history was written in.
+        pub previous_view_proj: [[f32; 4]; 4],
+        /// That frame's camera position (.xyz).
+        pub previous_camera: [f32; 4],
+        pub mode: u32,
+        /// Frames a pixel's history holds at most (about half a second of frames).
+        pub max_history: f32,
+        /// Still: the photon batches in the accumulation's mean.
+        pub still_batches: f32,
+        /// Triangles from this one on belong to animated instances.
+        pub first_moving_triangle: u32,
+        /// 1: the animated instances moved since the history's frame (their vertices then are
+        /// bound as `previous_vertices`).
+        pub instances_moved: u32,
+        /// How far the history may leave the new frame's neighbourhood mean, as a fraction of it.
+        pub clamp_relative: f32,
+        pub pad0: u32,
+        pub pad1: u32,
+    }
+}
+
+/// How far a reprojected history may stray from the new frame's neighbourhood mean (see
+/// temporal.comp): a single photon frame's blotches differ from the mean by tens of percent,
+/// and a history clamped tighter than that averages nothing.
+pub const CLAMP_RELATIVE: f32 = 0.5;
+
+shader_bindings! {
+    pub struct TemporalBindings {
+        frame: read uniform(Frame::LAYOUT),
+        direct: read image,
+        indirect: read image,
+        radiance: read image,
+        history_previous: read image,
+        history_current: write image,
+        surface_previous: read image,
+        surface_current: write image,
+        normal_previous: read image,
+        normal_current: write image,
+        reused_indirect: write image,
+        reused_radiance: write image,
+        previous_vertices: read array(VERTEX_LAYOUT),
+    }
+    pub struct TemporalResources;
+}
+
+pub static TEMPORAL: ComputePassDef = ComputePassDef::any(
+    PassName::new("temporal reuse", group::REUSE),
+    &shaders::TEMPORAL_COMP,
+    &[TemporalBindings::DECLS, GBufferBindings::DECLS, SceneBindings::DECLS],
+)
+.push(TemporalParams::LAYOUT);
+
+/// The pass's history pairs: demodulated irradiance (.a: frames held), and the surface each
+/// pixel saw (position with triangle + 1, normal).
+pub struct TemporalHistories {
+    pub irradiance: History,
+    pub surface: History,
+    pub normal: History,
+}
+
+/// The name of the history image the app's history-length view shows.
+pub const IRRADIANCE_HISTORY: &str = "reuse irradiance";
+
+impl TemporalHistories {
+    /// Asks the graph for the pairs; the frame must then run [`add`], which writes them.
+    pub fn new(graph: &mut Graph<'_>, extent: vk::Extent2D) -> Result<Self> {
+        let usage = vk::ImageUsageFlags::STORAGE | vk::ImageUsageFlags::TRANSFER_SRC;
+        let mut pair = |name| graph.history_image(&ImageDesc { name, extent, format: gbuffer::FORMAT, usage });
+        Ok(TemporalHistories {
+            irradiance: pair(IRRADIANCE_HISTORY)?,
+            surface: pair("reuse surface")?,
+            normal: pair("reuse normal")?,
+        })
+    }
+
+    /// Whether every pair holds the last frame's images.
+    pub fn valid(&self) -> bool {
+        self.irradiance.valid && self.surface.valid && self.normal.valid
+    }
+}
+
+/// This frame's shown layers and what the pass reads to reproject them.
+pub struct TemporalInputs<'a> {
+    pub frame: &'a BufferHandle,
+    pub gbuffer: &'a GBufferHandles,
+    pub scene: &'a SceneHandles,
+    /// The animated instances' vertices in the history's frame (any buffer when they did not
+    /// move).
+    pub previous_vertices: &'a BufferHandle,
+    pub direct: &'a ImageHandle,
+    pub indirect: &'a ImageHandle,
+    pub radiance: &'a ImageHandle,
+}
+
+/// The reused layers, out.
+pub struct Reused<'a> {
+    pub indirect: &'a mut ImageHandle,
+    pub radiance: &'a mut ImageHandle,
+}
+
+pub fn add<'r>(
+    graph: &mut Graph<'r>,
+    params: TemporalParams,
+    inputs: TemporalInputs<'_>,
+    histories: &mut TemporalHistories,
+    out: Reused<'_>,
+) {
+    let extent = out.radiance.extent();
+    let mut pass = graph.pass(TEMPORAL.name);
+    let gbuffer = inputs.gbuffer.declare(&mut pass);
+    let scene = inputs.scene.declare(&mut pass, Stage::Compute);
+    let own = TemporalBindings::declare(
+        &mut pass,
+        Stage::Compute,
+        TemporalResources {
+            frame: inputs.frame,
+            direct: inputs.direct,
+            indirect: inputs.indirect,
+            radiance: inputs.radiance,
+            history_previous: &histories.irradiance.previous,
+            history_current: &mut histories.irradiance.current,
+            surface_previous: &histories.surface.previous,
+            surface_current: &mut histories.surface.current,
+            normal_previous: &histories.normal.previous,
+            normal_current: &mut histories.normal.current,
+            reused_indirect: out.indirect,
+            reused_radiance: out.radiance,
+            previous_vertices: inputs.previous_vertices,
+        },
+    );
+    pass.dispatch(TEMPORAL.name, (own, gbuffer, scene), params, [extent.width, extent.height, 1]);
+}

@@ -1,0 +1,189 @@
+//! In motion (temporal reuse, docs/architecture.md §1 "Motion"): a render from scratch is the
+//! same with reuse on or off, sealed rooms stay exactly black in every frame of a walk, a shut
+//! door is black at once, and reuse steadies the frames of a moving camera.
+
+use crate::common;
+
+use leakless::{BackendChoice, Method, RenderSettings, RenderedFrame, Renderer, Scene};
+use leakless_scene::Camera;
+
+/// A renderer doing what the app does between frames.
+fn app(scene: &Scene, settings: RenderSettings) -> Renderer {
+    let gpu = common::gpu_with(settings.backend.wants_ray_queries()).expect("checked by common::choices()");
+    let mut r = Renderer::new(gpu, scene, settings).expect("renderer");
+    r.set_progressive(true);
+    r.set_advance_seed(true);
+    r
+}
+
+fn settings(backend: BackendChoice, paths: u32, radius: f32, reuse: bool) -> RenderSettings {
+    RenderSettings { reuse, ..common::photon_settings(Method::LeakLess, backend, paths, radius) }
+}
+
+/// `camera` turned by `yaw` radians about +Y and moved `forward` metres along its view.
+fn turned(camera: &Camera, yaw: f32, forward: f32) -> Camera {
+    let eye = camera.position() + forward * camera.forward();
+    let dir = glam::Quat::from_rotation_y(yaw) * camera.forward();
+    Camera::look_at(eye, eye + dir, camera.up(), camera.yfov, camera).expect("a valid view")
+}
+
+fn lit(frame: &RenderedFrame) -> usize {
+    frame.radiance.iter().filter(|p| p.iter().any(|&c| c != 0.0)).count()
+}
+
+/// A render has no frames before it: one frame and an accumulation of four are bit for bit the
+/// same with reuse on or off, also from a renderer whose camera moved with reuse first.
+#[test]
+fn a_render_from_scratch_is_the_same_with_reuse_on_or_off() {
+    let scene = common::scene("scenes/cornell-box.gltf");
+    let Some(&backend) = common::choices().first() else { return };
+    for frames in [1, 4] {
+        let image = |reuse| {
+            let mut r = app(&scene, RenderSettings { frames, ..settings(backend, 5_000, 0.1, reuse) });
+            // One seed throughout (reuse gives moving frames fresh photons when seeds advance).
+            r.set_advance_seed(false);
+            let camera = r.camera().clone();
+            for k in 1..=3 {
+                r.set_camera(turned(&camera, 0.02 * k as f32, 0.0));
+                r.capture_frame().expect("a moving frame");
+            }
+            r.set_camera(camera);
+            r.set_progressive(false);
+            let frame = r.render().expect("render");
+            r.gpu().check_validation().expect("validation clean");
+            frame
+        };
+        let (on, off) = (image(true), image(false));
+        assert!(
+            on.radiance == off.radiance && on.indirect == off.indirect,
+            "--frames {frames}: reuse changed a render"
+        );
+    }
+}
+
+/// The camera walks and turns inside room B of the sealed two rooms, one photon frame per
+/// step with reuse: every frame is exactly black on both backends.
+#[test]
+fn sealed_rooms_stay_black_in_every_frame_of_a_walk() {
+    let scene = common::scene("scenes/two-rooms.gltf");
+    for backend in common::choices() {
+        let mut r = app(&scene, settings(backend, 20_000, 0.3, true));
+        let start = r.camera().clone();
+        for k in 0..8 {
+            r.set_camera(turned(&start, 0.03 * k as f32, 0.02 * k as f32));
+            let frame = r.capture_frame().expect("a walking frame");
+            assert_eq!(lit(&frame), 0, "{backend:?}: frame {k} of the walk has light in the sealed room");
+        }
+        // And still: the accumulation with the history weighed in.
+        for k in 0..3 {
+            let frame = r.capture_frame().expect("a still frame");
+            assert_eq!(lit(&frame), 0, "{backend:?}: still frame {k} has light in the sealed room");
+        }
+        r.gpu().check_validation().expect("validation clean");
+    }
+}
+
+/// scenes/door.gltf played frame by frame with reuse, the camera in room B: the frames before
+/// the door shuts are lit through the closing gap, and the first frame at the closed time is
+/// exactly black on both backends, history notwithstanding.
+#[test]
+fn a_shut_door_is_black_at_once_with_reuse() {
+    let scene = common::scene("scenes/door.gltf");
+    let (open, closed) = (common::extra(&scene, "open_time"), common::extra(&scene, "closed_time"));
+    for backend in common::choices() {
+        let mut r = app(&scene, settings(backend, 20_000, 0.2, true));
+        let mut before = 0;
+        for step in 0..5 {
+            r.set_time(open + (closed - open) * step as f32 / 5.0).expect("a time");
+            before = lit(&r.capture_frame().expect("a frame of the swing"));
+        }
+        assert!(before > 100, "{backend:?}: the nearly shut door lets light in ({before} lit pixels)");
+        r.set_time(closed).expect("a time");
+        let shut = r.capture_frame().expect("the shut frame");
+        eprintln!("{backend:?}: {before} lit pixels just before the door shuts, {} the frame it does", lit(&shut));
+        assert_eq!(lit(&shut), 0, "{backend:?}: the shut door's first frame is not black");
+        r.gpu().check_validation().expect("validation clean");
+    }
+}
+
+/// The camera swings between two views of the Cornell box every frame, so every frame is a
+/// moving one: against each view's mean of 32 single frames (the expectation of one frame,
+/// whose error here is its noise), the frames after the first eight have at most half the
+/// relative MSE with reuse that they have without, and their mean stays within 3% of it.
+#[test]
+fn reuse_halves_the_error_of_a_moving_camera() {
+    let scene = common::scene("scenes/cornell-box.gltf");
+    let Some(&backend) = common::choices().first() else { return };
+    let start = {
+        let r = app(&scene, settings(backend, 5_000, 0.1, true));
+        r.camera().clone()
+    };
+    let views = [start.clone(), turned(&start, 0.01, 0.0)];
+    let truth: Vec<RenderedFrame> = views
+        .iter()
+        .map(|v| {
+            let mut r = app(&scene, settings(backend, 5_000, 0.1, false));
+            r.set_progressive(false);
+            r.set_camera(v.clone());
+            let mut mean = r.capture_frame().expect("a single frame");
+            for k in 1..32 {
+                let next = r.capture_frame().expect("a single frame");
+                for (m, p) in mean.radiance.iter_mut().zip(&next.radiance) {
+                    for c in 0..3 {
+                        m[c] += (p[c] - m[c]) / (k + 1) as f32;
+                    }
+                }
+            }
+            mean
+        })
+        .collect();
+    let eps = leakless::metrics::epsilon(&truth[0].radiance);
+    let run = |reuse| {
+        let mut r = app(&scene, settings(backend, 5_000, 0.1, reuse));
+        let (mut error, mut ratio) = (0.0, 0.0);
+        for k in 0..24 {
+            r.set_camera(views[k % 2].clone());
+            let frame = r.capture_frame().expect("a moving frame");
+            if k >= 8 {
+                let t = &truth[k % 2].radiance;
+                error += leakless::metrics::rel_mse(&frame.radiance, t, None, eps).expect("pixels") / 16.0;
+                ratio += leakless::metrics::mean_value(&frame.radiance) / leakless::metrics::mean_value(t) / 16.0;
+            }
+        }
+        r.gpu().check_validation().expect("validation clean");
+        (error, ratio)
+    };
+    let ((on, mean_on), (off, mean_off)) = (run(true), run(false));
+    eprintln!(
+        "moving camera, relMSE against the mean single frame: reuse {on:.5}, without {off:.5} ({:.2}×); mean ratios {mean_on:.4} / {mean_off:.4}",
+        on / off
+    );
+    assert!(on <= 0.5 * off, "reuse: relMSE {on}, without {off}");
+    assert!((mean_on - 1.0).abs() < 0.03, "reuse moved the mean by {}", mean_on - 1.0);
+}
+
+/// Once the camera stops, the accumulation takes over: the history weighs in less with every
+/// frame, so after 16 still frames the image is closer to the accumulation without reuse than
+/// after 2.
+#[test]
+fn a_still_view_after_motion_converges_to_the_accumulation() {
+    let scene = common::scene("scenes/cornell-box.gltf");
+    let Some(&backend) = common::choices().first() else { return };
+    let frames = |reuse| {
+        let mut r = app(&scene, settings(backend, 5_000, 0.1, reuse));
+        let start = r.camera().clone();
+        for k in 0..8 {
+            r.set_camera(turned(&start, 0.002 * (8 - k) as f32, 0.0));
+            r.capture_frame().expect("a moving frame");
+        }
+        r.set_camera(start);
+        let images: Vec<RenderedFrame> = (0..16).map(|_| r.capture_frame().expect("a still frame")).collect();
+        r.gpu().check_validation().expect("validation clean");
+        images
+    };
+    let (on, off) = (frames(true), frames(false));
+    let early = common::relative_rms(&on[1].radiance, &off[1].radiance);
+    let late = common::relative_rms(&on[15].radiance, &off[15].radiance);
+    eprintln!("still after motion, reuse against none: relative RMS {early:.4} after 2 frames, {late:.4} after 16");
+    assert!(late < 0.5 * early, "the history does not fade: {early} then {late}");
+}
