@@ -9,6 +9,7 @@
 const uint DISPLAY_RADIANCE = 0u;
 const uint DISPLAY_CANDIDATES = 1u;   // photons examined per pixel
 const uint DISPLAY_VISIBILITY = 2u;   // visibility rays per pixel
+const uint DISPLAY_HISTORY = 3u;      // frames a pixel's temporal history holds (.a)
 
 // Rec.709 luminance of linear RGB.
 float luminance(vec3 c) {
@@ -22,6 +23,9 @@ float display_value(uint mode, vec4 texel) {
     }
     if (mode == DISPLAY_VISIBILITY) {
         return texel.y;
+    }
+    if (mode == DISPLAY_HISTORY) {
+        return texel.a;
     }
     return luminance(texel.rgb);
 }

@@ -26,16 +26,19 @@ pub enum ViewLayer {
     Candidates,
     /// Heat map: visibility rays traced per pixel.
     VisibilityRays,
+    /// Heat map: frames each pixel's temporal history holds (1 where nothing is reused).
+    History,
 }
 
 impl ViewLayer {
-    pub const ALL: [ViewLayer; 6] = [
+    pub const ALL: [ViewLayer; 7] = [
         ViewLayer::Final,
         ViewLayer::Direct,
         ViewLayer::Indirect,
         ViewLayer::Leaked,
         ViewLayer::Candidates,
         ViewLayer::VisibilityRays,
+        ViewLayer::History,
     ];
 
     pub fn name(self) -> &'static str {
@@ -46,6 +49,7 @@ impl ViewLayer {
             ViewLayer::Leaked => "leaked",
             ViewLayer::Candidates => "candidates per pixel",
             ViewLayer::VisibilityRays => "visibility rays per pixel",
+            ViewLayer::History => "history length (frames reused)",
         }
     }
 
@@ -60,6 +64,7 @@ impl ViewLayer {
         match self {
             ViewLayer::Candidates => 1,
             ViewLayer::VisibilityRays => 2,
+            ViewLayer::History => 3,
             _ => 0,
         }
     }

@@ -214,7 +214,8 @@ impl Renderer {
                 restart: (progressive || first) as u32,
                 sample_count: samples,
                 max_bounces: self.settings.max_bounces,
-                seed: self.settings.seed,
+                // The frame's seed, which a capture records (the settings' own outside the app).
+                seed,
                 roulette_start: 3,
                 ..Default::default()
             };
@@ -275,6 +276,7 @@ impl Renderer {
         // Temporal reuse: the frames before, reprojected, with this frame (or, while nothing
         // moves, weighing into the accumulation's mean).
         let mut reused = None;
+        let mut history_shown = None;
         if reuse {
             let mut histories = TemporalHistories::new(&mut g, extent)?;
             let mode = match (histories.valid(), progressive && index > 0) {
@@ -303,6 +305,7 @@ impl Renderer {
             let out = Reused { indirect: &mut reused_indirect, radiance: &mut reused_radiance };
             temporal::add(&mut g, params, inputs, &mut histories, out);
             (indirect, radiance) = (reused_indirect, reused_radiance);
+            history_shown = Some(histories.irradiance.current);
             reused = Some(mode);
         } else if !render && self.image_is_reused {
             indirect = layer(&mut g, "reused indirect")?;
@@ -320,6 +323,8 @@ impl Renderer {
             ViewLayer::Indirect => &indirect,
             ViewLayer::Leaked => &leaked,
             ViewLayer::Candidates | ViewLayer::VisibilityRays => &gather_counts,
+            // Without reuse every pixel holds its one frame: the radiance's .a is 1.
+            ViewLayer::History => history_shown.as_ref().unwrap_or(&radiance),
         };
         let input = LuminanceInputs { displayed: shown, mode: self.view.mode(), indirect: &indirect, leaked: &leaked };
         let luminance = luminance::add(&mut g, input)?;

@@ -153,10 +153,12 @@ fn scripted_session_is_clean_and_captures_what_render_renders() {
     for key in ["Digit1", "Digit2", "Digit3", "Digit5", "Digit4"] {
         at(&mut script, &format!("key {key}"));
     }
-    for _ in 0..6 {
+    for _ in 0..leakless::ViewLayer::ALL.len() {
         at(&mut script, "key KeyV");
     }
-    for key in ["BracketRight", "Equal", "Period", "KeyT", "KeyT", "KeyB", "KeyB", "ArrowLeft", "PageUp", "KeyW"] {
+    let keys =
+        ["BracketRight", "Equal", "Period", "KeyT", "KeyT", "KeyU", "KeyU", "KeyB", "KeyB", "ArrowLeft", "PageUp"];
+    for key in keys.into_iter().chain(["KeyW"]) {
         at(&mut script, &format!("key {key}"));
     }
     at(&mut script, "drag 15 -10");

@@ -32,6 +32,9 @@ pub fn capture(r: &mut Running, scene: &Scene, exr: &Path) -> anyhow::Result<Opt
     if let Some(dir) = exr.parent().filter(|d| !d.as_os_str().is_empty()) {
         std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
     }
+    // The frame captured holds no temporal history, which depends on the path the camera
+    // took: it is what the recorded command renders. (Reuse starts again from it.)
+    r.renderer.forget_history();
     let frame = r.renderer.capture_frame().context("capturing")?;
     let light = r.light_moved.then(|| r.renderer.lights()[0].position);
     let view = View { camera: r.camera.spec(), light, time: r.renderer.time(), progressive: r.renderer.accumulating() };

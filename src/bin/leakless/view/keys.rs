@@ -10,6 +10,7 @@ use winit::keyboard::KeyCode;
 pub enum Action {
     Method(Method),
     CycleLayer,
+    ToggleReuse,
     RadiusDown,
     RadiusUp,
     PathsDown,
@@ -55,6 +56,7 @@ pub const ACTIONS: &[(KeyCode, Action, &str, &str)] = &[
     (KeyCode::Comma, Action::CapDown, ",", "cap (leakless-capped) − 5"),
     (KeyCode::Period, Action::CapUp, ".", "cap (leakless-capped) + 5"),
     (KeyCode::KeyT, Action::ToggleTrivialAccept, "T", "trivial accept on/off"),
+    (KeyCode::KeyU, Action::ToggleReuse, "U", "temporal reuse of the indirect light on/off"),
     (KeyCode::KeyB, Action::SwitchBackend, "B", "trace backend: ray queries / compute BVH"),
     (KeyCode::ArrowLeft, Action::MoveLight([-1, 0, 0]), "Left", "first light −x"),
     (KeyCode::ArrowRight, Action::MoveLight([1, 0, 0]), "Right", "first light +x"),

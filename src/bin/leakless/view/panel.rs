@@ -32,6 +32,8 @@ pub struct PanelInfo<'a> {
     /// The accumulation holds all it may (`Renderer::accumulation_full`).
     pub accumulation_full: bool,
     pub trivial_accept: bool,
+    /// Temporal reuse is on (U).
+    pub reuse: bool,
     pub light_moved: bool,
     /// The scene's animation plays.
     pub playing: bool,
@@ -101,6 +103,9 @@ fn contents(ui: &mut egui::Ui, info: &PanelInfo<'_>, sliders: &mut Sliders) {
     if !info.trivial_accept {
         flags.push("trivial accept off");
     }
+    if !info.reuse {
+        flags.push("reuse off");
+    }
     if info.light_moved {
         flags.push("light moved");
     }
@@ -167,9 +172,11 @@ fn pass_bars(ui: &mut egui::Ui, timings: &[leakless_graph::PassTiming], note: &s
         }
     }
     let total: f64 = groups.iter().map(|(_, ms)| ms).sum();
-    // Passes under 2% of the frame share one bar.
-    let small: f64 = groups.iter().filter(|(_, ms)| *ms < 0.02 * total).map(|(_, ms)| ms).sum();
-    groups.retain(|(_, ms)| *ms >= 0.02 * total);
+    // Passes under 2% of the frame share one bar; reuse always has its own (its cost is what
+    // the U key trades).
+    let own_bar = |(g, ms): &(&str, f64)| *ms >= 0.02 * total || *g == leakless::passes::names::group::REUSE;
+    let small: f64 = groups.iter().filter(|g| !own_bar(g)).map(|(_, ms)| ms).sum();
+    groups.retain(own_bar);
     if small > 0.0 {
         groups.push(("other passes", small));
     }

@@ -36,6 +36,7 @@ impl Running {
                 r.update(|s| s.splat.cap = Some(cap))
             }
             Action::ToggleTrivialAccept => r.update(|s| s.splat.trivial_accept = !s.splat.trivial_accept),
+            Action::ToggleReuse => r.update(|s| s.reuse = !s.reuse),
             Action::SwitchBackend => {
                 if r.gpu().capabilities().ray_query {
                     let next = match r.backend() {

@@ -131,6 +131,9 @@ impl Running {
         }
         if let Some(last) = self.last_shown {
             self.frame_ms = (now - last).as_secs_f64() * 1e3;
+            // A pixel's history holds about half a second of frames at the rate they come.
+            let frames = (500.0 / self.frame_ms.max(1.0)).round() as u32;
+            self.renderer.set_reuse_history_frames(frames.max(2));
         }
         self.last_shown = Some(now);
         summary.frame();
@@ -230,6 +233,7 @@ impl Running {
             accumulating: r.accumulating(),
             accumulation_full: r.accumulation_full(),
             trivial_accept: s.splat.trivial_accept,
+            reuse: s.reuse,
             light_moved: self.light_moved,
             playing: self.playing && scene.is_animated(),
             pose_update_ms: r.pose_update_ms(),
