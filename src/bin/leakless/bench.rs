@@ -75,6 +75,30 @@ pub enum BenchCommand {
         #[arg(long, default_value_t = 15, value_parser = clap::value_parser!(u32).range(1..=MAX_FRAMES as i64))]
         frames: u32,
     },
+    /// Temporal reuse in motion, per scene: its animation (or an orbit of its camera) rendered
+    /// frame by frame with reuse on and off, against the path tracer at each frame: mean
+    /// relMSE and HDR-FLIP, flicker and frame time.
+    Motion {
+        /// The scenes (.gltf or .glb).
+        #[arg(required = true)]
+        scenes: Vec<PathBuf>,
+        #[arg(long, default_value = "256x144", value_parser = crate::parse_size)]
+        size: (u32, u32),
+        #[arg(long, default_value_t = 10_000)]
+        paths: u32,
+        /// Frames rendered, from time 0.
+        #[arg(long, default_value_t = 24, value_parser = clap::value_parser!(u32).range(2..=10_000))]
+        frames: u32,
+        /// Frames per second of the animation's clock.
+        #[arg(long, default_value_t = 30.0)]
+        fps: f32,
+        /// Samples per pixel of each frame's reference.
+        #[arg(long, default_value_t = 64, value_parser = clap::value_parser!(u32).range(1..=65_536))]
+        spp: u32,
+        /// Trace backend.
+        #[arg(long, default_value = "auto", value_parser = crate::parse_backend)]
+        backend: BackendChoice,
+    },
     /// Photon splatting: per-pass times, hierarchy tests against brute force, growth with
     /// paths and resolution, and the branching factor B.
     Splat {
@@ -98,6 +122,13 @@ pub fn run(cmd: BenchCommand) -> anyhow::Result<()> {
         }
         BenchCommand::Animation { scene, size, paths, frames } => {
             crate::bench_animation::run(&scene, size, paths, frames)
+        }
+        BenchCommand::Motion { scenes, size, paths, frames, fps, spp, backend } => {
+            if !(fps > 0.0 && fps <= 1000.0) {
+                anyhow::bail!("--fps {fps} must be within (0, 1000]");
+            }
+            let bench = crate::bench_motion::MotionBench { scenes, size, paths, frames, fps, spp, backend };
+            crate::bench_motion::run(&bench)
         }
         BenchCommand::Leak { scenes, size, paths, radius, backend, repeats } => {
             crate::bench_leak::run(&scenes, size, paths, radius, backend, repeats)

@@ -5,6 +5,7 @@ mod bench;
 mod bench_animation;
 mod bench_flicker;
 mod bench_leak;
+mod bench_motion;
 mod chart;
 mod chart_series;
 mod gpu_report;
