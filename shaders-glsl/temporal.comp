@@ -17,6 +17,8 @@
 //   frame's whole neighbourhood is exactly zero the output is exactly zero: a shut door or a
 //   sealed room is black at once. Then new = lerp(history, frame, 1/n), n the frames the
 //   pixel's history holds with this one, at most `max_history`.
+// With `spatial`, a moving frame's own estimate is first filtered (spatial.comp), fully where
+//   the pixel has no history and less as its history grows.
 // MODE_STILL: nothing moved since the last motion frame, and the progressive accumulation
 //   holds the frames since (`still_batches` photon batches). The history is carried unchanged,
 //   and the image is their weighted mean, the history counting for the n - 1 frames it holds
@@ -47,6 +49,8 @@ layout(set = 0, binding = 13, rgba32f) uniform writeonly image2D reused_radiance
 // The animated instances' vertices as they were in the history's frame, from the first moving
 // triangle's first vertex on (read only when `instances_moved`).
 layout(set = 0, binding = 15, rgba32f) uniform readonly image2D radiance;
+// The frame's irradiance after spatial reuse (read only when `spatial`).
+layout(set = 0, binding = 16, rgba32f) uniform readonly image2D filtered;
 layout(set = 0, binding = 14, std430) readonly buffer PreviousVertices { SceneVertex vertices[]; } previous_vertices;
 
 layout(push_constant) uniform TemporalParams {
@@ -58,8 +62,8 @@ layout(push_constant) uniform TemporalParams {
     uint first_moving_triangle;
     uint instances_moved;     // 1: previous_vertices differ from the scene's vertices
     float clamp_relative;
+    uint spatial;             // 1: `filtered` holds this frame's spatially reused irradiance
     uint pad0;
-    uint pad1;
 } params;
 
 vec3 demodulate(vec3 l, vec3 albedo) {
@@ -67,7 +71,11 @@ vec3 demodulate(vec3 l, vec3 albedo) {
                 albedo.b > 0.0 ? l.b / albedo.b : 0.0);
 }
 
+// The frame's irradiance at `p`, spatially reused when it was.
 vec3 irradiance_at(ivec2 p) {
+    if (params.spatial != 0u) {
+        return imageLoad(filtered, p).rgb;
+    }
     return demodulate(imageLoad(indirect, p).rgb, imageLoad(gbuffer_albedo, p).rgb);
 }
 
@@ -184,14 +192,20 @@ void main() {
         vec3 e = demodulate(l.rgb, albedo);
         float frames = surface.w != 0.0 ? 1.0 : 0.0;
         if (params.mode == MODE_MOTION && surface.w != 0.0) {
+            // The frame's own estimate: spatially reused where the history is short (a
+            // disocclusion has nothing else), the pixel's own as the history grows.
+            vec3 smooth_e = params.spatial != 0u ? imageLoad(filtered, pixel).rgb : e;
             vec4 history = reprojected_history(surface.xyz, uint(surface.w) - 1u, n);
             if (history.a > 0.0) {
-                vec3 lo, hi;
-                neighbourhood(pixel, e, lo, hi);
                 frames = min(history.a + 1.0, params.max_history);
-                e = mix(clamp(history.rgb, lo, hi), e, 1.0 / frames);
-                reused = albedo * e;
+                vec3 current = mix(smooth_e, e, (frames - 1.0) / max(params.max_history - 1.0, 1.0));
+                vec3 lo, hi;
+                neighbourhood(pixel, smooth_e, lo, hi);
+                e = mix(clamp(history.rgb, lo, hi), current, 1.0 / frames);
+            } else {
+                e = smooth_e;
             }
+            reused = albedo * e;
         }
         imageStore(history_current, pixel, vec4(e, frames));
         imageStore(surface_current, pixel, surface);

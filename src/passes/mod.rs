@@ -22,6 +22,7 @@ pub mod readback;
 pub mod reference;
 pub mod scan;
 pub mod sort;
+pub mod spatial;
 pub mod splat;
 pub mod temporal;
 pub mod tonemap;
@@ -61,6 +62,7 @@ pub static FRAME_PASSES: &[&ComputePassDef] = &[
     &gather::GATHER,
     &compose::COMPOSE,
     &accumulate::ACCUMULATE,
+    &spatial::SPATIAL,
     &temporal::TEMPORAL,
     &luminance::LUMINANCE_TILES,
     &luminance::LUMINANCE_TOTAL,

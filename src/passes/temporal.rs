@@ -46,15 +46,18 @@ gpu_struct! {
         pub instances_moved: u32,
         /// How far the history may leave the new frame's neighbourhood mean, as a fraction of it.
         pub clamp_relative: f32,
+        /// 1: `filtered` holds the frame's spatially reused irradiance.
+        pub spatial: u32,
         pub pad0: u32,
-        pub pad1: u32,
     }
 }
 
-/// How far a reprojected history may stray from the new frame's neighbourhood mean (see
-/// temporal.comp): a single photon frame's blotches differ from the mean by tens of percent,
-/// and a history clamped tighter than that averages nothing.
-pub const CLAMP_RELATIVE: f32 = 0.5;
+/// How far a reprojected history may stray beyond the span of the new frame's (spatially
+/// reused) pixel and neighbourhood mean, as a fraction (see temporal.comp). Measured with
+/// `bench motion` on the door, the moving light and the Cornell box orbit (docs/results.md,
+/// "Motion"): 0.5 let the light of the closing door lag (its frames 12% too bright), 0.1
+/// averaged less on the still parts; 0.25 keeps both within a few percent.
+pub const CLAMP_RELATIVE: f32 = 0.25;
 
 shader_bindings! {
     pub struct TemporalBindings {
@@ -70,6 +73,7 @@ shader_bindings! {
         normal_current: write image,
         reused_indirect: write image,
         reused_radiance: write image,
+        filtered: read image,
         previous_vertices: read array(VERTEX_LAYOUT),
     }
     pub struct TemporalResources;
@@ -122,6 +126,8 @@ pub struct TemporalInputs<'a> {
     pub direct: &'a ImageHandle,
     pub indirect: &'a ImageHandle,
     pub radiance: &'a ImageHandle,
+    /// The frame's irradiance after spatial reuse (unread unless `params.spatial`).
+    pub filtered: &'a ImageHandle,
 }
 
 /// The reused layers, out.
@@ -157,6 +163,7 @@ pub fn add<'r>(
             normal_current: &mut histories.normal.current,
             reused_indirect: out.indirect,
             reused_radiance: out.radiance,
+            filtered: inputs.filtered,
             previous_vertices: inputs.previous_vertices,
         },
     );

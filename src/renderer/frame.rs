@@ -22,6 +22,7 @@ use crate::passes::gbuffer::{self, GBufferHandles};
 use crate::passes::luminance::{self, LuminanceInputs, LuminanceStats};
 use crate::passes::photons::PhotonCounters;
 use crate::passes::reference::{self, ReferenceParams};
+use crate::passes::spatial::{self, SpatialImages};
 use crate::passes::splat::SplatCounters;
 use crate::passes::temporal::{self, Reused, TemporalHistories, TemporalInputs, TemporalMode};
 use crate::passes::tonemap::ViewLayer;
@@ -291,6 +292,11 @@ impl Renderer {
             let previous_vertices = g.upload("previous instance vertices", storage, previous)?;
             let first_moving = self.scene.static_triangle_count() as u32;
             let params = self.reuse.params(mode, batches, first_moving, instances_moved);
+            // Spatial reuse of a moving frame's own estimate, before the history weighs in.
+            let mut spatial = SpatialImages::new(&mut g, extent)?;
+            if mode == TemporalMode::Motion {
+                spatial::add(&mut g, &frame, &gbuffer, &indirect, &mut spatial);
+            }
             let mut reused_indirect = layer(&mut g, "reused indirect")?;
             let mut reused_radiance = layer(&mut g, "reused radiance")?;
             let inputs = TemporalInputs {
@@ -301,6 +307,7 @@ impl Renderer {
                 direct: &direct,
                 indirect: &indirect,
                 radiance: &radiance,
+                filtered: &spatial.result,
             };
             let out = Reused { indirect: &mut reused_indirect, radiance: &mut reused_radiance };
             temporal::add(&mut g, params, inputs, &mut histories, out);

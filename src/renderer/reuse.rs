@@ -52,8 +52,8 @@ impl ReuseState {
             first_moving_triangle,
             instances_moved: instances_moved as u32,
             clamp_relative: CLAMP_RELATIVE,
+            spatial: (mode == TemporalMode::Motion) as u32,
             pad0: 0,
-            pad1: 0,
         }
     }
 

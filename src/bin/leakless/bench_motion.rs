@@ -31,6 +31,8 @@ struct Figures {
     flip: f64,
     flicker: f64,
     frame_ms: f64,
+    /// The frames' mean radiance over their references' (lag shows as a bias).
+    mean_ratio: f64,
 }
 
 /// Frame `k`'s view: the scene at time k/fps, or its camera turned about the point it looks at.
@@ -92,7 +94,7 @@ pub fn run(bench: &MotionBench) -> anyhow::Result<()> {
             r.set_progressive(true);
             r.set_advance_seed(true);
             r.set_reuse_history_frames((0.5 * bench.fps).round().max(1.0) as u32);
-            let (mut relmse, mut flip_sum, mut ms) = (0.0, 0.0, 0.0);
+            let (mut relmse, mut flip_sum, mut ms, mut ratio) = (0.0, 0.0, 0.0, 0.0);
             let (mut change, mut counted, mut last): (f64, u32, Option<Vec<f64>>) = (0.0, 0, None);
             for (k, truth) in (0..bench.frames).zip(&references) {
                 place(&mut r, &scene, k, bench, &start)?;
@@ -102,6 +104,7 @@ pub fn run(bench: &MotionBench) -> anyhow::Result<()> {
                 let eps = metrics::epsilon(truth);
                 relmse += metrics::rel_mse(&frame.radiance, truth, None, eps).unwrap_or(0.0);
                 flip_sum += flip::hdr_flip(&frame.radiance, truth, w, h);
+                ratio += metrics::mean_value(&frame.radiance) / metrics::mean_value(truth).max(1e-30);
                 let y = luminance(&frame.radiance);
                 if let Some(prev) = &last {
                     let mean = y.iter().sum::<f64>() / y.len() as f64;
@@ -119,6 +122,7 @@ pub fn run(bench: &MotionBench) -> anyhow::Result<()> {
                 flip: flip_sum / n,
                 flicker: change / counted.max(1) as f64,
                 frame_ms: ms / n,
+                mean_ratio: ratio / n,
             });
         }
         let (on, off) = (&figures[0], &figures[1]);
@@ -128,12 +132,14 @@ pub fn run(bench: &MotionBench) -> anyhow::Result<()> {
             name, on.relmse, off.relmse, on.flip, off.flip, on.flicker, off.flicker, on.frame_ms, off.frame_ms
         );
         println!(
-            "{:<22} on/off: relMSE {:.2}×, FLIP {:.2}×, flicker {:.2}×, frame time {:.2}×",
+            "{:<22} on/off: relMSE {:.2}×, FLIP {:.2}×, flicker {:.2}×, frame time {:.2}×; mean / reference: on {:.3}, off {:.3}",
             "",
             on.relmse / off.relmse,
             on.flip / off.flip,
             on.flicker / off.flicker.max(1e-12),
-            on.frame_ms / off.frame_ms
+            on.frame_ms / off.frame_ms,
+            on.mean_ratio,
+            off.mean_ratio
         );
     }
     Ok(())

@@ -1,0 +1,89 @@
+//! Spatial reuse: an edge-aware à-trous filter over a moving frame's demodulated indirect
+//! irradiance, which keeps exact zeros and never crosses to another plane
+//! (`spatial.comp`; docs/architecture.md §1, "Motion").
+
+use ash::vk;
+use bytemuck::{Pod, Zeroable};
+use leakless_device::{gpu_struct, GpuStruct, ImageDesc};
+use leakless_graph::{shader_bindings, BufferHandle, Graph, ImageHandle, PassName, Stage};
+
+use crate::error::Result;
+use crate::gpu_types::Frame;
+use crate::passes::gbuffer::{self, GBufferBindings, GBufferHandles};
+use crate::passes::names::group;
+use crate::pipelines::ComputePassDef;
+use crate::shaders;
+
+gpu_struct! {
+    /// The `SpatialParams` push constants of spatial.comp.
+    #[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
+    pub struct SpatialParams {
+        pub step: i32,
+        /// 1: the iteration reads the frame's indirect layer and demodulates it.
+        pub first: u32,
+        pub plane_tolerance: f32,
+        pub pad0: u32,
+    }
+}
+
+/// The filter's iterations: taps 1, 2 and 4 pixels apart, a 17×17 footprint.
+pub const ITERATIONS: u32 = 3;
+
+/// How far from a pixel's plane a tap may lie, per metre from the camera: about the raster's
+/// depth precision and a gentle curvature, far below any wall or slab.
+pub const PLANE_TOLERANCE: f32 = 0.01;
+
+shader_bindings! {
+    pub struct SpatialBindings {
+        frame: read uniform(Frame::LAYOUT),
+        indirect: read image,
+        source: read image,
+        filtered: write image,
+    }
+    pub struct SpatialResources;
+}
+
+pub static SPATIAL: ComputePassDef = ComputePassDef::any(
+    PassName::new("spatial reuse", group::REUSE),
+    &shaders::SPATIAL_COMP,
+    &[SpatialBindings::DECLS, GBufferBindings::DECLS],
+)
+.push(SpatialParams::LAYOUT);
+
+/// The filter's two working images (pool images by name); the result is in `result`.
+pub struct SpatialImages {
+    pub result: ImageHandle,
+    scratch: ImageHandle,
+}
+
+impl SpatialImages {
+    pub fn new(graph: &mut Graph<'_>, extent: vk::Extent2D) -> Result<Self> {
+        let usage = vk::ImageUsageFlags::STORAGE;
+        let mut image = |name| graph.image(&ImageDesc { name, extent, format: gbuffer::FORMAT, usage });
+        Ok(SpatialImages { result: image("spatial reuse")?, scratch: image("spatial reuse scratch")? })
+    }
+}
+
+/// Filters `indirect` (radiance, demodulated by the G-buffer's albedo) into `images.result`
+/// (irradiance), in [`ITERATIONS`] passes.
+pub fn add<'r>(
+    graph: &mut Graph<'r>,
+    frame: &BufferHandle,
+    gbuffer: &GBufferHandles,
+    indirect: &ImageHandle,
+    images: &mut SpatialImages,
+) {
+    let extent = indirect.extent();
+    // Odd iterations write the scratch image, even ones the result: the last (the third)
+    // writes the result.
+    for i in 0..ITERATIONS {
+        let params = SpatialParams { step: 1 << i, first: (i == 0) as u32, plane_tolerance: PLANE_TOLERANCE, pad0: 0 };
+        let mut pass = graph.pass_numbered(SPATIAL.name, i);
+        let g = gbuffer.declare(&mut pass);
+        let (source, filtered) =
+            if i % 2 == 1 { (&images.result, &mut images.scratch) } else { (&images.scratch, &mut images.result) };
+        let own =
+            SpatialBindings::declare(&mut pass, Stage::Compute, SpatialResources { frame, indirect, source, filtered });
+        pass.dispatch(SPATIAL.name, (own, g), params, [extent.width, extent.height, 1]);
+    }
+}
