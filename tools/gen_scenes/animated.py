@@ -1,7 +1,8 @@
-"""Animated scenes (scenes/door.gltf, scenes/moving-light.gltf)."""
+"""Animated scenes (scenes/door.gltf, scenes/moving-light.gltf, scenes/doorway-walk.gltf) and the
+camera animations of the motion benchmark."""
 
-from .vecmath import quat_axis_angle
-from .solids import box_solid, vec
+from .vecmath import normalize, quat_axis_angle, sub
+from .solids import box_solid, quat_look, vec
 from .rooms import ROOMS_LIGHT, ROOMS_PARTITION, finish_scene, rooms_build
 from .stress import (
     DOOR_CLOSED_TIME, DOOR_COLOR, DOOR_LEAF_FOOT, DOOR_LEAF_INSET, DOOR_LEAF_OVERLAP, DOOR_LEAF_THICKNESS,
@@ -96,3 +97,36 @@ def moving_light():
         expected={"direct": EXPECT_LIT, "reference": EXPECT_LIT, "splat": EXPECT_LEAKS,
                   "leakless": EXPECT_MATCH, "leakless-capped": EXPECT_LIT})
     return finish_scene(g, "moving light", nodes, room_b_not_dark(extras, room_a_lit=False))
+
+
+def camera_path(g, camera, name, times, eyes, targets):
+    """Animates node `camera` through `eyes` looking at `targets` at `times` (LINEAR
+    translation and slerped rotation)."""
+    key = g.accessor(list(times), "SCALAR", target=None, minmax=True)
+    where = g.accessor([tuple(e) for e in eyes], "VEC3", target=None)
+    look = g.accessor([tuple(quat_look(normalize(sub(t, e)))) for e, t in zip(eyes, targets)], "VEC4", target=None)
+    g.add("animations", {"name": name, "samplers": [
+        {"input": key, "output": where, "interpolation": "LINEAR"},
+        {"input": key, "output": look, "interpolation": "LINEAR"},
+    ], "channels": [{"sampler": 0, "target": {"node": camera, "path": "translation"}},
+                    {"sampler": 1, "target": {"node": camera, "path": "rotation"}}]})
+
+
+# doorway-walk: doorway.gltf with the camera walking from room A through the door (t = 2 s)
+# into room B, turning right there to look into it (t = 4 s).
+WALK_TIMES = (0.0, 2.0, 4.0)
+WALK_EYES = ((-2.2, 1.5, 0.75), (-0.2, 1.5, 0.75), (1.2, 1.5, 0.6))
+WALK_TARGETS = ((0.0, 1.2, 0.75), (2.0, 1.2, 0.75), (2.8, 1.2, -1.5))
+
+
+def doorway_walk():
+    g, nodes, extras = rooms_build(door=True, eye=WALK_EYES[0], target=WALK_TARGETS[0], camera_name="walking camera")
+    camera_path(g, nodes[-1], "walk through the door", WALK_TIMES, WALK_EYES, WALK_TARGETS)
+    extras = restyle(
+        extras, "doorway.gltf with the camera walking from room A through the door into room B over 4 s, "
+                "turning to look into room B (the motion benchmark's walk)",
+        walk_times=list(WALK_TIMES),
+        walk_eyes=[vec(e) for e in WALK_EYES],
+        expected={"direct": EXPECT_LIT, "reference": EXPECT_LIT, "splat": EXPECT_LEAKS,
+                  "leakless": EXPECT_MATCH, "leakless-capped": EXPECT_LIT})
+    return finish_scene(g, "doorway walk", nodes, room_b_not_dark(extras, room_a_lit=True))

@@ -32,6 +32,11 @@ ATRIUM_SUN_INTENSITY = 3.0   # W/m², normal irradiance
 ATRIUM_SUN_COLOR = [1.0, 0.93, 0.8]
 ATRIUM_CAMERA = (5.4, 1.5, -1.7)
 ATRIUM_CAMERA_TARGET = (-2.0, 2.9, -2.9)
+# atrium-pan (the motion benchmark's): from the atrium's view, along the gallery under the slab
+# (between the back wall and the piers), turning out towards the courtyard.
+ATRIUM_PAN_TIMES = (0.0, 2.0, 4.0)
+ATRIUM_PAN_EYES = (ATRIUM_CAMERA, (1.5, 1.5, -1.7), (-2.5, 1.5, -1.7))
+ATRIUM_PAN_TARGETS = (ATRIUM_CAMERA_TARGET, (-3.0, 2.2, -0.8), (-6.0, 1.6, 2.5))
 
 
 def atrium_sun_direction():
@@ -39,7 +44,7 @@ def atrium_sun_direction():
     return sun_direction(ATRIUM_SUN_ELEVATION, ATRIUM_SUN_AZIMUTH)
 
 
-def atrium():
+def atrium(pan=False):
     g = Gltf()
     stone = g.material("stone", ATRIUM_STONE)
     ground = g.material("ground", ATRIUM_GROUND)
@@ -76,9 +81,14 @@ def atrium():
     nodes.append(g.light("sun", {"name": "sun", "type": "directional", "color": ATRIUM_SUN_COLOR,
                                  "intensity": ATRIUM_SUN_INTENSITY}, rotation=quat_look(d)))
     nodes.append(camera_node(g, "gallery camera", ATRIUM_CAMERA, ATRIUM_CAMERA_TARGET))
-    g.doc["scene"] = g.add("scenes", {"name": "atrium", "nodes": nodes, "extras": {
-        "description": "courtyard open to the sky; two-storey gallery along the back wall under a thin slab; "
-                       "sun on the terrace and the upper back wall, camera in the ground-floor gallery",
+    description = ("courtyard open to the sky; two-storey gallery along the back wall under a thin slab; "
+                   "sun on the terrace and the upper back wall, camera in the ground-floor gallery")
+    if pan:
+        from .animated import camera_path
+        camera_path(g, nodes[-1], "pan along the gallery", ATRIUM_PAN_TIMES, ATRIUM_PAN_EYES, ATRIUM_PAN_TARGETS)
+        description += "; the camera walks along the gallery under the slab, turning out to the courtyard, over 4 s"
+    g.doc["scene"] = g.add("scenes", {"name": "atrium pan" if pan else "atrium", "nodes": nodes, "extras": {
+        "description": description,
         "units": "m",
         "courtyard_min": vec((-w, 0.0, sf)),
         "courtyard_max": vec((w, H, f)),

@@ -16,7 +16,7 @@ from .stress import (
     far_degenerate, grazing_spot, hundred_lights, lattice, light_near_wall, partition_sweep, room_10km,
     room_1mm, sealed_quads,
 )
-from .animated import door, moving_light
+from .animated import door, doorway_walk, moving_light
 from .sponza import SPONZA_EYE, SPONZA_SUN, SPONZA_TARGET, light_gltf
 
 
@@ -35,6 +35,8 @@ def outputs():
         "scenes/atrium.gltf": atrium(),
         "scenes/door.gltf": door(),
         "scenes/moving-light.gltf": moving_light(),
+        "scenes/motion/doorway-walk.gltf": doorway_walk(),
+        "scenes/motion/atrium-pan.gltf": atrium(pan=True),
         "scenes/stress/sealed-quads.gltf": sealed_quads(),
         "scenes/stress/sealed-quads-x1000.gltf": sealed_quads(SEALED_QUADS_BIG),
         **{f"scenes/stress/partition-{mm}mm.gltf": partition_sweep(mm) for mm in PARTITION_SWEEP_MM},

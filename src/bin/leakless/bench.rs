@@ -98,6 +98,9 @@ pub enum BenchCommand {
         /// Trace backend.
         #[arg(long, default_value = "auto", value_parser = crate::parse_backend)]
         backend: BackendChoice,
+        /// Also write each frame's errors to this CSV (error against frame index).
+        #[arg(long)]
+        csv: Option<PathBuf>,
     },
     /// Photon splatting: per-pass times, hierarchy tests against brute force, growth with
     /// paths and resolution, and the branching factor B.
@@ -123,11 +126,11 @@ pub fn run(cmd: BenchCommand) -> anyhow::Result<()> {
         BenchCommand::Animation { scene, size, paths, frames } => {
             crate::bench_animation::run(&scene, size, paths, frames)
         }
-        BenchCommand::Motion { scenes, size, paths, frames, fps, spp, backend } => {
+        BenchCommand::Motion { scenes, size, paths, frames, fps, spp, backend, csv } => {
             if !(fps > 0.0 && fps <= 1000.0) {
                 anyhow::bail!("--fps {fps} must be within (0, 1000]");
             }
-            let bench = crate::bench_motion::MotionBench { scenes, size, paths, frames, fps, spp, backend };
+            let bench = crate::bench_motion::MotionBench { scenes, size, paths, frames, fps, spp, backend, csv };
             crate::bench_motion::run(&bench)
         }
         BenchCommand::Leak { scenes, size, paths, radius, backend, repeats } => {

@@ -23,6 +23,9 @@ pub struct MotionBench {
     /// Samples per pixel of each frame's reference.
     pub spp: u32,
     pub backend: BackendChoice,
+    /// Each frame's errors, as CSV (`scene,reuse,frame,time,relmse,flip`): the error against
+    /// frame index.
+    pub csv: Option<PathBuf>,
 }
 
 /// One run's figures: means over the displayed frames.
@@ -66,6 +69,7 @@ pub fn run(bench: &MotionBench) -> anyhow::Result<()> {
         "{:<22} {:>10} {:>10} {:>9} {:>10}   {:>10} {:>10} {:>10} {:>10}",
         "scene", "relMSE on", "relMSE off", "FLIP on", "FLIP off", "flicker on", "flicker off", "ms on", "ms off"
     );
+    let mut csv = String::from("scene,reuse,frame,time,relmse,flip\n");
     for path in &bench.scenes {
         let scene = Scene::load(path).with_context(|| format!("loading {}", path.display()))?;
         let settings = |method, reuse| RenderSettings {
@@ -102,8 +106,14 @@ pub fn run(bench: &MotionBench) -> anyhow::Result<()> {
                 let frame = r.capture_frame()?;
                 ms += t.elapsed().as_secs_f64() * 1e3;
                 let eps = metrics::epsilon(truth);
-                relmse += metrics::rel_mse(&frame.radiance, truth, None, eps).unwrap_or(0.0);
-                flip_sum += flip::hdr_flip(&frame.radiance, truth, w, h);
+                let (e, f) = (
+                    metrics::rel_mse(&frame.radiance, truth, None, eps).unwrap_or(0.0),
+                    flip::hdr_flip(&frame.radiance, truth, w, h),
+                );
+                relmse += e;
+                flip_sum += f;
+                let reuse = if reuse { "on" } else { "off" };
+                csv += &format!("{},{reuse},{k},{},{e},{f}\n", path.display(), k as f32 / bench.fps);
                 ratio += metrics::mean_value(&frame.radiance) / metrics::mean_value(truth).max(1e-30);
                 let y = luminance(&frame.radiance);
                 if let Some(prev) = &last {
@@ -141,6 +151,10 @@ pub fn run(bench: &MotionBench) -> anyhow::Result<()> {
             on.mean_ratio,
             off.mean_ratio
         );
+    }
+    if let Some(path) = &bench.csv {
+        std::fs::write(path, csv).with_context(|| format!("writing {}", path.display()))?;
+        println!("wrote {}", path.display());
     }
     Ok(())
 }
