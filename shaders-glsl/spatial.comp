@@ -12,6 +12,7 @@
 // still frames are never filtered, so the still view converges as accumulation alone does.
 #include "common.glsl"
 #include "gbuffer.glsl"
+#include "reuse.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
 
@@ -27,11 +28,6 @@ layout(push_constant) uniform SpatialParams {
     float plane_tolerance;  // a tap's distance from the pixel's plane, per metre of view distance
     uint pad0;
 } params;
-
-vec3 demodulate(vec3 l, vec3 albedo) {
-    return vec3(albedo.r > 0.0 ? l.r / albedo.r : 0.0, albedo.g > 0.0 ? l.g / albedo.g : 0.0,
-                albedo.b > 0.0 ? l.b / albedo.b : 0.0);
-}
 
 vec3 irradiance(ivec2 q) {
     if (params.first != 0u) {

@@ -26,6 +26,7 @@
 //   view converges to what accumulation alone converges to.
 #include "common.glsl"
 #include "gbuffer.glsl"
+#include "reuse.glsl"
 #include "scene.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
@@ -65,11 +66,6 @@ layout(push_constant) uniform TemporalParams {
     uint spatial;             // 1: `filtered` holds this frame's spatially reused irradiance
     uint pad0;
 } params;
-
-vec3 demodulate(vec3 l, vec3 albedo) {
-    return vec3(albedo.r > 0.0 ? l.r / albedo.r : 0.0, albedo.g > 0.0 ? l.g / albedo.g : 0.0,
-                albedo.b > 0.0 ? l.b / albedo.b : 0.0);
-}
 
 // The frame's irradiance at `p`, spatially reused when it was.
 vec3 irradiance_at(ivec2 p) {

@@ -1,0 +1,9 @@
+#pragma once
+// What temporal and spatial reuse share: they filter and blend irradiance, the indirect layer
+// over the surface's albedo, so that texture detail is never smeared; the result is
+// modulated back by the same albedo.
+
+vec3 demodulate(vec3 l, vec3 albedo) {
+    return vec3(albedo.r > 0.0 ? l.r / albedo.r : 0.0, albedo.g > 0.0 ? l.g / albedo.g : 0.0,
+                albedo.b > 0.0 ? l.b / albedo.b : 0.0);
+}
