@@ -34,6 +34,9 @@ void main() {
     vec3 color;
     if (params.mode == DISPLAY_RADIANCE) {
         color = filmic(max(texel.rgb, vec3(0.0)) * exposure);
+    } else if (params.mode == DISPLAY_HISTORY) {
+        // Frames held over the longest history (the exposure): a fixed scale, linear.
+        color = heat_ramp(display_value(params.mode, texel) * exposure);
     } else {
         // Exposed like radiance: the log-average count lands a little below the ramp's middle.
         float v = display_value(params.mode, texel);

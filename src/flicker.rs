@@ -7,7 +7,8 @@ use crate::Renderer;
 /// Frames the flicker metric looks at.
 pub const FLICKER_FRAMES: u32 = 16;
 
-fn luminance(p: &[f32; 3]) -> f64 {
+/// Rec.709 luminance of a linear RGB pixel.
+pub fn luminance(p: &[f32; 3]) -> f64 {
     0.2126 * p[0] as f64 + 0.7152 * p[1] as f64 + 0.0722 * p[2] as f64
 }
 

@@ -342,7 +342,8 @@ impl Renderer {
             let tonemap = passes.tonemaps.iter().find(|t| t.format() == target.format()).ok_or_else(|| {
                 crate::RenderError::Settings(format!("no tonemap for {:?}: call prepare_display", target.format()))
             })?;
-            tonemap.add(&mut g, self.view, self.exposure, shown, &luminance, &mut target);
+            let exposure = view_exposure(self.view, self.exposure, self.reuse.history_frames);
+            tonemap.add(&mut g, self.view, exposure, shown, &luminance, &mut target);
             if let Some(overlay) = display.overlay {
                 overlay.add(&mut g, &mut target)?;
             }
@@ -359,7 +360,8 @@ impl Renderer {
                 usage: ash::vk::ImageUsageFlags::COLOR_ATTACHMENT | ash::vk::ImageUsageFlags::TRANSFER_SRC,
             })?;
             let tonemap = passes.tonemaps.iter().find(|t| t.format() == shown_rgba8.format()).expect("made at start");
-            tonemap.add(&mut g, request.view, request.exposure, shown, &luminance, &mut shown_rgba8);
+            let exposure = view_exposure(request.view, request.exposure, self.reuse.history_frames);
+            tonemap.add(&mut g, request.view, exposure, shown, &luminance, &mut shown_rgba8);
             readback::add(&mut g, LAYERS_BUFFER, &[&radiance, &direct, &indirect, &leaked, &shown_rgba8])?;
         }
 
@@ -491,6 +493,16 @@ impl Renderer {
             wall_ms: pending.started.elapsed().as_secs_f64() * 1e3,
         });
         Ok(())
+    }
+}
+
+/// The tonemap's exposure for `view`: `exposure` (the user's, or automatic), except for the
+/// history length, which maps 0 … `history_frames` (the longest history) onto the whole ramp,
+/// so that its colours mean the same in every frame.
+fn view_exposure(view: ViewLayer, exposure: Option<f32>, history_frames: u32) -> Option<f32> {
+    match view {
+        ViewLayer::History => Some(1.0 / history_frames as f32),
+        _ => exposure,
     }
 }
 

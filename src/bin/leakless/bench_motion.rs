@@ -54,10 +54,6 @@ fn place(r: &mut Renderer, scene: &Scene, k: u32, bench: &MotionBench, start: &C
     Ok(())
 }
 
-fn luminance(layer: &[[f32; 3]]) -> Vec<f64> {
-    layer.iter().map(|p| 0.2126 * p[0] as f64 + 0.7152 * p[1] as f64 + 0.0722 * p[2] as f64).collect()
-}
-
 pub fn run(bench: &MotionBench) -> anyhow::Result<()> {
     let (w, h) = bench.size;
     println!(
@@ -115,7 +111,7 @@ pub fn run(bench: &MotionBench) -> anyhow::Result<()> {
                 let reuse = if reuse { "on" } else { "off" };
                 csv += &format!("{},{reuse},{k},{},{e},{f}\n", path.display(), k as f32 / bench.fps);
                 ratio += metrics::mean_value(&frame.radiance) / metrics::mean_value(truth).max(1e-30);
-                let y = luminance(&frame.radiance);
+                let y: Vec<f64> = frame.radiance.iter().map(leakless::flicker::luminance).collect();
                 if let Some(prev) = &last {
                     let mean = y.iter().sum::<f64>() / y.len() as f64;
                     if k >= settle(bench) && mean > 0.0 {
