@@ -171,16 +171,17 @@ fn variants(device: &DeviceTuning, subgroup_arithmetic: bool) -> Vec<(String, De
     };
     let on = |b: bool| if b { "on" } else { "off" };
     let other_paths = if device.paths_per_thread == 1 { 8 } else { 1 };
-    let other_queue = if device.ray_queue == 64 { 16 } else { 64 };
     let mut v = vec![
         ("device tuning".to_string(), device.clone()),
         (format!("emission order {}", on(!device.emission_order)), with(&|t| t.emission_order ^= true)),
         (format!("photon order {}", on(!device.photon_order)), with(&|t| t.photon_order ^= true)),
         (format!("{other_paths} paths/thread"), with(&|t| t.paths_per_thread = other_paths)),
-        (format!("ray queue {other_queue}"), with(&|t| t.ray_queue = other_queue)),
         ("gather workgroup 32".to_string(), with(&|t| t.gather_workgroup = 32)),
         ("gather workgroup 128".to_string(), with(&|t| t.gather_workgroup = 128)),
     ];
+    for queue in [16, 64, 128, 256].into_iter().filter(|&q| q != device.ray_queue) {
+        v.push((format!("ray queue {queue}"), with(&|t| t.ray_queue = queue)));
+    }
     if subgroup_arithmetic {
         let counters = !device.subgroup_counters;
         v.push((format!("subgroup counters {}", on(counters)), with(&|t| t.subgroup_counters = counters)));
