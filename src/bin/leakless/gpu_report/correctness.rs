@@ -138,7 +138,8 @@ fn compare(scene: &str, backend: String, image: &[[f32; 3]], reference: &[[f32; 
     let non_finite = image.iter().flatten().filter(|c| !c.is_finite()).count();
     let eps = metrics::epsilon(reference);
     let rel_mse_all = metrics::rel_mse(image, reference, None, eps).unwrap_or(f64::NAN);
-    let rel_mse = metrics::rel_mse(image, reference, Some(&without_worst(image, reference, eps)), eps).unwrap_or(f64::NAN);
+    let rel_mse =
+        metrics::rel_mse(image, reference, Some(&without_worst(image, reference, eps)), eps).unwrap_or(f64::NAN);
     let pixels_off = pixels_off(image, reference);
     let mean_ratio = metrics::mean_value(image) / metrics::mean_value(reference);
     let lit = image.iter().flatten().filter(|&&c| c != 0.0).count();
@@ -178,7 +179,9 @@ fn compare(scene: &str, backend: String, image: &[[f32; 3]], reference: &[[f32; 
 /// Every pixel but the [`EDGE_SHARE`] with the largest relative squared error.
 fn without_worst(image: &[[f32; 3]], reference: &[[f32; 3]], eps: f64) -> Vec<bool> {
     let error = |i: usize| -> f64 {
-        (0..3).map(|c| (image[i][c] as f64 - reference[i][c] as f64).powi(2) / ((reference[i][c] as f64).powi(2) + eps)).sum()
+        (0..3)
+            .map(|c| (image[i][c] as f64 - reference[i][c] as f64).powi(2) / ((reference[i][c] as f64).powi(2) + eps))
+            .sum()
     };
     let mut order: Vec<usize> = (0..image.len()).collect();
     order.sort_by(|&a, &b| error(b).total_cmp(&error(a)));
