@@ -68,7 +68,12 @@ pub fn rel_mse(x: &[[f32; 3]], r: &[[f32; 3]], mask: Option<&[bool]>, eps: f64) 
     if eps.is_nan() || eps <= 0.0 {
         return None;
     }
-    mean_over(x, r, mask, |a, b| (a - b).powi(2) / (b * b + eps))
+    mean_over(x, r, mask, |a, b| rel_squared_error(a, b, eps))
+}
+
+/// One channel's term of [`rel_mse`]: `(a − b)² / (b² + eps)`.
+pub fn rel_squared_error(a: f64, b: f64, eps: f64) -> f64 {
+    (a - b).powi(2) / (b * b + eps)
 }
 
 /// Root-mean-square error of `x` against `r` over the pixels `mask` selects (all with `None`).

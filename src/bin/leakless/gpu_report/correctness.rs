@@ -179,9 +179,7 @@ fn compare(scene: &str, backend: String, image: &[[f32; 3]], reference: &[[f32; 
 /// Every pixel but the [`EDGE_SHARE`] with the largest relative squared error.
 fn without_worst(image: &[[f32; 3]], reference: &[[f32; 3]], eps: f64) -> Vec<bool> {
     let error = |i: usize| -> f64 {
-        (0..3)
-            .map(|c| (image[i][c] as f64 - reference[i][c] as f64).powi(2) / ((reference[i][c] as f64).powi(2) + eps))
-            .sum()
+        (0..3).map(|c| metrics::rel_squared_error(image[i][c] as f64, reference[i][c] as f64, eps)).sum()
     };
     let mut order: Vec<usize> = (0..image.len()).collect();
     order.sort_by(|&a, &b| error(b).total_cmp(&error(a)));
