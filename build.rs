@@ -1,4 +1,6 @@
-//! Compiles every `.vert` / `.frag` / `.comp` in `shaders-glsl/` to SPIR-V with glslang,
+//! Compiles every `.vert` / `.frag` / `.comp` in `shaders-glsl/` to SPIR-V with glslang
+//! (`glslangValidator`, Debian's `glslang-tools`: building glslang from source was a third of
+//! a clean build's CPU time on two cores),
 //! reflects each module and writes `$OUT_DIR/shaders.rs` (included by `src/shaders.rs`): one
 //! `ShaderInfo` static per module plus `ALL`.
 //!
@@ -17,9 +19,6 @@ use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use std::{env, fs};
 
-use glslang::error::GlslangError;
-use glslang::{Compiler, CompilerOptions, ShaderInput, ShaderMessage, ShaderSource};
-use glslang::{ShaderStage as Stage, SourceLanguage, SpirvVersion, Target, VulkanVersion};
 use naga::{AddressSpace, ArraySize, Handle, ImageClass, Module, Type, TypeInner};
 
 #[path = "build/spirv_scan.rs"]
@@ -27,12 +26,36 @@ mod spirv_scan;
 
 const DIR: &str = "shaders-glsl";
 
+/// The compiler: `glslangValidator` on the PATH, or the one `LEAKLESS_GLSLANG` names.
+const GLSLANG: &str = "glslangValidator";
+
 /// SPIR-V 1.3 for everything naga must reflect: from 1.4 on glslang copies structs between
 /// layouts with `OpCopyLogical` and (1.6) turns `discard` into `OpTerminateInvocation`, and
 /// naga's SPIR-V front end parses neither. Ray queries need >= 1.4 and naga rejects those
 /// modules anyway, so the `:rayquery` variants get 1.6. Vulkan 1.3 accepts both.
-const SPIRV: SpirvVersion = SpirvVersion::SPIRV1_3;
-const RAY_QUERY_SPIRV: SpirvVersion = SpirvVersion::SPIRV1_6;
+const SPIRV: SpirvVersion = "spirv1.3";
+const RAY_QUERY_SPIRV: SpirvVersion = "spirv1.6";
+
+/// A `--target-env` value of glslangValidator.
+type SpirvVersion = &'static str;
+
+#[derive(Clone, Copy, Debug)]
+enum Stage {
+    Vertex,
+    Fragment,
+    Compute,
+}
+
+impl Stage {
+    /// glslangValidator's `-S` name.
+    fn glslang(self) -> &'static str {
+        match self {
+            Stage::Vertex => "vert",
+            Stage::Fragment => "frag",
+            Stage::Compute => "comp",
+        }
+    }
+}
 
 /// A module that includes `trace.glsl` is compiled once per trace backend:
 /// (name suffix, define, SPIR-V version). The ray-query variant comes first, the compute one
@@ -50,7 +73,8 @@ fn main() {
         .collect();
     files.sort();
 
-    let compiler = Compiler::acquire().expect("cannot initialise glslang");
+    println!("cargo:rerun-if-env-changed=LEAKLESS_GLSLANG");
+    let compiler = Compiler::find();
     let (mut code, mut all, mut errors) = (String::from(HEADER), Vec::new(), Vec::new());
     for path in &files {
         println!("cargo:rerun-if-changed={}", path.display());
@@ -73,7 +97,7 @@ fn main() {
         };
         let mut built = Vec::new();
         for (name, define, version) in variants {
-            match build_module(compiler, stage, &file, &name, define, version) {
+            match build_module(&compiler, stage, &file, &name, define, version) {
                 Ok((spirv, info)) => built.push((name, spirv, info)),
                 Err(e) => errors.push(e),
             }
@@ -201,28 +225,65 @@ fn compile(
     spirv_version: SpirvVersion,
 ) -> Result<(Vec<u32>, Info), String> {
     let src = expand(file, defines)?;
-    let source = ShaderSource::from(src.text.as_str());
-    let options = CompilerOptions {
-        source_language: SourceLanguage::GLSL,
-        target: Target::Vulkan { version: VulkanVersion::Vulkan1_3, spirv_version },
-        version_profile: None, // taken from the `#version` line
-        messages: ShaderMessage::DEFAULT | ShaderMessage::VULKAN_RULES | ShaderMessage::SPV_RULES,
-    };
-    let no_defines = None::<&[(&str, Option<&str>)]>; // ours are in the expanded text
-    let input = ShaderInput::new(&source, stage, &options, no_defines, None)
-        .map_err(|e| format!("{DIR}/{file}:1: {e} (compiling {name})"))?;
-    let fail = |e: GlslangError| match map_log(&e.to_string(), &src.files, name) {
-        log if log.is_empty() => format!("{DIR}/{file}: {e} (compiling {name})"),
-        log => log,
-    };
-    let shader = compiler.create_shader(input).map_err(fail)?;
-    for warning in map_log(&shader.get_log(), &src.files, name).lines() {
+    let (spirv, log) = compiler.run(stage, spirv_version, &src.text, name)?;
+    let spirv = spirv.ok_or_else(|| match map_log(&log, &src.files, name) {
+        mapped if mapped.is_empty() => format!("{DIR}/{file}: {} (compiling {name})", log.trim()),
+        mapped => mapped,
+    })?;
+    for warning in map_log(&log, &src.files, name).lines() {
         println!("cargo:warning={warning}");
     }
-    // glslang's default SPIR-V options keep OpName / OpMemberName, which reflection needs.
-    let spirv = shader.compile().map_err(fail)?;
     let info = reflect(&spirv, stage, file)?;
     Ok((spirv, info))
+}
+
+/// glslangValidator, run once per module variant.
+struct Compiler {
+    program: std::ffi::OsString,
+    scratch: PathBuf,
+}
+
+impl Compiler {
+    fn find() -> Compiler {
+        let program = env::var_os("LEAKLESS_GLSLANG").unwrap_or_else(|| GLSLANG.into());
+        let found = std::process::Command::new(&program).arg("--version").output();
+        if !found.is_ok_and(|o| o.status.success()) {
+            panic!(
+                "cannot run {}: the shaders are compiled with glslang's glslangValidator \
+                 (Debian/Ubuntu package glslang-tools; tools/install-deps installs it)",
+                program.to_string_lossy()
+            );
+        }
+        let scratch = PathBuf::from(env::var_os("OUT_DIR").unwrap()).join("glslang");
+        fs::create_dir_all(&scratch).unwrap();
+        Compiler { program, scratch }
+    }
+
+    /// Compiles expanded GLSL from standard input (so that glslang numbers its `#line` strings
+    /// instead of naming them after a file): the SPIR-V if it compiled, and glslang's log.
+    /// glslang's default SPIR-V options keep OpName / OpMemberName, which reflection needs.
+    fn run(&self, stage: Stage, spirv: SpirvVersion, text: &str, name: &str) -> Result<(Option<Vec<u32>>, String), String> {
+        use std::io::Write as _;
+        let out = self.scratch.join(format!("{}.spv", name.replace(':', "_")));
+        let _ = fs::remove_file(&out);
+        let mut child = std::process::Command::new(&self.program)
+            .args(["-V", "--target-env", "vulkan1.3", "--target-env", spirv, "--stdin", "-S", stage.glslang(), "-o"])
+            .arg(&out)
+            .stdin(std::process::Stdio::piped())
+            .stdout(std::process::Stdio::piped())
+            .stderr(std::process::Stdio::piped())
+            .spawn()
+            .map_err(|e| format!("{name}: cannot run glslang: {e}"))?;
+        child.stdin.take().unwrap().write_all(text.as_bytes()).map_err(|e| format!("{name}: glslang's input: {e}"))?;
+        let output = child.wait_with_output().map_err(|e| format!("{name}: glslang: {e}"))?;
+        let log = String::from_utf8_lossy(&output.stdout).into_owned() + &String::from_utf8_lossy(&output.stderr);
+        if !output.status.success() {
+            return Ok((None, log));
+        }
+        let bytes = fs::read(&out).map_err(|e| format!("{name}: glslang wrote no SPIR-V: {e}"))?;
+        let words = bytes.chunks_exact(4).map(|w| u32::from_le_bytes(w.try_into().unwrap())).collect();
+        Ok((Some(words), log))
+    }
 }
 
 /// Rewrites glslang's `ERROR: <string>:<line>: msg` lines to `shaders-glsl/<file>:<line>: msg`
