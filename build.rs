@@ -262,7 +262,13 @@ impl Compiler {
     /// Compiles expanded GLSL from standard input (so that glslang numbers its `#line` strings
     /// instead of naming them after a file): the SPIR-V if it compiled, and glslang's log.
     /// glslang's default SPIR-V options keep OpName / OpMemberName, which reflection needs.
-    fn run(&self, stage: Stage, spirv: SpirvVersion, text: &str, name: &str) -> Result<(Option<Vec<u32>>, String), String> {
+    fn run(
+        &self,
+        stage: Stage,
+        spirv: SpirvVersion,
+        text: &str,
+        name: &str,
+    ) -> Result<(Option<Vec<u32>>, String), String> {
         use std::io::Write as _;
         let out = self.scratch.join(format!("{}.spv", name.replace(':', "_")));
         let _ = fs::remove_file(&out);
