@@ -61,11 +61,12 @@ fn the_open_door_matches_the_reference() {
     let scene = common::scene("scenes/door.gltf");
     let Some(&backend) = common::choices().first() else { return };
     let (open, closed) = (common::extra(&scene, "open_time"), common::extra(&scene, "closed_time"));
-    let mut reference = renderer(
-        &scene,
+    let reference = common::recorded::reference(
+        "door-open",
         RenderSettings { method: Method::Reference, spp: 2048, ..settings(Method::Reference, backend) },
-    );
-    let reference = render_at(&mut reference, open);
+        |s| Some(render_at(&mut renderer(&scene, s), open)),
+    )
+    .expect("a device, checked by common::choices()");
     let eps = metrics::epsilon(&reference.radiance);
     let relmse = |method| {
         let mut s = settings(method, backend);

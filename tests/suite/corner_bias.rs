@@ -27,12 +27,11 @@ fn photons(visible_disk: bool, radius: Option<f32>, paths: u32, frames: u32) -> 
 }
 
 /// One reference frame of `spp` samples, all at the pixel centres, as a single photon frame
-/// samples.
+/// samples; recorded (`common::recorded`).
 fn reference(path: &str, (width, height): (u32, u32), spp: u32) -> Option<RenderedFrame> {
-    common::render_with(
-        path,
-        RenderSettings { width, height, method: Method::Reference, spp, max_bounces: 8, seed: 7, ..Default::default() },
-    )
+    let settings =
+        RenderSettings { width, height, method: Method::Reference, spp, max_bounces: 8, seed: 7, ..Default::default() };
+    common::recorded::reference(&common::label(path), settings, |s| common::render_with(path, s))
 }
 
 /// Mean luminance of a layer.

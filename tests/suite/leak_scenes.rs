@@ -86,8 +86,8 @@ fn sealed_rooms_stay_sealed_and_the_doorway_renders_the_same_at_any_scale() {
 fn doorway_leakless_is_closer_to_the_reference_than_splat() {
     let scene = common::scene("scenes/doorway.gltf");
     let Some(&backend) = common::choices().first() else { return };
-    let reference = render(
-        &scene,
+    let reference = common::recorded::reference(
+        "doorway",
         RenderSettings {
             width: 64,
             height: 48,
@@ -98,7 +98,9 @@ fn doorway_leakless_is_closer_to_the_reference_than_splat() {
             seed: 1,
             ..Default::default()
         },
-    );
+        |s| Some(render(&scene, s)),
+    )
+    .expect("a device, checked by common::choices()");
     // relMSE over room B, which is the whole view, as `leakless chart` measures it.
     let eps = metrics::epsilon(&reference.radiance);
     let relmse =

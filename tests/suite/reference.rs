@@ -1,10 +1,10 @@
 //! The reference path tracer as ground truth: deterministic, backend-independent, and with
 //! noise low enough at a fixed budget to judge the splatting methods against.
 //!
-//! The Cornell-box ground truth is regenerated in the test run (64×48, 4096 spp, a few seconds on
-//! lavapipe) rather than stored: a stored EXR would silently go stale whenever the scene, the
-//! camera or the light transport changes, while the sphere's closed form (tests/suite/trace.rs)
-//! already pins the path tracer itself to an analytic answer.
+//! The Cornell-box ground truth is regenerated in the test run (64×48, 4096 spp): these tests
+//! judge the path tracer itself. The sphere's closed form (tests/suite/trace.rs) pins it to an
+//! analytic answer. The statistical tests' slower references are recorded, and read only while
+//! a live canary render matches (`common::recorded`; tested last here).
 
 use crate::common;
 
@@ -67,4 +67,41 @@ fn backends_give_the_same_reference() {
     let diff = common::relative_rms(&rq.radiance, &cs.radiance);
     eprintln!("reference rayquery vs compute, same seed: relative RMS {diff:.2e}");
     assert!(diff < 1e-3, "backends differ by {diff}");
+}
+
+/// A recorded reference is read only while its canary still renders bit for bit as recorded:
+/// recorded, it reads back exactly, without the whole render; with the canary's hash spoiled
+/// (as a change to the renderer would), the whole reference is rendered again.
+#[test]
+fn recorded_references_are_read_only_while_their_canary_matches() {
+    let dir = common::tmp_path("recorded-references");
+    let _ = std::fs::remove_dir_all(&dir);
+    let settings = RenderSettings {
+        width: 16,
+        height: 12,
+        method: Method::Reference,
+        spp: 64,
+        max_bounces: 4,
+        seed: 3,
+        ..Default::default()
+    };
+    let whole_renders = std::cell::Cell::new(0);
+    let render = |s: RenderSettings| {
+        if s.spp == settings.spp {
+            whole_renders.set(whole_renders.get() + 1);
+        }
+        common::render_with("scenes/cornell-box.gltf", s)
+    };
+    let get = |record| common::recorded::reference_in(&dir, record, "cornell-box", settings.clone(), render);
+    let Some(recorded) = get(true) else { return };
+    let [file] = &common::recorded::files(&dir)[..] else { panic!("one fixture written") };
+    let read = get(false).unwrap();
+    assert_eq!(whole_renders.get(), 1, "a matching canary renders only the canary");
+    assert!(read.indirect == recorded.indirect && read.direct == recorded.direct && read.radiance == recorded.radiance);
+    assert!(recorded.indirect.iter().any(|p| *p != [0.0; 3]), "the fixture holds light");
+
+    common::recorded::spoil_canary(file);
+    let live = get(false).unwrap();
+    assert_eq!(whole_renders.get(), 2, "a stale fixture is rendered again");
+    assert!(live.indirect == recorded.indirect, "the same settings render the same image");
 }

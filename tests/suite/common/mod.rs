@@ -6,6 +6,8 @@ use std::path::{Path, PathBuf};
 
 use leakless::{Backend, Gpu, GpuOptions, RenderSettings, RenderedFrame, Renderer, Scene};
 
+pub mod recorded;
+
 pub fn root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
 }
@@ -97,7 +99,13 @@ pub fn render_with(path: &str, settings: RenderSettings) -> Option<RenderedFrame
     Some(frame)
 }
 
-/// The reference path tracer's image of `path` at 64×48 (the size the comparison tests use).
+/// The label of a scene file's recorded references: its name without directory and extension.
+pub fn label(path: &str) -> String {
+    Path::new(path).file_stem().expect("a scene file").to_string_lossy().into_owned()
+}
+
+/// The reference path tracer's image of `path` at 64×48 (the size the comparison tests use),
+/// recorded (see [`recorded`]).
 pub fn reference(path: &str, spp: u32, max_bounces: u32) -> Option<RenderedFrame> {
     let settings = RenderSettings {
         width: 64,
@@ -108,12 +116,12 @@ pub fn reference(path: &str, spp: u32, max_bounces: u32) -> Option<RenderedFrame
         seed: 1,
         ..Default::default()
     };
-    render_with(path, settings)
+    recorded::reference(&label(path), settings, |s| render_with(path, s))
 }
 
 /// The reference path tracer's antialiased image of `path` at 8 bounces: `frames` frames of
 /// `spp` samples each (one batch a frame), at the pixel jitters of the photon frames an
-/// accumulation of as many frames renders.
+/// accumulation of as many frames renders; recorded (see [`recorded`]).
 pub fn jittered_reference(
     path: &str,
     (width, height): (u32, u32),
@@ -132,7 +140,7 @@ pub fn jittered_reference(
         seed,
         ..Default::default()
     };
-    render_with(path, settings)
+    recorded::reference(&label(path), settings, |s| render_with(path, s))
 }
 
 /// A photon method at the leak scenes' test settings: 64×48, 4 bounces, seed 1.
