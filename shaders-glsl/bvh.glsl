@@ -21,17 +21,20 @@ struct BvhNode {
     uint count;
 };
 
-// Raw vertices (in the part's space), since the watertight test needs them, the original scene
-// triangle index, which is what a Hit reports (triangles are stored in BVH order), and the part
-// the triangle belongs to.
+// Raw vertices (in the part's space), since the watertight test needs them, and the original
+// scene triangle index, which is what a Hit reports (triangles are stored in BVH order). Packed
+// in 40 bytes (float[3], not vec3, which std430 aligns to 16): a 3M-triangle scene's fit
+// lavapipe's 128 MiB storage-buffer range.
 struct BvhTriangle {
-    vec3 v0;
+    float v0[3];
     uint triangle;
-    vec3 v1;
-    uint pad0;  // the part
-    vec3 v2;
-    uint pad1;
+    float v1[3];
+    float v2[3];
 };
+
+vec3 bvh_vertex(float v[3]) {
+    return vec3(v[0], v[1], v[2]);
+}
 
 layout(set = 0, binding = TRACE_BINDING, std430) readonly buffer BvhNodes {
     BvhNode nodes[];

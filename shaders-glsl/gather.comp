@@ -100,7 +100,7 @@ bool proven_clear(vec3 from, Photon ph, Clearance photon_clearance) {
 }
 
 // Whether a ray along the segment meets nothing.
-bool segment_clear(vec3 from, Photon ph, Clearance photon_clearance, inout uint occluder) {
+bool segment_clear(vec3 from, Photon ph, Clearance photon_clearance, inout uvec2 occluder) {
     vec3 d = segment_end(ph, photon_clearance) - from;
     float dist = sqrt(dot(d, d));
     if (!(dist > 0.0)) {
@@ -127,7 +127,7 @@ layout(constant_id = 2) const uint RAY_QUEUE = 64u;
 uint queue[RAY_QUEUE];  // photons whose segments wait for a ray
 
 void trace_queued(uint count, vec3 x, vec3 from, float r, inout i64vec3 kept,
-                  inout i64vec3 lost, inout uint occluded, inout uint occluder) {
+                  inout i64vec3 lost, inout uint occluded, inout uvec2 occluder) {
     for (uint i = 0u; i < count; ++i) {
         uint index = queue[i];
         Photon ph = photons.photons[index];
@@ -185,7 +185,7 @@ void main() {
     uint accepted = 0u;
     uint occluded = 0u;
     uint proven = 0u;
-    uint occluder = NO_HIT;  // the surface that blocked this sample's last blocked segment
+    uvec2 occluder = uvec2(NO_HIT);  // the surface that blocked this sample's last blocked segment
     uint queued = 0u;
     bool capped = false;
     // The lists of the leaf and its ancestors, walked as one sequence of (level, entry) that

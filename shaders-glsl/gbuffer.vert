@@ -1,10 +1,9 @@
 #version 460
-// G-buffer, vertex stage: scene vertices are already in world space.
+// G-buffer, vertex stage: scene vertices are already in world space. They are read from the
+// scene's buffers by index (no vertex input): the corners' attributes live in one buffer each
+// (scene.glsl), which every other pass reads by triangle too.
 #include "common.glsl"
-
-layout(location = 0) in vec3 in_position;
-layout(location = 1) in vec3 in_normal;
-layout(location = 2) in vec2 in_uv;
+#include "scene.glsl"
 
 FRAME_BLOCK(0);
 
@@ -16,9 +15,11 @@ layout(location = 2) out vec2 out_uv;
 layout(location = 3) flat out uint out_triangle;
 
 void main() {
-    out_position = in_position;
-    out_normal = in_normal;
-    out_uv = in_uv;
-    out_triangle = uint(gl_VertexIndex) / 3u;
-    gl_Position = frame.view_proj * vec4(in_position, 1.0);
+    uint v = uint(gl_VertexIndex);
+    vec3 p = vertex_position(v);
+    out_position = p;
+    out_normal = vertex_normal(v);
+    out_uv = vertex_uv(v);
+    out_triangle = v / 3u;
+    gl_Position = frame.view_proj * vec4(p, 1.0);
 }

@@ -110,11 +110,12 @@ float static_distance2(vec3 q, Photon ph, float tau, uint root, float best2) {
             }
             for (uint t = n.left_or_first; t < n.left_or_first + n.count; t++) {
                 BvhTriangle tri = bvh_triangles.triangles[t];
-                if (below(tri.v0, ph.position, ph.normal, tau) && below(tri.v1, ph.position, ph.normal, tau)
-                    && below(tri.v2, ph.position, ph.normal, tau)) {
+                vec3 v0 = bvh_vertex(tri.v0), v1 = bvh_vertex(tri.v1), v2 = bvh_vertex(tri.v2);
+                if (below(v0, ph.position, ph.normal, tau) && below(v1, ph.position, ph.normal, tau)
+                    && below(v2, ph.position, ph.normal, tau)) {
                     continue;
                 }
-                best2 = min(best2, triangle_distance2(q, tri.v0, tri.v1, tri.v2));
+                best2 = min(best2, triangle_distance2(q, v0, v1, v2));
             }
         }
         if (sp == 0u) {

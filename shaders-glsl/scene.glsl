@@ -5,15 +5,15 @@
 #include "common.glsl"
 
 #define SCENE_BINDING 20
+#define SCENE_NORMAL_BINDING 27
+#define SCENE_UV_BINDING 28
 
-// leakless_scene::Vertex: world-space position, shading normal, texcoord (32 bytes).
-struct SceneVertex {
-    float position[3];
-    float normal[3];
-    vec2 uv;
-};
-
-layout(set = 0, binding = SCENE_BINDING, std430) readonly buffer SceneVertices { SceneVertex vertices[]; } scene_vertices;
+// The corners of the triangles, three per triangle in world space (leakless_scene::Vertex),
+// one buffer per attribute: 36 bytes a triangle in the largest, so that a 3M-triangle scene
+// fits lavapipe's 128 MiB maxStorageBufferRange (one 96-byte buffer held 1.4M).
+layout(set = 0, binding = SCENE_BINDING, std430) readonly buffer VertexPositions { float xyz[]; } vertex_positions;
+layout(set = 0, binding = SCENE_NORMAL_BINDING, std430) readonly buffer VertexNormals { float xyz[]; } vertex_normals;
+layout(set = 0, binding = SCENE_UV_BINDING, std430) readonly buffer VertexUvs { float uv[]; } vertex_uvs;
 layout(set = 0, binding = SCENE_BINDING + 1, std430) readonly buffer TriangleMaterials { uint ids[]; } triangle_materials;
 layout(set = 0, binding = SCENE_BINDING + 2, std430) readonly buffer Materials { Material materials[]; } materials;
 layout(set = 0, binding = SCENE_BINDING + 3, std430) readonly buffer Texels { uint words[]; } texels;
@@ -21,13 +21,15 @@ layout(set = 0, binding = SCENE_BINDING + 3, std430) readonly buffer Texels { ui
 #include "material.glsl"
 
 vec3 vertex_position(uint v) {
-    SceneVertex s = scene_vertices.vertices[v];
-    return vec3(s.position[0], s.position[1], s.position[2]);
+    return vec3(vertex_positions.xyz[3u * v], vertex_positions.xyz[3u * v + 1u], vertex_positions.xyz[3u * v + 2u]);
 }
 
 vec3 vertex_normal(uint v) {
-    SceneVertex s = scene_vertices.vertices[v];
-    return vec3(s.normal[0], s.normal[1], s.normal[2]);
+    return vec3(vertex_normals.xyz[3u * v], vertex_normals.xyz[3u * v + 1u], vertex_normals.xyz[3u * v + 2u]);
+}
+
+vec2 vertex_uv(uint v) {
+    return vec2(vertex_uvs.uv[2u * v], vertex_uvs.uv[2u * v + 1u]);
 }
 
 // Barycentric interpolation with the ray-query convention: p = (1-u-v) v0 + u v1 + v v2.
@@ -37,8 +39,7 @@ vec3 bary_weights(vec2 b) {
 
 vec2 triangle_uv(uint triangle, vec2 b) {
     vec3 w = bary_weights(b);
-    return w.x * scene_vertices.vertices[3u * triangle].uv + w.y * scene_vertices.vertices[3u * triangle + 1u].uv
-         + w.z * scene_vertices.vertices[3u * triangle + 2u].uv;
+    return w.x * vertex_uv(3u * triangle) + w.y * vertex_uv(3u * triangle + 1u) + w.z * vertex_uv(3u * triangle + 2u);
 }
 
 vec3 triangle_position(uint triangle, vec2 b) {

@@ -47,12 +47,12 @@ layout(set = 0, binding = 10, rgba32f) uniform readonly image2D normal_previous;
 layout(set = 0, binding = 11, rgba32f) uniform writeonly image2D normal_current;
 layout(set = 0, binding = 12, rgba32f) uniform writeonly image2D reused_indirect;
 layout(set = 0, binding = 13, rgba32f) uniform writeonly image2D reused_radiance;
-// The animated instances' vertices as they were in the history's frame, from the first moving
-// triangle's first vertex on (read only when `instances_moved`).
 layout(set = 0, binding = 15, rgba32f) uniform readonly image2D radiance;
 // The frame's irradiance after spatial reuse (read only when `spatial`).
 layout(set = 0, binding = 16, rgba32f) uniform readonly image2D filtered;
-layout(set = 0, binding = 14, std430) readonly buffer PreviousVertices { SceneVertex vertices[]; } previous_vertices;
+// The animated instances' vertex positions as they were in the history's frame, from the first
+// moving triangle's first vertex on (read only when `instances_moved`).
+layout(set = 0, binding = 14, std430) readonly buffer PreviousPositions { float xyz[]; } previous_positions;
 
 layout(push_constant) uniform TemporalParams {
     mat4 previous_view_proj;  // the history's frame's camera
@@ -61,7 +61,7 @@ layout(push_constant) uniform TemporalParams {
     float max_history;        // frames a history holds at most
     float still_batches;      // MODE_STILL: photon batches in the accumulation's mean
     uint first_moving_triangle;
-    uint instances_moved;     // 1: previous_vertices differ from the scene's vertices
+    uint instances_moved;     // 1: previous_positions differ from the scene's vertices
     float clamp_relative;
     uint spatial;             // 1: `filtered` holds this frame's spatially reused irradiance
     uint pad0;
@@ -76,8 +76,8 @@ vec3 irradiance_at(ivec2 p) {
 }
 
 vec3 previous_vertex(uint v) {
-    SceneVertex s = previous_vertices.vertices[v - 3u * params.first_moving_triangle];
-    return vec3(s.position[0], s.position[1], s.position[2]);
+    uint i = 3u * (v - 3u * params.first_moving_triangle);
+    return vec3(previous_positions.xyz[i], previous_positions.xyz[i + 1u], previous_positions.xyz[i + 2u]);
 }
 
 // Where the surface point `p` of `triangle` was in the history's frame.

@@ -86,10 +86,10 @@ bool traceOccluded(vec3 origin, vec3 dir, float tmin, float tmax) {
 }
 
 // traceOccluded for many rays of one invocation that tend to be blocked by the same surface:
-// `cache` (start it at NO_HIT) carries what the last blocked ray learnt. The answer is always
+// `cache` (start it at uvec2(NO_HIT)) carries what the last blocked ray learnt. The answer is always
 // traceOccluded's; only the compute backend uses the cache (trace_bvh_occluded_cached), since
 // a ray query cannot be asked about one triangle.
-bool traceOccludedCached(vec3 origin, vec3 dir, float tmin, float tmax, inout uint cache) {
+bool traceOccludedCached(vec3 origin, vec3 dir, float tmin, float tmax, inout uvec2 cache) {
 #if defined(TRACE_COMPUTE)
     return trace_bvh_occluded_cached(origin, dir, tmin, tmax, cache);
 #else

@@ -77,9 +77,9 @@ bool bvh_box(BvhRay ray, BvhNode node, float tmin, float tmax, out float entry) 
 // triangle on one side always reports it. `precise` (which covers every operation feeding the
 // variable) forbids the fused multiply-adds that would break that symmetry.
 bool bvh_triangle(BvhRay ray, BvhTriangle tri, float tmin, float tmax, out float t, out vec2 barycentrics) {
-    vec3 a = tri.v0 - ray.origin;
-    vec3 b = tri.v1 - ray.origin;
-    vec3 c = tri.v2 - ray.origin;
+    vec3 a = bvh_vertex(tri.v0) - ray.origin;
+    vec3 b = bvh_vertex(tri.v1) - ray.origin;
+    vec3 c = bvh_vertex(tri.v2) - ray.origin;
     float ax = a[ray.k.x] - ray.shear.x * a[ray.k.z];
     float ay = a[ray.k.y] - ray.shear.y * a[ray.k.z];
     float bx = b[ray.k.x] - ray.shear.x * b[ray.k.z];
@@ -191,10 +191,11 @@ bool trace_bvh_part(BvhRay ray, uint root, float tmin, bool any_hit, inout Hit h
 
 // The closest hit with t in (tmin, tmax), or with any_hit the first accepted one (occlusion).
 // Every candidate goes through trace_alpha_pass before it counts. On a miss, triangle is
-// NO_HIT and t is tmax. `slot` is the hit's index in bvh_triangles (for trace_bvh_occluded_cached).
-// The top level is walked like a bottom level, near child first; its leaves are parts.
-Hit trace_bvh_slot(vec3 origin, vec3 dir, float tmin, float tmax, bool any_hit, out uint slot) {
-    slot = NO_HIT;
+// NO_HIT and t is tmax. `slot` is the hit's index in bvh_triangles and the part it belongs to
+// (for trace_bvh_occluded_cached). The top level is walked like a bottom level, near child
+// first; its leaves are parts.
+Hit trace_bvh_slot(vec3 origin, vec3 dir, float tmin, float tmax, bool any_hit, out uvec2 slot) {
+    slot = uvec2(NO_HIT);
     Hit hit;
     hit.t = tmax;
     hit.triangle = NO_HIT;
@@ -226,7 +227,12 @@ Hit trace_bvh_slot(vec3 origin, vec3 dir, float tmin, float tmax, bool any_hit, 
             }
         } else {
             BvhInstance inst = bvh_instances.items[n.left_or_first];
-            if (trace_bvh_part(bvh_part_ray(inst, ray, origin, dir), inst.root, tmin, any_hit, hit, slot)) {
+            uint closest = slot.x;
+            bool done = trace_bvh_part(bvh_part_ray(inst, ray, origin, dir), inst.root, tmin, any_hit, hit, closest);
+            if (closest != slot.x) {
+                slot = uvec2(closest, n.left_or_first);
+            }
+            if (done) {
                 return hit;
             }
         }
@@ -240,20 +246,20 @@ Hit trace_bvh_slot(vec3 origin, vec3 dir, float tmin, float tmax, bool any_hit, 
 }
 
 Hit trace_bvh(vec3 origin, vec3 dir, float tmin, float tmax, bool any_hit) {
-    uint slot;
+    uvec2 slot;
     return trace_bvh_slot(origin, dir, tmin, tmax, any_hit, slot);
 }
 
 // Occlusion, trying first the triangle that blocked this invocation's last blocked ray
-// (`cached_slot`, NO_HIT for none). Rays from one view sample to the photons around it are
+// (`cached_slot`: its index in bvh_triangles and its part; NO_HIT for none). Rays from one view sample to the photons around it are
 // mostly blocked by the same wall, and one triangle test is far cheaper than a traversal.
 // Exact: a triangle the test reports is one the traversal would reach too (its boxes are
 // padded and tested robustly, above; the ray is moved into the triangle's part as the
 // traversal moves it), so the answer is the traversal's.
-bool trace_bvh_occluded_cached(vec3 origin, vec3 dir, float tmin, float tmax, inout uint cached_slot) {
-    if (cached_slot != NO_HIT) {
-        BvhTriangle tri = bvh_triangles.triangles[cached_slot];
-        BvhRay ray = bvh_part_ray(bvh_instances.items[tri.pad0], bvh_ray(origin, dir), origin, dir);
+bool trace_bvh_occluded_cached(vec3 origin, vec3 dir, float tmin, float tmax, inout uvec2 cached_slot) {
+    if (cached_slot.x != NO_HIT) {
+        BvhTriangle tri = bvh_triangles.triangles[cached_slot.x];
+        BvhRay ray = bvh_part_ray(bvh_instances.items[cached_slot.y], bvh_ray(origin, dir), origin, dir);
         float t;
         vec2 barycentrics;
         if (bvh_triangle(ray, tri, tmin, tmax, t, barycentrics)
@@ -261,7 +267,7 @@ bool trace_bvh_occluded_cached(vec3 origin, vec3 dir, float tmin, float tmax, in
             return true;
         }
     }
-    uint slot;
+    uvec2 slot;
     bool occluded = trace_bvh_slot(origin, dir, tmin, tmax, true, slot).triangle != NO_HIT;
     cached_slot = occluded ? slot : cached_slot;
     return occluded;

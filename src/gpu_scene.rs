@@ -1,22 +1,28 @@
 //! The scene as the GPU sees it: vertex, material and texel buffers, uploaded once (the animated
 //! instances' vertices are copied again whenever they move: `scene_pose.rs`). (Lights
 //! are uploaded with every frame, so they can move: `photon_lights.rs`.)
+//!
+//! The corners' attributes go in one buffer each ([`VertexStreams`]): the largest, positions,
+//! holds 36 bytes a triangle, so a storage-buffer range of 128 MiB (lavapipe's) binds 3.7M
+//! triangles, where the 96-byte `Vertex` bound 1.4M.
 
 use ash::vk;
 use glam::Vec3;
 use leakless_device::{Buffer, Gpu, GpuStruct};
 use leakless_graph::{shader_bindings, BufferHandle, Graph, PassBuilder, Stage};
-use leakless_scene::{LightKind, Scene};
+use leakless_scene::{LightKind, Scene, Vertex};
 
 use crate::emitters::EmitterTable;
 use crate::error::{RenderError, Result};
-use crate::gpu_types::{self, Emitter, Light, Material, VERTEX_LAYOUT};
+use crate::gpu_types::{self, Emitter, Light, Material};
 use crate::trace::SceneBvh;
 
 shader_bindings! {
     /// What `scene.glsl` binds: the surfaces, by triangle index.
     pub struct SceneBindings {
-        scene_vertices: read array(VERTEX_LAYOUT),
+        vertex_positions: read array(f32::LAYOUT),
+        vertex_normals: read array(f32::LAYOUT),
+        vertex_uvs: read array(f32::LAYOUT),
         triangle_materials: read array(u32::LAYOUT),
         materials: read array(Material::LAYOUT),
         texels: read array(u32::LAYOUT),
@@ -35,9 +41,36 @@ shader_bindings! {
 /// The G-buffer stores `triangle + 1` in a float channel, exact up to 2^24.
 pub const MAX_TRIANGLES: usize = (1 << 24) - 1;
 
+/// The corners of the scene's triangles, three a triangle in world space, split by attribute.
+pub struct VertexStreams {
+    /// x, y, z per corner.
+    pub positions: Vec<[f32; 3]>,
+    /// The unit shading normal per corner.
+    pub normals: Vec<[f32; 3]>,
+    /// Texture coordinates (set 0) per corner.
+    pub uvs: Vec<[f32; 2]>,
+}
+
+impl VertexStreams {
+    pub fn split(vertices: &[Vertex]) -> VertexStreams {
+        VertexStreams {
+            positions: vertices.iter().map(|v| v.position).collect(),
+            normals: vertices.iter().map(|v| v.normal).collect(),
+            uvs: vertices.iter().map(|v| v.uv).collect(),
+        }
+    }
+}
+
+/// The GPU buffers of [`VertexStreams`].
+pub struct VertexBuffers {
+    /// Also the ray-query BLAS's build input (12-byte stride).
+    pub positions: Buffer,
+    pub normals: Buffer,
+    pub uvs: Buffer,
+}
+
 pub struct GpuScene {
-    /// `Vertex` × 3 per triangle, world space.
-    pub vertices: Buffer,
+    pub vertices: VertexBuffers,
     pub vertex_count: u32,
     /// One material index per triangle.
     pub triangle_materials: Buffer,
@@ -67,12 +100,23 @@ impl GpuScene {
             )));
         }
         let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
-        let mut vertex_usage = vk::BufferUsageFlags::VERTEX_BUFFER | storage;
+        let mut position_usage = storage;
         if gpu.capabilities().acceleration_structure {
-            vertex_usage |= vk::BufferUsageFlags::ACCELERATION_STRUCTURE_BUILD_INPUT_READ_ONLY_KHR
+            position_usage |= vk::BufferUsageFlags::ACCELERATION_STRUCTURE_BUILD_INPUT_READ_ONLY_KHR
                 | vk::BufferUsageFlags::SHADER_DEVICE_ADDRESS;
         }
-        let vertices = Buffer::with_data(gpu, "vertices", vertex_usage, bytemuck::cast_slice(&scene.vertices))?;
+        let streams = VertexStreams::split(&scene.vertices);
+        let vertices = VertexBuffers {
+            positions: Buffer::with_data(
+                gpu,
+                "vertex positions",
+                position_usage,
+                bytemuck::cast_slice(&streams.positions),
+            )?,
+            normals: Buffer::with_data(gpu, "vertex normals", storage, bytemuck::cast_slice(&streams.normals))?,
+            uvs: Buffer::with_data(gpu, "vertex uvs", storage, bytemuck::cast_slice(&streams.uvs))?,
+        };
+        drop(streams);
         let triangle_materials =
             Buffer::with_data(gpu, "triangle materials", storage, bytemuck::cast_slice(&scene.triangle_material))?;
 
@@ -138,7 +182,9 @@ impl GpuScene {
 impl GpuScene {
     pub fn import<'r>(&'r self, graph: &mut Graph<'r>) -> SceneHandles {
         SceneHandles {
-            vertices: graph.import_buffer(&self.vertices),
+            positions: graph.import_buffer(&self.vertices.positions),
+            normals: graph.import_buffer(&self.vertices.normals),
+            uvs: graph.import_buffer(&self.vertices.uvs),
             triangle_materials: graph.import_buffer(&self.triangle_materials),
             materials: graph.import_buffer(&self.materials),
             texels: graph.import_buffer(&self.texels),
@@ -150,7 +196,9 @@ impl GpuScene {
 
 /// The scene's buffers in one frame's graph.
 pub struct SceneHandles {
-    pub vertices: BufferHandle,
+    pub positions: BufferHandle,
+    pub normals: BufferHandle,
+    pub uvs: BufferHandle,
     pub triangle_materials: BufferHandle,
     pub materials: BufferHandle,
     pub texels: BufferHandle,
@@ -164,7 +212,9 @@ impl SceneHandles {
     /// Declares that `pass` reads the surfaces (`scene.glsl`) in `stage`.
     pub fn declare(&self, pass: &mut PassBuilder<'_, '_>, stage: Stage) -> SceneBindings {
         let resources = SceneResources {
-            scene_vertices: &self.vertices,
+            vertex_positions: &self.positions,
+            vertex_normals: &self.normals,
+            vertex_uvs: &self.uvs,
             triangle_materials: &self.triangle_materials,
             materials: &self.materials,
             texels: &self.texels,

@@ -4,7 +4,7 @@
 //! one pass live in that pass's file.
 
 use bytemuck::{Pod, Zeroable};
-use leakless_device::{gpu_struct, rust_layout, RustLayout};
+use leakless_device::gpu_struct;
 
 gpu_struct! {
     /// The `Frame` uniform block (`FRAME_BLOCK` in common.glsl): camera and output size,
@@ -66,9 +66,6 @@ gpu_struct! {
         pub pad0: u32,
     }
 }
-
-/// `struct SceneVertex` of scene.glsl is `leakless_scene::Vertex` (another crate's type).
-pub const VERTEX_LAYOUT: RustLayout = rust_layout!(leakless_scene::Vertex { position, normal, uv });
 
 gpu_struct! {
     /// `struct Ray` of raycast.comp (also made on the CPU by `raygen`).

@@ -4,7 +4,7 @@
 
 use leakless_accel::{BvhNode, BvhTriangle};
 use leakless_device::DeviceLimits;
-use leakless_scene::{Scene, Vertex};
+use leakless_scene::Scene;
 
 use crate::error::{RenderError, Result};
 use crate::gpu_scene::MAX_TRIANGLES;
@@ -93,7 +93,7 @@ pub fn check(settings: &RenderSettings, scene: &Scene, backend: Backend, limits:
     // Checked first: a BLAS that cannot hold the scene is the limit a user can act on by
     // choosing the other backend. We fail rather than split the scene into several BLASes:
     // the per-triangle storage buffers below bind the whole scene at once and bound it far
-    // earlier on most devices (lavapipe: 1.4 M triangles against 16.7 M primitives).
+    // earlier on most devices (lavapipe: 3.3 M triangles against 16.7 M primitives).
     // The static triangles share one BLAS; each animated instance has its own.
     let largest_blas = (scene.instances.iter().map(|i| i.triangle_count as u64))
         .chain([scene.static_triangle_count() as u64])
@@ -115,17 +115,18 @@ pub fn check(settings: &RenderSettings, scene: &Scene, backend: Backend, limits:
             "the scene's {triangles} triangles exceed the {MAX_TRIANGLES} the G-buffer's triangle ids can tell apart"
         )));
     }
-    // The largest per-triangle storage buffer is the vertices' (96 B a triangle, against 48 B
-    // of BVH triangles and at most 64 B of BVH nodes), so it bounds them all.
+    // The largest per-triangle storage buffer is the compute BVH's triangles (40 B a triangle,
+    // against the vertex positions' or normals' 36 B and about 32 B of BVH nodes, which
+    // `SceneBvh::build` checks once built), so it bounds them all: 3.3M triangles on 128 MiB.
     let range = limits.max_storage_buffer_range as u64;
-    let vertex_bytes = triangles * 3 * std::mem::size_of::<Vertex>() as u64;
+    let triangle_bytes = triangles * std::mem::size_of::<BvhTriangle>() as u64;
     const _: () = assert!(
-        std::mem::size_of::<BvhTriangle>() <= 3 * std::mem::size_of::<Vertex>()
-            && 2 * std::mem::size_of::<BvhNode>() <= 3 * std::mem::size_of::<Vertex>()
+        3 * std::mem::size_of::<[f32; 3]>() <= std::mem::size_of::<BvhTriangle>()
+            && std::mem::size_of::<BvhNode>() <= std::mem::size_of::<BvhTriangle>()
     );
-    if vertex_bytes > range {
+    if triangle_bytes > range {
         return Err(limit(format!(
-            "the scene's {triangles} triangles need a {vertex_bytes}-byte vertex buffer, above the device's maxStorageBufferRange ({range})"
+            "the scene's {triangles} triangles need {triangle_bytes} bytes of BVH triangles, above the device's maxStorageBufferRange ({range})"
         )));
     }
     let texel_bytes: u64 = scene.textures.iter().map(|t| 4 * t.texels.len() as u64).sum();
@@ -275,13 +276,13 @@ mod tests {
         lists.splat.list_capacity = Some(1 << 25); // 256 MiB of entries
         assert!(error(&lists, Backend::Compute).contains("--list-capacity 33554432"));
         assert_eq!(max_list_entries(&limits()), 1 << 24);
-        // The scene's vertex storage buffer: 2 triangles × 3 vertices × 32 B = 192 B.
+        // The largest per-triangle storage buffer, the BVH's triangles: 2 triangles × 40 B.
         let mut tiny = limits();
         tiny.max_primitive_count = 16;
-        tiny.max_storage_buffer_range = 160;
+        tiny.max_storage_buffer_range = 79;
         let e = check(&ok, &scene(), Backend::RayQuery, &tiny).unwrap_err().to_string();
-        assert!(e.contains("a 192-byte vertex buffer, above the device's maxStorageBufferRange (160)"), "{e}");
-        tiny.max_storage_buffer_range = 192;
+        assert!(e.contains("need 80 bytes of BVH triangles, above the device's maxStorageBufferRange (79)"), "{e}");
+        tiny.max_storage_buffer_range = 80;
         assert!(
             check(&RenderSettings { method: Method::Direct, ..ok.clone() }, &scene(), Backend::RayQuery, &tiny).is_ok()
         );

@@ -35,9 +35,9 @@ mod tests {
         assert_eq!(s.spirv[0], 0x0723_0203, "SPIR-V magic number");
         let b = s.reflection.expect("naga parses direct.comp:compute");
         // Its own six, the trace backend's five (16, 17, 18, 19, 24: bottom-level nodes and
-        // triangles, the top level, the scale, the instances), the scene's four (20..=23) and
-        // the emitters (26).
-        assert_eq!(b.len(), 16);
+        // triangles, the top level, the scale, the instances), the scene's six (20..=23, 27, 28)
+        // and the emitters (26).
+        assert_eq!(b.len(), 18);
 
         use BindingKind::*;
         assert_eq!(id(&b[0]), ("frame", 0, 0, UniformBuffer));
@@ -78,12 +78,14 @@ mod tests {
             ("bvh_triangles", 17),
             ("bvh_top", 18),
             ("trace_scale", 19),
-            ("scene_vertices", 20),
+            ("vertex_positions", 20),
             ("triangle_materials", 21),
             ("materials", 22),
             ("texels", 23),
             ("bvh_instances", 24),
             ("emitters", 26),
+            ("vertex_normals", 27),
+            ("vertex_uvs", 28),
         ];
         assert_eq!(names, expected);
     }

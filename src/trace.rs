@@ -209,11 +209,12 @@ impl TraceScene {
                     let bytes = bytemuck::cast_slice(&i.local_vertices);
                     instance_vertices.push(Buffer::with_data(gpu, &format!("{} vertices", i.name), usage, bytes)?);
                 }
+                // The instances' mesh-space `Vertex`es, and the static part's positions alone.
                 let stride = std::mem::size_of::<Vertex>() as u64;
                 let static_count = scene.static_triangle_count() as u32;
                 let static_part = (static_count > 0).then_some(BlasInput {
-                    vertices: &gpu_scene.vertices,
-                    stride,
+                    vertices: &gpu_scene.vertices.positions,
+                    stride: std::mem::size_of::<[f32; 3]>() as u64,
                     triangle_count: static_count,
                     first_triangle: 0,
                 });
@@ -328,6 +329,16 @@ impl SceneBvh {
         let b = scene.animated_bounds();
         let magnitude = b.min.abs().max(b.max.abs()).max_element();
         let mut bvh = InstancedBvh::build(static_part, &instances, magnitude)?;
+        // limits::check bounded the triangles; the node count is known only now (about one a
+        // triangle, at most two).
+        let range = gpu.report().limits.max_storage_buffer_range as usize;
+        let node_bytes = std::mem::size_of_val(&bvh.nodes[..]);
+        if node_bytes > range {
+            return Err(RenderError::Limit(format!(
+                "the scene's BVH needs {node_bytes} bytes of nodes ({} triangles), above the device's maxStorageBufferRange ({range})",
+                scene.triangle_count()
+            )));
+        }
         let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
         let nodes = Buffer::with_data(gpu, "bvh nodes", storage, bytemuck::cast_slice(&bvh.nodes))?;
         let triangles = Buffer::with_data(gpu, "bvh triangles", storage, bytemuck::cast_slice(&bvh.triangles))?;

@@ -2,9 +2,8 @@
 //! (`gbuffer.vert` + `gbuffer.frag`).
 
 use ash::vk;
-use leakless_device::{ColorTarget, Gpu, GpuStruct, GraphicsDesc, GraphicsPipeline, ImageDesc, VertexLayout};
+use leakless_device::{ColorTarget, Gpu, GpuStruct, GraphicsDesc, GraphicsPipeline, ImageDesc};
 use leakless_graph::{shader_bindings, Access, BufferHandle, Graph, ImageHandle, PassBuilder, Stage};
-use leakless_scene::Vertex;
 
 use crate::error::Result;
 use crate::gpu_scene::{SceneBindings, SceneHandles};
@@ -82,14 +81,8 @@ impl GBufferPass {
         let desc = GraphicsDesc {
             vertex: &shaders::GBUFFER_VERT,
             fragment: &shaders::GBUFFER_FRAG,
-            vertex_layout: Some(VertexLayout {
-                stride: std::mem::size_of::<Vertex>() as u32,
-                attributes: vec![
-                    (0, vk::Format::R32G32B32_SFLOAT, std::mem::offset_of!(Vertex, position) as u32),
-                    (1, vk::Format::R32G32B32_SFLOAT, std::mem::offset_of!(Vertex, normal) as u32),
-                    (2, vk::Format::R32G32_SFLOAT, std::mem::offset_of!(Vertex, uv) as u32),
-                ],
-            }),
+            // The vertex stage reads the scene's buffers by gl_VertexIndex (gbuffer.vert).
+            vertex_layout: None,
             colors: vec![ColorTarget { format: FORMAT }; 3],
             depth: Some(DEPTH_FORMAT),
             cull: vk::CullModeFlags::NONE,
@@ -110,15 +103,16 @@ impl GBufferPass {
         let mut pass = graph.pass(names::GBUFFER);
         let own = RasterBindings::declare(&mut pass, Stage::Vertex, RasterResources { frame });
         pass.read(frame, Access::FragmentRead); // the fragment stage reads it too
-        let vertices = pass.read(&scene.vertices, Access::VertexBuffer);
-        let surfaces = scene.declare(&mut pass, Stage::Fragment);
+                                                // Both stages read the surfaces: the vertex stage their corners, the fragment stage the rest.
+        let surfaces = scene.declare(&mut pass, Stage::Vertex);
+        scene.declare(&mut pass, Stage::Fragment);
         let position = pass.write(&mut out.position, Access::ColorAttachmentWrite);
         let normal = pass.write(&mut out.normal, Access::ColorAttachmentWrite);
         let albedo = pass.write(&mut out.albedo, Access::ColorAttachmentWrite);
         let depth = pass.write(&mut out.depth, Access::DepthAttachmentWrite);
         pass.record(move |ctx| {
             let targets = [(position, [0.0; 4]), (normal, [0.0; 4]), (albedo, [0.0; 4])];
-            ctx.draw(&self.pipeline, &[&own, &surfaces], &(), &targets, Some(depth), Some(vertices), vertex_count)
+            ctx.draw(&self.pipeline, &[&own, &surfaces], &(), &targets, Some(depth), None, vertex_count)
         });
     }
 }

@@ -9,7 +9,7 @@ use leakless_graph::{shader_bindings, BufferHandle, Graph, History, ImageHandle,
 
 use crate::error::Result;
 use crate::gpu_scene::{SceneBindings, SceneHandles};
-use crate::gpu_types::{Frame, VERTEX_LAYOUT};
+use crate::gpu_types::Frame;
 use crate::passes::gbuffer::{self, GBufferBindings, GBufferHandles};
 use crate::passes::names::group;
 use crate::pipelines::ComputePassDef;
@@ -42,7 +42,7 @@ gpu_struct! {
         /// Triangles from this one on belong to animated instances.
         pub first_moving_triangle: u32,
         /// 1: the animated instances moved since the history's frame (their vertices then are
-        /// bound as `previous_vertices`).
+        /// bound as `previous_positions`).
         pub instances_moved: u32,
         /// How far the history may leave the new frame's neighbourhood mean, as a fraction of it.
         pub clamp_relative: f32,
@@ -74,7 +74,7 @@ shader_bindings! {
         reused_indirect: write image,
         reused_radiance: write image,
         filtered: read image,
-        previous_vertices: read array(VERTEX_LAYOUT),
+        previous_positions: read array(f32::LAYOUT),
     }
     pub struct TemporalResources;
 }
@@ -122,7 +122,7 @@ pub struct TemporalInputs<'a> {
     pub scene: &'a SceneHandles,
     /// The animated instances' vertices in the history's frame (any buffer when they did not
     /// move).
-    pub previous_vertices: &'a BufferHandle,
+    pub previous_positions: &'a BufferHandle,
     pub direct: &'a ImageHandle,
     pub indirect: &'a ImageHandle,
     pub radiance: &'a ImageHandle,
@@ -164,7 +164,7 @@ pub fn add<'r>(
             reused_indirect: out.indirect,
             reused_radiance: out.radiance,
             filtered: inputs.filtered,
-            previous_vertices: inputs.previous_vertices,
+            previous_positions: inputs.previous_positions,
         },
     );
     pass.dispatch(TEMPORAL.name, (own, gbuffer, scene), params, [extent.width, extent.height, 1]);

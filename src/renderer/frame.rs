@@ -143,7 +143,7 @@ impl Renderer {
         let mut scene = self.gpu_scene.import(&mut g);
         if place_instances {
             let first_vertex = 3 * self.scene.static_triangle_count();
-            instance_vertices::add(&mut g, &self.pose.vertices, first_vertex, &mut scene.vertices)?;
+            instance_vertices::add(&mut g, &self.pose.vertices, first_vertex, &mut scene)?;
         }
         let trace = trace_scene.import(&mut g, &self.gpu_scene, &self.pose)?;
 
@@ -286,10 +286,13 @@ impl Renderer {
                 (true, false) => TemporalMode::Motion,
             };
             let instances_moved = mode == TemporalMode::Motion && self.reuse.pose_version != self.pose.version;
-            let zero = [0u8; std::mem::size_of::<leakless_scene::Vertex>()];
-            let previous: &[u8] = if instances_moved { bytemuck::cast_slice(&self.reuse.vertices) } else { &zero };
+            let previous: Vec<[f32; 3]> = match instances_moved {
+                true => self.reuse.vertices.iter().map(|v| v.position).collect(),
+                false => vec![[0.0; 3]],
+            };
             let storage = ash::vk::BufferUsageFlags::STORAGE_BUFFER;
-            let previous_vertices = g.upload("previous instance vertices", storage, previous)?;
+            let previous_positions =
+                g.upload("previous instance positions", storage, bytemuck::cast_slice(&previous))?;
             let first_moving = self.scene.static_triangle_count() as u32;
             let params = self.reuse.params(mode, batches, first_moving, instances_moved);
             // Spatial reuse of a moving frame's own estimate, before the history weighs in.
@@ -303,7 +306,7 @@ impl Renderer {
                 frame: &frame,
                 gbuffer: &gbuffer,
                 scene: &scene,
-                previous_vertices: &previous_vertices,
+                previous_positions: &previous_positions,
                 direct: &direct,
                 indirect: &indirect,
                 radiance: &radiance,

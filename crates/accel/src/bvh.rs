@@ -68,9 +68,11 @@ pub struct BvhNode {
 
 pub const BVH_NODE_LAYOUT: RustLayout = rust_layout!(BvhNode { bounds_min, left_or_first, bounds_max, count });
 
-/// One triangle in BVH order (`struct BvhTriangle` in trace_compute.glsl), 48 bytes: the raw
+/// One triangle in BVH order (`struct BvhTriangle` in bvh.glsl), 40 bytes: the raw
 /// world-space vertices, since the watertight test needs them (precomputed edges would round
 /// differently for the two triangles sharing an edge), and the original scene triangle index.
+/// No padding: 40 bytes a triangle is what bounds a scene's size on a 128 MiB storage-buffer
+/// range (3.3M triangles), with the vertex positions' 36.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct BvhTriangle {
@@ -78,12 +80,10 @@ pub struct BvhTriangle {
     /// Index of this triangle in the scene's triangle list (`Scene::vertices[3 * i ..]`).
     pub triangle: u32,
     pub v1: [f32; 3],
-    pub pad0: u32,
     pub v2: [f32; 3],
-    pub pad1: u32,
 }
 
-pub const BVH_TRIANGLE_LAYOUT: RustLayout = rust_layout!(BvhTriangle { v0, triangle, v1, pad0, v2, pad1 });
+pub const BVH_TRIANGLE_LAYOUT: RustLayout = rust_layout!(BvhTriangle { v0, triangle, v1, v2 });
 
 /// What building cost and how good the tree is, for `--stats`.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -204,7 +204,7 @@ impl Bvh {
             .map(|&i| {
                 let t = &tris[i as usize];
                 let [v0, v1, v2] = t.v;
-                BvhTriangle { v0, triangle: t.index, v1, pad0: 0, v2, pad1: 0 }
+                BvhTriangle { v0, triangle: t.index, v1, v2 }
             })
             .collect();
         // The box test is conservative for the exact ray (Ize 2013, see `intersect`), but the

@@ -110,14 +110,14 @@ impl InstancedBvh {
         let mut out =
             InstancedBvh { nodes: Vec::new(), triangles: Vec::new(), parts: Vec::new(), stats: BvhStats::default() };
         let inputs = static_part.iter().map(|p| (p, true)).chain(instances.iter().map(|p| (p, false)));
-        for (part_index, (input, identity)) in inputs.enumerate() {
+        for (input, identity) in inputs {
             let bvh = Bvh::build(input.vertices)?;
-            out.append(bvh, input.first_triangle, part_index as u32, identity, magnitude);
+            out.append(bvh, input.first_triangle, identity, magnitude);
         }
         Ok(out)
     }
 
-    fn append(&mut self, bvh: Bvh, first_triangle: u32, part: u32, identity: bool, magnitude: f32) {
+    fn append(&mut self, bvh: Bvh, first_triangle: u32, identity: bool, magnitude: f32) {
         let node_base = self.nodes.len() as u32;
         let triangle_base = self.triangles.len() as u32;
         // Bvh::build padded by its own magnitude; top up to the scene's.
@@ -136,11 +136,8 @@ impl InstancedBvh {
                 count: n.count,
             }
         }));
-        self.triangles.extend(bvh.triangles.iter().map(|t| BvhTriangle {
-            triangle: t.triangle + first_triangle,
-            pad0: part,
-            ..*t
-        }));
+        self.triangles
+            .extend(bvh.triangles.iter().map(|t| BvhTriangle { triangle: t.triangle + first_triangle, ..*t }));
         let root = &self.nodes[node_base as usize];
         self.parts.push(Part { root: node_base, bounds_min: root.bounds_min, bounds_max: root.bounds_max, identity });
         let s = &mut self.stats;
@@ -259,9 +256,11 @@ mod tests {
         assert!(bvh.parts[0].identity && !bvh.parts[1].identity);
         let root1 = bvh.parts[1].root as usize;
         assert!(root1 > 0);
-        let mut seen: Vec<(u32, u32)> = bvh.triangles.iter().map(|t| (t.triangle, t.pad0)).collect();
-        seen.sort();
-        assert_eq!(seen, vec![(0, 0), (1, 0), (2, 1), (3, 1)]);
+        // Each part's triangles follow the previous part's, renumbered into the scene's list.
+        let mut seen: Vec<u32> = bvh.triangles.iter().map(|t| t.triangle).collect();
+        seen[..2].sort();
+        seen[2..].sort();
+        assert_eq!(seen, vec![0, 1, 2, 3]);
         // Every interior node of the second part points into the second part's nodes.
         for n in &bvh.nodes[root1..] {
             if n.count == 0 {

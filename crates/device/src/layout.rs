@@ -22,6 +22,11 @@ impl GpuStruct for u32 {
     const LAYOUT: RustLayout = RustLayout { size: 4, members: &[] };
 }
 
+/// A plain `float` element (`float xyz[]`).
+impl GpuStruct for f32 {
+    const LAYOUT: RustLayout = RustLayout { size: 4, members: &[] };
+}
+
 /// Declares a `#[repr(C)]` struct and its [`GpuStruct`] layout in one go, so the field list is
 /// written once. Attributes (derives included) are passed through; the struct must derive
 /// `bytemuck::Pod`.
