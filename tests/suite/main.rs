@@ -14,6 +14,7 @@ mod corner_bias;
 mod device;
 mod direct_light;
 mod docs;
+mod game_scale;
 mod gpu_report;
 mod identity;
 mod leak;

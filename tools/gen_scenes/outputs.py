@@ -11,6 +11,7 @@ from .fixtures import (
 )
 from .rooms import doorway, two_rooms
 from .atrium import atrium
+from .basilica import basilica
 from .stress import (
     PARTITION_SWEEP_MM, SEALED_QUADS_BIG, ball_at_partition, big_radius, camera_in_wall, coplanar, door_gap,
     far_degenerate, grazing_spot, hundred_lights, lattice, light_near_wall, partition_sweep, room_10km,
@@ -37,6 +38,8 @@ def outputs():
         "scenes/moving-light.gltf": moving_light(),
         "scenes/motion/doorway-walk.gltf": doorway_walk(),
         "scenes/motion/atrium-pan.gltf": atrium(pan=True),
+        "scenes/basilica.glb": basilica(),
+        "scenes/basilica-sealed.glb": basilica(sealed=True),
         "scenes/stress/sealed-quads.gltf": sealed_quads(),
         "scenes/stress/sealed-quads-x1000.gltf": sealed_quads(SEALED_QUADS_BIG),
         **{f"scenes/stress/partition-{mm}mm.gltf": partition_sweep(mm) for mm in PARTITION_SWEEP_MM},
@@ -84,6 +87,16 @@ def main():
                          parse_triple(opts["--target"]) if "--target" in opts else SPONZA_TARGET,
                          parse_triple(opts["--sun"], 2) if "--sun" in opts else SPONZA_SUN)
         print(f"wrote {out}")
+        return
+    if "--basilica" in args:
+        opts = dict(zip(args[::2], args[1::2]))
+        detail = float(opts["--basilica"])
+        if not 0.0 < detail <= 100.0:
+            raise SystemExit(f"gen-scenes: --basilica DETAIL must be in (0, 100], got {detail}")
+        out = Path(opts.get("--out", f"basilica-{detail:g}.glb"))
+        data = basilica(detail, sealed="--sealed" in args)
+        out.write_bytes(data)
+        print(f"wrote {out} ({len(data)} bytes)")
         return
     check = "--check" in sys.argv[1:]
     stale = []
