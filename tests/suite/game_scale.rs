@@ -68,3 +68,63 @@ fn the_sealed_aisle_is_exactly_black() {
         eprintln!("{backend:?}: splat lit {leaky} of {} pixels; leakless none", splat.indirect.len());
     }
 }
+
+/// `bench scale` measures what it says per scene and backend, and charts it: the CSV's triangle
+/// counts are the scenes', every time and the memory held are positive, and the memory grows
+/// with the scene (the Cornell box's 36 triangles against the basilica's 210k).
+#[test]
+fn bench_scale_reports_each_scene_on_each_backend() {
+    let Some(gpu) = common::gpu() else { return };
+    let backends = common::backends(&gpu).len();
+    drop(gpu);
+    let csv = common::tmp_path("scale.csv");
+    let svg = common::tmp_path("scale.svg");
+    let scenes = ["scenes/cornell-box.gltf", "scenes/basilica.glb"];
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_leakless"))
+        .args(["bench", "scale", scenes[0], scenes[1], "--size", "32x24", "--paths", "1000", "--repeats", "1"])
+        .arg("--csv")
+        .arg(&csv)
+        .arg("--chart")
+        .arg(&svg)
+        .current_dir(common::root())
+        .output()
+        .expect("running leakless");
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let text = std::fs::read_to_string(&csv).expect("the CSV");
+    let rows: Vec<Vec<&str>> = text.lines().skip(1).map(|l| l.split(',').collect()).collect();
+    assert_eq!(rows.len(), scenes.len() * backends, "{text}");
+    for (row, scene) in rows.iter().zip(scenes.iter().flat_map(|s| std::iter::repeat_n(s, backends))) {
+        let triangles: usize = row[1].parse().unwrap();
+        assert_eq!(triangles, common::scene(scene).triangle_count(), "{text}");
+        for column in [2, 4, 6, 7] {
+            assert!(row[column].parse::<f64>().unwrap() > 0.0, "column {column} of {row:?}");
+        }
+    }
+    let memory = |r: &Vec<&str>| r[6].parse::<f64>().unwrap();
+    assert!(memory(&rows[backends]) > memory(&rows[0]), "{text}");
+    assert!(std::fs::metadata(&svg).is_ok() && std::fs::metadata(svg.with_extension("png")).is_ok());
+}
+
+/// A 3M-triangle basilica (`tools/gen-scenes --basilica 15`) loads and renders on both
+/// backends: beyond what one 96-byte vertex buffer could bind on lavapipe (1.4M). Ignored in
+/// CI for its time (a minute per backend in a debug build); `bench scale` covers it
+/// (docs/results.md).
+#[test]
+#[ignore]
+fn a_three_million_triangle_scene_renders() {
+    let path = common::tmp_path("basilica-15.glb");
+    let status = std::process::Command::new("python3")
+        .args(["tools/gen-scenes", "--basilica", "15", "--out"])
+        .arg(&path)
+        .current_dir(common::root())
+        .status()
+        .expect("python3");
+    assert!(status.success());
+    let scene = Scene::load(&path).expect("the basilica");
+    assert!(scene.triangle_count() >= 3_000_000, "{} triangles", scene.triangle_count());
+    for backend in common::choices() {
+        let frame = render(&scene, RenderSettings { width: 32, height: 24, ..settings(Method::LeakLess, backend) });
+        assert!(common::all_finite(&frame.radiance), "{backend:?}");
+        assert!(lit(&frame.indirect) > 0, "{backend:?}: no indirect light");
+    }
+}

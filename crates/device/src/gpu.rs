@@ -234,6 +234,17 @@ impl Gpu {
         .map_err(|e| DeviceError::Alloc { what: "an allocator".into(), message: e.to_string() })
     }
 
+    /// Device memory the renderer's allocator holds, in bytes: (allocated to live buffers and
+    /// images, reserved in its memory blocks). Libraries' own allocators (`new_allocator`) and
+    /// driver-internal memory are not counted.
+    pub fn memory_in_use(&self) -> (u64, u64) {
+        let guard = self.shared.allocator.lock().unwrap_or_else(|e| e.into_inner());
+        guard.as_ref().map_or((0, 0), |a| {
+            let report = a.generate_report();
+            (report.total_allocated_bytes, report.total_capacity_bytes)
+        })
+    }
+
     /// How long a submission may run before it counts as a lost device (`LEAKLESS_GPU_TIMEOUT`).
     pub fn timeout(&self) -> Duration {
         self.timeout

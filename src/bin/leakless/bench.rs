@@ -45,8 +45,9 @@ pub enum BenchCommand {
         repeats: u32,
     },
     /// Temporal stability, per scene: flicker of splat, leakless-capped and leakless (a still
-    /// view, fresh photons every frame, no accumulation), and how much each frame of a
-    /// leakless accumulation still changes the image.
+    /// view, fresh photons every frame, no accumulation), how much each frame of a leakless
+    /// accumulation still changes the image, and the grain (pixel-scale noise) of the single
+    /// frames.
     Flicker {
         /// The scenes (.gltf or .glb).
         #[arg(required = true)]
@@ -102,6 +103,30 @@ pub enum BenchCommand {
         #[arg(long)]
         csv: Option<PathBuf>,
     },
+    /// Scene size, per scene (the same scene tessellated finer: `tools/gen-scenes --basilica
+    /// DETAIL`): triangles, the load, each backend's setup and trace-structure build, the
+    /// device memory held and a leakless frame.
+    Scale {
+        /// The scenes (.gltf or .glb), e.g. the basilica at several details.
+        #[arg(required = true)]
+        scenes: Vec<PathBuf>,
+        #[arg(long, default_value = "320x240", value_parser = crate::parse_size)]
+        size: (u32, u32),
+        #[arg(long, default_value_t = 10_000)]
+        paths: u32,
+        /// Timed frames per scene and backend after a warm-up frame (the fastest counts).
+        #[arg(long, default_value_t = 2, value_parser = clap::value_parser!(u32).range(1..=100))]
+        repeats: u32,
+        /// Trace backend (`auto`: both where the device has ray queries).
+        #[arg(long, default_value = "auto", value_parser = crate::parse_backend)]
+        backend: BackendChoice,
+        /// Also write the figures to this CSV.
+        #[arg(long)]
+        csv: Option<PathBuf>,
+        /// Also chart them: this SVG and a PNG beside it.
+        #[arg(long)]
+        chart: Option<PathBuf>,
+    },
     /// Photon splatting: per-pass times, hierarchy tests against brute force, growth with
     /// paths and resolution, and the branching factor B.
     Splat {
@@ -132,6 +157,17 @@ pub fn run(cmd: BenchCommand) -> anyhow::Result<()> {
             }
             let bench = crate::bench_motion::MotionBench { scenes, size, paths, frames, fps, spp, backend, csv };
             crate::bench_motion::run(&bench)
+        }
+        BenchCommand::Scale { scenes, size, paths, repeats, backend, csv, chart } => {
+            crate::bench_scale::run(&crate::bench_scale::ScaleBench {
+                scenes,
+                size,
+                paths,
+                repeats,
+                backend,
+                csv,
+                chart,
+            })
         }
         BenchCommand::Leak { scenes, size, paths, radius, backend, repeats } => {
             crate::bench_leak::run(&scenes, size, paths, radius, backend, repeats)

@@ -6,6 +6,7 @@ mod bench_animation;
 mod bench_flicker;
 mod bench_leak;
 mod bench_motion;
+mod bench_scale;
 mod chart;
 mod chart_series;
 mod gpu_report;

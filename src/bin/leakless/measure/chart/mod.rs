@@ -7,6 +7,7 @@
 
 pub mod flip;
 pub mod plot;
+pub mod scale_plot;
 pub mod series;
 pub mod series_plot;
 pub mod thickness;

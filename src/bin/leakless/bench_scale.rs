@@ -1,0 +1,131 @@
+//! `leakless bench scale`: what a scene's size costs. Per scene (the same scene tessellated
+//! finer: `tools/gen-scenes --basilica DETAIL`), the load, the trace structure's build, the
+//! device memory and a leakless frame, per backend, in one process.
+
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use anyhow::Context;
+use leakless::{Backend, BackendChoice, Method, RenderSettings, Renderer, Scene, SplatSettings};
+
+use crate::measure::chart::scale_plot::{plot_scale, ScalePoint};
+
+pub struct ScaleBench {
+    pub scenes: Vec<PathBuf>,
+    pub size: (u32, u32),
+    pub paths: u32,
+    pub repeats: u32,
+    pub backend: BackendChoice,
+    pub csv: Option<PathBuf>,
+    pub chart: Option<PathBuf>,
+}
+
+pub fn run(bench: &ScaleBench) -> anyhow::Result<()> {
+    let (w, h) = bench.size;
+    let gpu = crate::open_gpu(bench.backend)?;
+    let backends: Vec<(BackendChoice, Backend)> = match bench.backend {
+        BackendChoice::Auto if gpu.capabilities().ray_query => {
+            vec![(BackendChoice::Compute, Backend::Compute), (BackendChoice::RayQuery, Backend::RayQuery)]
+        }
+        BackendChoice::Auto | BackendChoice::Compute => vec![(BackendChoice::Compute, Backend::Compute)],
+        BackendChoice::RayQuery => vec![(BackendChoice::RayQuery, Backend::RayQuery)],
+    };
+    let device = gpu.report().name.clone();
+    drop(gpu);
+    println!(
+        "bench scale on {device}: leakless {w}x{h}, {} paths, best of {} frames after a warm-up",
+        bench.paths, bench.repeats
+    );
+    println!("load: glTF to world-space triangles on the host; setup: upload and trace structure (build: its part);");
+    println!("memory: what the renderer has allocated after the frames (buffers, images, acceleration structures)");
+    println!(
+        "{:<22} {:>10} {:>9} {:<8} {:>10} {:>10} {:>11} {:>10}",
+        "scene", "triangles", "load ms", "backend", "setup ms", "build ms", "memory MiB", "frame ms"
+    );
+    let mut points = Vec::new();
+    for path in &bench.scenes {
+        let start = Instant::now();
+        let scene = Scene::load(path).with_context(|| format!("loading {}", path.display()))?;
+        let load_ms = start.elapsed().as_secs_f64() * 1e3;
+        for &(choice, backend) in &backends {
+            let settings = RenderSettings {
+                width: w,
+                height: h,
+                backend: choice,
+                method: Method::LeakLess,
+                splat: SplatSettings { paths: bench.paths, ..Default::default() },
+                ..Default::default()
+            };
+            let start = Instant::now();
+            let mut renderer = Renderer::new(crate::open_gpu(choice)?, &scene, settings)
+                .with_context(|| format!("{}: the {} backend", path.display(), backend.name()))?;
+            let setup_ms = start.elapsed().as_secs_f64() * 1e3;
+            let build_ms = renderer.trace_stats().build_ms;
+            renderer.render_frame(None)?;
+            renderer.wait_idle()?;
+            let mut frame_ms = f64::INFINITY;
+            for _ in 0..bench.repeats {
+                let start = Instant::now();
+                renderer.render_frame(None)?;
+                renderer.wait_idle()?;
+                frame_ms = frame_ms.min(start.elapsed().as_secs_f64() * 1e3);
+            }
+            renderer.gpu().check_validation()?;
+            let (allocated, _) = renderer.gpu().memory_in_use();
+            let point = ScalePoint {
+                scene: file_name(path),
+                triangles: scene.triangle_count() as u64,
+                load_ms,
+                backend,
+                setup_ms,
+                build_ms,
+                memory_mib: allocated as f64 / (1 << 20) as f64,
+                frame_ms,
+            };
+            println!(
+                "{:<22} {:>10} {:>9.0} {:<8} {:>10.0} {:>10.0} {:>11.0} {:>10.1}",
+                point.scene,
+                point.triangles,
+                point.load_ms,
+                backend.name(),
+                point.setup_ms,
+                point.build_ms,
+                point.memory_mib,
+                point.frame_ms
+            );
+            points.push(point);
+        }
+    }
+    if let Some(csv) = &bench.csv {
+        write_csv(csv, &points)?;
+        println!("wrote {}", csv.display());
+    }
+    if let Some(svg) = &bench.chart {
+        let png = svg.with_extension("png");
+        plot_scale(&points, &device, bench.size, svg, &png).with_context(|| format!("writing {}", svg.display()))?;
+        println!("wrote {} and {}", svg.display(), png.display());
+    }
+    Ok(())
+}
+
+fn file_name(path: &Path) -> String {
+    path.file_name().map_or_else(|| path.display().to_string(), |n| n.to_string_lossy().into_owned())
+}
+
+fn write_csv(path: &Path, points: &[ScalePoint]) -> anyhow::Result<()> {
+    let mut text = String::from("scene,triangles,load_ms,backend,setup_ms,build_ms,memory_mib,frame_ms\n");
+    for p in points {
+        text += &format!(
+            "{},{},{:.1},{},{:.1},{:.1},{:.1},{:.2}\n",
+            p.scene,
+            p.triangles,
+            p.load_ms,
+            p.backend.name(),
+            p.setup_ms,
+            p.build_ms,
+            p.memory_mib,
+            p.frame_ms
+        );
+    }
+    std::fs::write(path, text).with_context(|| format!("writing {}", path.display()))
+}
