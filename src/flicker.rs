@@ -18,6 +18,12 @@ pub fn luminance(p: &[f32; 3]) -> f64 {
 /// that is black in every frame does not flicker). The method's own flicker: without temporal
 /// reuse, which would average the frames. Leaves the renderer without accumulation or reuse.
 pub fn flicker(renderer: &mut Renderer, frames: u32) -> Result<f64> {
+    Ok(flicker_of(&single_frames(renderer, frames)?))
+}
+
+/// The luminance images of `frames` single frames with fresh photons, as [`flicker`] renders
+/// them.
+pub fn single_frames(renderer: &mut Renderer, frames: u32) -> Result<Vec<Vec<f64>>> {
     renderer.set_progressive(false);
     renderer.update(|s| (s.frames, s.reuse) = (1, false))?;
     renderer.set_advance_seed(true);
@@ -26,7 +32,35 @@ pub fn flicker(renderer: &mut Renderer, frames: u32) -> Result<f64> {
         let frame = renderer.capture_frame()?;
         series.push(frame.radiance.iter().map(luminance).collect::<Vec<f64>>());
     }
-    Ok(flicker_of(&series))
+    Ok(series)
+}
+
+/// Grain: noise at the scale of a pixel, which flicker (per pixel, over frames) and relMSE
+/// (dominated by kernel-sized blotches) both blur. Per frame, the mean over the pixels not on
+/// the image's border of |L − the median of L's 3×3 neighbourhood|; averaged over the frames
+/// and divided by the mean luminance of all of them, so that a method that is darker is not
+/// less grainy for it. 0 for a smooth or constant image.
+pub fn grain_of(series: &[Vec<f64>], width: usize) -> f64 {
+    let Some(first) = series.first() else { return 0.0 };
+    let height = first.len() / width.max(1);
+    let mean = series.iter().flatten().sum::<f64>() / (series.len() * first.len()).max(1) as f64;
+    if width < 3 || height < 3 || mean <= 0.0 {
+        return 0.0;
+    }
+    let mut total = 0.0;
+    for image in series {
+        for y in 1..height - 1 {
+            for x in 1..width - 1 {
+                let mut window = [0.0; 9];
+                for (k, w) in window.iter_mut().enumerate() {
+                    *w = image[(y + k / 3 - 1) * width + x + k % 3 - 1];
+                }
+                window.sort_by(f64::total_cmp);
+                total += (image[y * width + x] - window[4]).abs();
+            }
+        }
+    }
+    total / ((series.len() * (width - 2) * (height - 2)) as f64 * mean)
 }
 
 /// [`flicker`] of per-frame luminance images (each the same length).
@@ -83,5 +117,18 @@ mod tests {
         assert_eq!(flicker_of(&series), 0.25);
         assert_eq!(flicker_of(&[vec![0.0; 4], vec![0.0; 4]]), 0.0);
         assert_eq!(flicker_of(&[]), 0.0);
+    }
+
+    #[test]
+    fn grain_is_the_deviation_from_the_local_median() {
+        // A ramp is its own median everywhere: no grain. One bright pixel of 10 in a 1-valued
+        // 4×4 image: the inner 2×2 pixels deviate by 9 (that one) and 0 (its neighbours'
+        // medians stay 1), over 4 inner pixels and a mean of 25/16.
+        let ramp: Vec<f64> = (0..16).map(|i| (i % 4) as f64 + 1.0).collect();
+        assert_eq!(grain_of(&[ramp], 4), 0.0);
+        let mut spot = vec![1.0; 16];
+        spot[5] = 10.0;
+        assert!((grain_of(&[spot], 4) - 9.0 / 4.0 / (25.0 / 16.0)).abs() < 1e-12);
+        assert_eq!(grain_of(&[vec![0.0; 16]], 4), 0.0);
     }
 }

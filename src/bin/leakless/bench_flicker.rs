@@ -4,7 +4,7 @@
 use std::path::PathBuf;
 
 use anyhow::Context;
-use leakless::flicker::{accumulation_changes, flicker, FLICKER_FRAMES};
+use leakless::flicker::{accumulation_changes, flicker_of, grain_of, single_frames, FLICKER_FRAMES};
 use leakless::{BackendChoice, Method, RenderSettings, Renderer, Scene, SplatSettings};
 
 pub fn run(
@@ -28,6 +28,7 @@ pub fn run(
         "{:<14} {:>9} {:>16} {:>9} {:>17}   accumulation: change made by frame N (N = 2, 4, 8, 16, 32 ...)",
         "scene", "splat", "leakless-capped", "leakless", "leakless / splat"
     );
+    let mut grain_rows = Vec::new();
     for path in scenes {
         let scene = Scene::load(path).with_context(|| format!("loading {}", path.display()))?;
         let settings = |method| RenderSettings {
@@ -39,10 +40,12 @@ pub fn run(
             ..Default::default()
         };
         let mut renderer = Renderer::new(open()?, &scene, settings(Method::Splat))?;
-        let mut values = Vec::new();
+        let (mut values, mut grains) = (Vec::new(), Vec::new());
         for method in [Method::Splat, Method::LeakLessCapped, Method::LeakLess] {
             renderer.set_settings(settings(method))?;
-            values.push(flicker(&mut renderer, FLICKER_FRAMES)?);
+            let frames = single_frames(&mut renderer, FLICKER_FRAMES)?;
+            values.push(flicker_of(&frames));
+            grains.push(grain_of(&frames, w as usize));
         }
         renderer.set_settings(settings(Method::LeakLess))?;
         let changes = accumulation_changes(&mut renderer, frames)?;
@@ -61,6 +64,22 @@ pub fn run(
             values[2] / values[0].max(1e-12),
             at_powers.join(" ")
         );
+        grain_rows.push(format!(
+            "{:<14} {:>9.4} {:>16.4} {:>9.4} {:>16.2}x",
+            scene.name,
+            grains[0],
+            grains[1],
+            grains[2],
+            grains[2] / grains[0].max(1e-12)
+        ));
+    }
+    println!();
+    println!(
+        "grain, the same frames: per frame, mean |L - median of its 3x3 neighbourhood| over the mean luminance (pixel-scale noise)"
+    );
+    println!("{:<14} {:>9} {:>16} {:>9} {:>17}", "scene", "splat", "leakless-capped", "leakless", "leakless / splat");
+    for row in grain_rows {
+        println!("{row}");
     }
     Ok(())
 }
