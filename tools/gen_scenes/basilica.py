@@ -192,10 +192,10 @@ def basilica(detail=1.0, sealed=False):
         nodes.append(solid("arcade wall", box_solid((N - 0.15, -0.1, -T / 2), (N + 0.2, GALLERY[0] + 0.06, L + T / 2)),
                            stone))
 
-    around, rings = max(8, round(64 * f)), max(4, round(40 * f))
+    around, rings = max(6, round(64 * f)), max(3, round(40 * f))
     cp, cn, ci = lathe(column_profile(rings), around)
     column = g.mesh("column", cp, cn, stone, indices=ci)
-    b_around, b_rings = max(6, round(16 * f)), max(4, round(12 * f))
+    b_around, b_rings = max(4, round(16 * f)), max(2, round(12 * f))
     bp, bn, bi = lathe(baluster_profile(b_rings), b_around)
     baluster = g.mesh("baluster", bp, bn, stone, indices=bi)
     pew_solid = ([], [])
