@@ -10,14 +10,15 @@
 // behind the wall), which the visibility test rightly removes: `leakless` came out darker than
 // the reference there (6% over the atrium at the default radius, 12% at twice it).
 //
-// How: DISK_DIRECTIONS rays from x, rotated at random per pixel and frame (accumulation
-// averages them), each DISK_SLOPE above the tangent plane (a concave surface rises above its
-// tangent plane; a ray grazing it would find it at once). Each ray gives exactly the kernel
-// mass its direction sees up to the first surface it meets; within that, DISK_DEPTHS points
-// drawn from the kernel's radial mass check that the surface exists: over the sample's own
-// face (its triangle, or that triangle's coplanar neighbour: no ray needed), or else a short ray
-// down from the point must meet a surface facing like x's no deeper than a few lifts below the
-// tangent plane (on a convex curved mesh as deep as it drops, below).
+// How: DISK_DIRECTIONS rays from x (most of them traced by its neighbours: sharing, below),
+// turned by a random angle per frame (accumulation averages them), each DISK_SLOPE above the
+// tangent plane (a concave surface rises above its tangent plane; a ray grazing it would find it
+// at once). Each ray gives exactly the kernel mass its direction sees up to the first surface it
+// meets; within that, DISK_DEPTHS points drawn from the kernel's radial mass check that the
+// surface exists: over the sample's own face (its triangle, or that triangle's coplanar
+// neighbour: no ray needed), or else a short ray down from the point must meet a surface facing
+// like x's no deeper than a few lifts below the tangent plane (on a convex curved mesh as deep
+// as it drops, below).
 //
 // Why not deeper: the gather's visibility segment from x to a photon on a surface below the plane
 // beyond an edge of x's face dips through x's face or the solid under it, so the test drops every
@@ -36,7 +37,7 @@
 #include "disk.glsl"
 #include "random.glsl"
 
-layout(local_size_x = 8, local_size_y = 8) in;
+layout(local_size_x = 8, local_size_y = 8) in;  // TILE × TILE (visible_disk.rs: TILE)
 
 FRAME_BLOCK(0);
 GBUFFER_BINDINGS(1)
@@ -52,7 +53,11 @@ layout(push_constant) uniform VisibleDiskParams {
     float min_radius_share;         // s: it shrinks to no less than s·r
     uint walk_faces;                // 1: over_own_face may step to a coplanar neighbour
     float max_radius_share;         // g: it grows to no more than g·r
+    uint tile_offset;               // x | y << 16: the workgroups' tiles start this far up and left of pixel 0
+    float rotation;                 // this frame's turn of the directions, in quarter turns [0, 1)
+    float share_distance;           // neighbours closer than this share of r lend their directions
     uint pad1;
+    uint pad2;
 } params;
 
 #define DISK_DIRECTIONS 4u
@@ -105,55 +110,56 @@ bool over_own_face(uint own, vec3 p) {
     return across != NO_NEIGHBOUR && edge_beyond(across, p) == 3u;
 }
 
-// The mass around `from` (normal `ng`, radius r) on `own`'s surface, seen from `from`.
-// `rays_down` counts the rays down it traces (the disk-mass image's .b: tests compare it).
-// On a convex curved surface (curvature > 0) it also traces the gather's lift: `lift` is how
-// far the gather may move `from` along ng, κr² (at most r) or half the way to whatever stands
-// in front of the surface closer than that. An untraced lift could carry the segments' start
-// through a wall beside a ball, into the next room, and let that room's light in.
-float visible_disk_mass(vec3 from, vec3 ng, float curvature, uint own, float r, inout Rng rng, inout uint rays_down, out float lift) {
+// One direction's measurement of the disk around `from` (normal `ng`) at radius R: how far in
+// the plane the direction sees (`reach`, at most R), and DISK_DEPTHS probes drawn from the
+// kernel's radial mass within that reach, at distances `rho`, bit j of `supported` set where
+// probe j found the sample's own surface. `direction_mass` reads the direction's share of the
+// mass at any radius up to R from it.
+struct DirectionSamples {
+    float reach;
+    vec4 rho;
+    uint supported;
+};
+
+// Traces the ray in direction `phi` around `from` and its probes at radius `big_r`, and, with
+// `lift_length` > 0 (a convex curved surface), the ray up along ng that bounds the gather's
+// lift: `lift_hit` is where it met something (lift_length: nothing). `rays_down` counts the
+// rays down it traces (the disk-mass image's .b: tests compare it).
+DirectionSamples trace_direction(vec3 from, vec3 ng, float curvature, uint own, float big_r, float phi, float lift_length, inout Rng rng, inout uint rays_down, out float lift_hit) {
     // A probe over the sample's own (opaque) face is on the surface without a ray down, which
     // spares most of those rays on the large triangles walls and floors are made of.
     bool own_opaque = triangle_material(own).alpha_cutoff < 0.0;
     vec3 t, b;
     basis(ng, t, b);
-    float angle_phase = rng_next(rng);
     float stretch = sqrt(1.0 + DISK_SLOPE * DISK_SLOPE);  // ray length per unit of in-plane distance
-    float mass = 0.0;
-    // One loop over the rays, not a loop of directions each with its own loop of rays down: one
-    // call site inlines the trace once (compiling faster), and a lane tracing a direction's ray
-    // and one tracing a ray down share an iteration instead of waiting for each other.
-    uint k = 0u;                     // the direction
-    uint j = DISK_DEPTHS;            // its next probe; DISK_DEPTHS: its ray comes first
-    vec3 dir = vec3(0.0);
-    float seen = 0.0;
-    float phase = 0.0;
-    uint supported = 0u;
-    float wanted = curvature > 0.0 ? min(curvature * r * r, r) : 0.0;
-    lift = 0.0;
-    bool lifting = false;  // the last ray: the lift's
-    while (true) {
-        if (k == DISK_DIRECTIONS) {
-            if (lifting || !(wanted > 0.0)) {
-                break;
-            }
-            lifting = true;
+    vec3 dir = (cos(phi) * t + sin(phi) * b + DISK_SLOPE * ng) / stretch;
+    DirectionSamples samples = DirectionSamples(big_r, vec4(0.0), 0u);
+    float seen = 1.0;
+    float phase = rng_next(rng);
+    lift_hit = lift_length;
+    // One loop over the rays (the direction's, its probes', the lift's), one call site: it
+    // inlines the trace once (compiling faster), and lanes tracing different kinds of ray share
+    // an iteration instead of waiting for each other. j = 0: the direction's ray; 1 … DISK_DEPTHS:
+    // its probes; DISK_DEPTHS + 1: the lift.
+    for (uint j = 0u; j <= DISK_DEPTHS + 1u; ++j) {
+        bool lifting = j == DISK_DEPTHS + 1u;
+        if (lifting && !(lift_length > 0.0)) {
+            break;
         }
         vec3 origin = from;
         vec3 towards;
         float length;
+        float rho = 0.0;
         if (lifting) {
             towards = ng;
-            length = wanted;
-        } else if (j == DISK_DEPTHS) {
-            float phi = 2.0 * PI * (float(k) + angle_phase) / float(DISK_DIRECTIONS);
-            dir = (cos(phi) * t + sin(phi) * b + DISK_SLOPE * ng) / stretch;
+            length = lift_length;
+        } else if (j == 0u) {
             towards = dir;
-            length = r * stretch;
+            length = big_r * stretch;
         } else {
             // The kernel's radial mass 1 − (1 − s²)³ is uniform in u: s = sqrt(1 − (1 − u)^(1/3)).
-            float u = seen * (float(j) + phase) / float(DISK_DEPTHS);
-            float rho = r * sqrt(max(0.0, 1.0 - pow(1.0 - u, 1.0 / 3.0)));
+            float u = seen * (float(j - 1u) + phase) / float(DISK_DEPTHS);
+            rho = big_r * sqrt(max(0.0, 1.0 - pow(1.0 - u, 1.0 / 3.0)));
             origin = from + (rho * stretch) * dir;
             towards = -ng;
             // From DISK_SLOPE·rho above the plane down to it, and a few lifts below: a tolerance
@@ -162,38 +168,52 @@ float visible_disk_mass(vec3 from, vec3 ng, float curvature, uint own, float r, 
             // its segments to see photons there.
             length = DISK_SLOPE * rho + 4.0 * lift_size(origin) + convex_drop(curvature, rho);
         }
-        bool on_face = !lifting && j < DISK_DEPTHS && own_opaque && over_own_face(own, origin);
+        bool probe = j >= 1u && j <= DISK_DEPTHS;
+        bool on_face = probe && own_opaque && over_own_face(own, origin);
         Hit hit = Hit(length, NO_HIT, vec2(0.0));  // a probe on the face needs no ray
         if (!on_face) {
             hit = traceClosest(origin, towards, 0.0, length);
-            rays_down += j < DISK_DEPTHS ? 1u : 0u;
+            rays_down += probe ? 1u : 0u;
         }
         if (lifting) {
-            lift = hit.triangle == NO_HIT ? wanted : 0.5 * hit.t;
-            break;
-        }
-        if (j == DISK_DEPTHS) {
-            float reach = hit.triangle == NO_HIT ? r : min(hit.t / stretch, r);
-            seen = biweight_mass(reach / r);
-            phase = rng_next(rng);
-            supported = 0u;
-            j = 0u;
-            continue;
-        }
-        if (on_face || (hit.triangle != NO_HIT && abs(dot(triangle_geometric_normal(hit.triangle), ng)) >= DISK_MIN_NORMAL_COSINE)) {
-            supported += 1u;
-        }
-        j += 1u;
-        if (j == DISK_DEPTHS) {
-            mass += seen * float(supported) / float(DISK_DEPTHS);
-            k += 1u;
+            lift_hit = hit.triangle == NO_HIT ? lift_length : hit.t;
+        } else if (j == 0u) {
+            samples.reach = hit.triangle == NO_HIT ? big_r : min(hit.t / stretch, big_r);
+            seen = biweight_mass(samples.reach / big_r);
+        } else {
+            samples.rho[j - 1u] = rho;
+            if (on_face || (hit.triangle != NO_HIT && abs(dot(triangle_geometric_normal(hit.triangle), ng)) >= DISK_MIN_NORMAL_COSINE)) {
+                samples.supported |= 1u << (j - 1u);
+            }
         }
     }
-    return mass / float(DISK_DIRECTIONS);
+    return samples;
+}
+
+// The share of the kernel's mass at radius `r` (≤ `big_r`, the radius the samples were drawn
+// at) that one direction sees on the sample's surface: the mass up to the reach, exactly, less
+// the part of it the probes found unsupported. The probes were drawn from the kernel at big_r
+// within the reach, with density w_R(ρ)/seen_R; weighted by the kernels' radial densities'
+// ratio w_r/w_R = (R²/r²)·((1 − ρ²/r²) / (1 − ρ²/R²))², each stands for the kernel at r, so the
+// estimate is unbiased at any r ≤ R, exactly the count of supported probes at r = R, and exactly
+// the seen mass where every probe found the surface. It may come out below 0 for one direction;
+// the mean over directions is floored by the caller.
+float direction_mass(DirectionSamples samples, float big_r, float r) {
+    float seen = biweight_mass(min(samples.reach, r) / r);
+    float seen_at_big_r = biweight_mass(samples.reach / big_r);
+    float unsupported = 0.0;
+    for (uint j = 0u; j < DISK_DEPTHS; ++j) {
+        float rho = samples.rho[j];
+        if ((samples.supported & (1u << j)) == 0u && rho < r) {
+            float w = (1.0 - rho * rho / (r * r)) / (1.0 - rho * rho / (big_r * big_r));
+            unsupported += (big_r * big_r) / (r * r) * w * w;
+        }
+    }
+    return seen - seen_at_big_r * unsupported / float(DISK_DEPTHS);
 }
 
 // Partial disks: the sample gathers within r·clamp(m^γ, s, g), m its visible share at r, and
-// its mass is measured again at that radius.
+// its mass is read again at that radius (from the same rays: direction_mass).
 //
 // Why grow in a single frame (γ = −1, up to g = 1.5): a partial disk holds fewer photons, and
 // dividing fewer by a smaller mass made one frame noisier at the edges than the whole disk, which
@@ -226,34 +246,263 @@ float radius_share(float m) {
     return clamp(share, params.min_radius_share, params.max_radius_share);
 }
 
-void main() {
-    ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
-    if (pixel.x >= int(frame.width) || pixel.y >= int(frame.height)) {
-        return;
+// Sharing: each sample traces one of the DISK_DIRECTIONS directions (pixel_direction), all of
+// them a quarter turn apart and turned by one random angle per frame (params.rotation), and takes
+// the others from the neighbours in its 3×3 block that lie on its surface (shares_surface), or
+// its 5×5 block where the 3×3 lacks a direction. Its mass is the mean over the directions of
+// their lenders' mean. A direction no neighbour lends (a sample alone on its surface: a baluster
+// a pixel wide, a silhouette, neighbours far apart at a low resolution) the workgroup traces for
+// it: fewer directions would leave its divisor noisier and one frame's 1/mass brighter (+28% at
+// the Cornell box's edges with the directions present only). The lanes take such jobs in turn, so
+// that the few samples alone on their surface do not keep their neighbours' lanes waiting.
+//
+// Why: on detailed geometry (the basilica's columns, balusters and pews) the probes seldom land
+// on the sample's own triangle, so each direction costs up to five rays, and four directions a
+// sample were half of the frame. Inside a surface a sample now traces one direction, and its mass
+// averages up to 25 of them: less grain on narrow faces, where a noisy divisor made one frame look
+// like sandpaper. One angle for the frame rather than one per pixel: four directions a quarter
+// turn apart measure a straight edge through the sample exactly (a half disk is 0.5 every frame);
+// independent angles made the Cornell box's edges +5.6% bright in single frames (+3.9% now).
+// Each frame's tiles start elsewhere (params.tile_offset), so their edges leave no seam.
+//
+// One measurement serves both radii of a partial disk: the rays are drawn at the largest radius
+// the frame may gather within (g·r when growing, r when shrinking), and direction_mass reads any
+// radius up to it from them. Measuring again at the new radius had cost as much as the first
+// measurement.
+const uint TILE = 8u;
+shared vec4 shared_plane[TILE * TILE];   // xyz: the sample's normal; w: 1 + its supported probes (0: none)
+shared vec4 shared_origin[TILE * TILE];  // xyz: the sample's ray origin; w: its reach
+shared vec4 shared_rho[TILE * TILE];     // its probes' distances
+shared float shared_curvature[TILE * TILE];
+shared uint shared_triangle[TILE * TILE];
+shared float shared_radius[TILE * TILE];   // the radius the sample measures at
+// The directions traced for samples none of whose neighbours traced them: at most three each.
+const uint MOST_JOBS = (DISK_DIRECTIONS - 1u) * TILE * TILE;
+shared uint shared_job_count;
+shared uint shared_job[MOST_JOBS];             // the sample's slot | the direction << 8
+shared vec2 shared_job_samples[MOST_JOBS];     // DirectionSamples: reach, supported (bits)
+shared vec4 shared_job_rho[MOST_JOBS];
+
+// The direction the sample at `pixel` traces: (x − y) mod 4, so that every 3×3 block, and every
+// row or column of three pixels (a baluster or a rail a pixel wide), holds three or four
+// directions (a pixel-parity pattern gave a column of pixels only two).
+uint pixel_direction(ivec2 pixel) {
+    return uint(pixel.x - pixel.y) & 3u;
+}
+
+// Whether the sample at `y` (normal `ny`) may lend its direction to the one at `x` (normal `nx`,
+// frame radius `r`): facing alike, on x's tangent plane, and near enough (params.share_distance).
+bool shares_surface(vec3 x, vec3 nx, float r, vec3 y, vec3 ny) {
+    vec3 d = y - x;
+    float distance = length(d);
+    return dot(nx, ny) >= 0.9 && distance <= params.share_distance * r && abs(dot(d, nx)) <= DISK_SLOPE * distance + 4.0 * lift_size(x);
+}
+
+// Whether the sample `offset` pixels from the one in slot `local` of the tile (at `from`, normal
+// `ng`) is on the same surface, and so lends it its direction; `outside`: it lies outside the tile.
+bool lends(uvec2 local, ivec2 offset, vec3 from, vec3 ng, out bool outside) {
+    ivec2 at = ivec2(local) + offset;
+    outside = any(lessThan(at, ivec2(0))) || any(greaterThanEqual(at, ivec2(TILE)));
+    if (outside) {
+        return false;
     }
-    vec4 position = imageLoad(gbuffer_position, pixel);
-    float mass = 1.0;
+    uint other = uint(at.y) * TILE + uint(at.x);
+    vec4 plane = shared_plane[other];
+    return plane.w > 0.0 && (offset == ivec2(0) || shares_surface(from, ng, params.radius, shared_origin[other].xyz, plane.xyz));
+}
+
+// Whether the sample at `offset` lends, and so does the one at −offset unless the tile's edge
+// hides it: the lenders lie symmetric about the sample where the surface ends. A neighbour's disk
+// is not the sample's; over a symmetric block the mass's change along the surface cancels to
+// first order. At a crease or a silhouette all the neighbours lie on one side and read the mass
+// further in, larger by its slope times their offset (the atrium's edges, accumulated, were 25%
+// worse in relMSE). A tile's edge is not required to be symmetric: it moves every frame, and
+// requiring it made a third of the samples trace more directions themselves.
+bool lends_both(uvec2 local, ivec2 offset, vec3 from, vec3 ng) {
+    bool outside;
+    bool mirror_outside;
+    bool mirror = lends(local, -offset, from, ng, mirror_outside);
+    return lends(local, offset, from, ng, outside) && (mirror || mirror_outside);
+}
+
+// Bit k set: the sample at `pixel` (in slot `local` of the tile) or a symmetric pair of
+// neighbours on its surface within `window` pixels traced direction k. Read after the barrier
+// that follows the shares' writes.
+uint lent_directions(uvec2 local, ivec2 pixel, vec3 from, vec3 ng, int window) {
+    uint lent = 0u;
+    for (int dy = -window; dy <= window; ++dy) {
+        for (int dx = -window; dx <= window; ++dx) {
+            if (lends_both(local, ivec2(dx, dy), from, ng)) {
+                lent |= 1u << pixel_direction(pixel + ivec2(dx, dy));
+            }
+        }
+    }
+    return lent;
+}
+
+// The sample's visible share of the kernel at radius `r`: per direction, the mean of what it and
+// the symmetric pairs of neighbours on its surface within `window` pixels measured at `big_r`,
+// or, for the directions in `missing`, what the tile traced for it (jobs `first` on, in the order
+// of their bits); then the mean over the directions.
+float shared_mass(uvec2 local, ivec2 pixel, vec3 from, vec3 ng, float big_r, float r, int window, uint missing, uint first) {
+    float sum[DISK_DIRECTIONS] = float[](0.0, 0.0, 0.0, 0.0);
+    uint count[DISK_DIRECTIONS] = uint[](0u, 0u, 0u, 0u);
+    for (int dy = -window; dy <= window; ++dy) {
+        for (int dx = -window; dx <= window; ++dx) {
+            if (lends_both(local, ivec2(dx, dy), from, ng)) {
+                uint other = uint(int(local.y) + dy) * TILE + uint(int(local.x) + dx);
+                vec4 origin = shared_origin[other];
+                DirectionSamples lent = DirectionSamples(origin.w, shared_rho[other], uint(shared_plane[other].w) - 1u);
+                uint d = pixel_direction(pixel + ivec2(dx, dy));
+                sum[d] += direction_mass(lent, big_r, r);
+                count[d] += 1u;
+            }
+        }
+    }
+    float mass = 0.0;
+    uint job = first;
+    for (uint d = 0u; d < DISK_DIRECTIONS; ++d) {
+        if ((missing & (1u << d)) != 0u) {
+            DirectionSamples traced = DirectionSamples(shared_job_samples[job].x, shared_job_rho[job], floatBitsToUint(shared_job_samples[job].y));
+            mass += direction_mass(traced, big_r, r);
+            job += 1u;
+        } else {
+            mass += sum[d] / float(max(count[d], 1u));
+        }
+    }
+    return mass / float(DISK_DIRECTIONS);
+}
+
+void main() {
+    uvec2 local = gl_LocalInvocationID.xy;
+    uint slot = local.y * TILE + local.x;
+    ivec2 tile_offset = ivec2(params.tile_offset & 0xffffu, params.tile_offset >> 16u);
+    ivec2 pixel = ivec2(gl_GlobalInvocationID.xy) - tile_offset;
+    bool inside = all(greaterThanEqual(pixel, ivec2(0))) && pixel.x < int(frame.width) && pixel.y < int(frame.height);
+    vec4 position = inside ? imageLoad(gbuffer_position, pixel) : vec4(0.0);
+    // Every invocation, inside the image or not, reaches the barriers below.
+    bool valid = inside && params.enabled != 0u && position.w > 0.0;
     float r = params.radius;
     uint rays_down = 0u;
     float lift = 0.0;
-    if (params.enabled != 0u && position.w > 0.0) {
-        uint triangle = uint(position.w) - 1u;
-        vec3 ng = sample_geometric_normal(triangle, imageLoad(gbuffer_normal, pixel).xyz);
-        vec3 from = offset_ray(nudge_toward(position.xyz, frame.camera_position.xyz), ng);
-        float curvature = convex_curvature(triangle, ng);
-        Rng rng = rng_seed(uvec2(pixel), 0xd15cu, params.seed);
-        // A partial disk is measured a second time at its new radius. One call site in a
-        // loop, not two calls: each call inlines the whole trace twice, and on lavapipe four
-        // copies took 7.5 s to compile on first use (the app's first frame waited for it).
-        for (uint measure = 0u; measure < 2u; ++measure) {
-            mass = visible_disk_mass(from, ng, curvature, triangle, r, rng, rays_down, lift);
-            if (measure == 1u || !(params.partial_radius_exponent != 0.0 && mass < 1.0)) {
-                break;
-            }
-            r *= radius_share(max(mass, 0.0));
+    float mass = 1.0;
+    vec3 ng = vec3(0.0);
+    vec3 from = vec3(0.0);
+    float curvature = 0.0;
+    uint triangle = valid ? uint(position.w) - 1u : 0u;
+    if (valid) {
+        ng = sample_geometric_normal(triangle, imageLoad(gbuffer_normal, pixel).xyz);
+        from = offset_ray(nudge_toward(position.xyz, frame.camera_position.xyz), ng);
+        curvature = convex_curvature(triangle, ng);
+    }
+    uint own = pixel_direction(pixel);
+    float lift_hit = 0.0;
+    // A single frame measures once, at the largest radius its partial disks may grow to, and
+    // reads both radii from those rays. An accumulation's shrunk disk is measured again, with
+    // rays of its own, at its new radius: read from the rays that chose the radius, its mass
+    // would be correlated with that choice (a disk whose probes happened to miss the surface
+    // would both shrink and count less), a bias that accumulating keeps.
+    uint measures = params.partial_radius_exponent > 0.0 ? 2u : 1u;
+    float big_r = params.partial_radius_exponent < 0.0 ? params.max_radius_share * r : r;
+    bool measuring = valid;
+    for (uint measure = 0u; measure < measures; ++measure) {
+        if (slot == 0u) {
+            shared_job_count = 0u;
         }
+        uint missing = 0u;  // the directions no neighbour lent: the tile traces them for the sample
+        uint first = 0u;    // their first job
+        // The neighbours within this many pixels lend their directions; none to a second
+        // measurement, whose neighbours measured at radii of their own.
+        int window = measure == 0u ? 1 : 0;
+        // Step 0: each sample traces its own direction (and, first, the lift) and shares it.
+        // Step 1: the tile's samples share out the directions none of its neighbours lent some
+        // sample (jobs), so that the few samples alone on their surface do not keep their
+        // neighbours' lanes waiting. One call site: each call inlines the whole trace, and on
+        // lavapipe four copies took 7.5 s to compile on first use (the app's first frame waited).
+        for (uint step = 0u; step < 2u; ++step) {
+            uint jobs = step == 0u ? (measuring ? 1u : 0u) : shared_job_count;
+            for (uint job = step == 0u ? 0u : slot; job < jobs; job += TILE * TILE) {
+                // Whose direction, which, and from where.
+                uint owner = step == 0u ? slot : shared_job[job] & 0xffu;
+                uint d = step == 0u ? own : shared_job[job] >> 8u;
+                vec3 at = step == 0u ? from : shared_origin[owner].xyz;
+                vec3 normal = step == 0u ? ng : shared_plane[owner].xyz;
+                float bend = step == 0u ? curvature : shared_curvature[owner];
+                uint face = step == 0u ? triangle : shared_triangle[owner];
+                float measured_at = step == 0u ? big_r : shared_radius[owner];
+                // The lift wanted at the largest radius: the final one's is no longer.
+                float lift_length = step == 0u && measure == 0u && bend > 0.0 ? min(bend * big_r * big_r, big_r) : 0.0;
+                float phi = 2.0 * PI * (float(d) + params.rotation) / float(DISK_DIRECTIONS);
+                float hit = 0.0;
+                // The random numbers are the owner's and its direction's, not the lane's: which
+                // lane takes a job depends on the order of the atomics, and the image must not.
+                ivec2 owner_pixel = ivec2(gl_WorkGroupID.xy * TILE + uvec2(owner % TILE, owner / TILE)) - tile_offset;
+                Rng rng = rng_seed(uvec2(max(owner_pixel, ivec2(0))), 0xd15cu + d + 4u * measure, params.seed);
+                DirectionSamples got = trace_direction(at, normal, bend, face, measured_at, phi, lift_length, rng, rays_down, hit);
+                if (step == 0u) {
+                    lift_hit = measure == 0u ? hit : lift_hit;
+                    shared_origin[slot] = vec4(from, got.reach);
+                    shared_rho[slot] = got.rho;
+                    shared_plane[slot].w = float(got.supported + 1u);
+                } else {
+                    shared_job_samples[job] = vec2(got.reach, uintBitsToFloat(got.supported));
+                    shared_job_rho[job] = got.rho;
+                }
+            }
+            if (step == 0u) {
+                if (!measuring) {
+                    shared_plane[slot].w = 0.0;
+                }
+                shared_plane[slot].xyz = ng;
+                shared_curvature[slot] = curvature;
+                shared_triangle[slot] = triangle;
+                shared_radius[slot] = big_r;
+                barrier();
+                // The 3×3 block, or where it lacks a direction, the 5×5 one: a rail a pixel wide
+                // holds all four directions within five pixels along it.
+                uint lent = measuring ? lent_directions(local, pixel, from, ng, window) : 0xfu;
+                if (lent != 0xfu && window == 1) {
+                    window = 2;
+                    lent = lent_directions(local, pixel, from, ng, window);
+                }
+                missing = ~lent & 0xfu;
+                if (missing != 0u) {
+                    first = atomicAdd(shared_job_count, uint(bitCount(missing)));
+                    uint job = first;
+                    for (uint d = 0u; d < DISK_DIRECTIONS; ++d) {
+                        if ((missing & (1u << d)) != 0u) {
+                            shared_job[job] = slot | (d << 8u);
+                            job += 1u;
+                        }
+                    }
+                }
+            }
+            barrier();
+        }
+        if (measuring) {
+            mass = shared_mass(local, pixel, from, ng, big_r, r, window, missing, first);
+            if (measure == 0u && params.partial_radius_exponent != 0.0 && mass < 1.0) {
+                r *= radius_share(max(mass, 0.0));
+                if (measures == 1u) {
+                    mass = shared_mass(local, pixel, from, ng, big_r, r, window, missing, first);
+                }
+            } else {
+                measuring = false;  // nothing to measure again
+            }
+        }
+        // Every read of this measurement's shares before the next one writes its own.
+        barrier();
+        big_r = r;
+    }
+    if (valid) {
+        // The gather's lift at the final radius: as far as κr² (at most r), or half the way to
+        // whatever stands in front of the surface closer than that. An untraced lift could carry
+        // the segments' start through a wall beside a ball, into the next room.
+        float wanted = curvature > 0.0 ? min(curvature * r * r, r) : 0.0;
+        lift = lift_hit < wanted ? 0.5 * lift_hit : wanted;
         mass = max(mass, DISK_MIN_MASS);
     }
-    // .a: the gather's lift at the final radius (the last measure's).
-    imageStore(disk_mass, pixel, vec4(mass, r, float(rays_down), lift));
+    if (inside) {
+        imageStore(disk_mass, pixel, vec4(mass, r, float(rays_down), lift));
+    }
 }

@@ -145,9 +145,13 @@ pub fn add<'r>(
     let visible_disk = frame.settings.visibility && frame.settings.visible_disk;
     let partial = visible_disk && frame.settings.partial_disk_radius;
     let mut disk_mass = visible_disk::image(graph, extent)?;
+    let disk_seed = frame.seed ^ frame.path_offset.wrapping_mul(0x9e37_79b9);
     let disk = VisibleDiskParams {
         radius: frame.radius,
-        seed: frame.seed ^ frame.path_offset.wrapping_mul(0x9e37_79b9),
+        seed: disk_seed,
+        tile_offset: visible_disk::tile_offset(disk_seed),
+        rotation: visible_disk::rotation(disk_seed),
+        share_distance: visible_disk::share_distance(frame.first_batch),
         enabled: visible_disk as u32,
         partial_radius_exponent: if partial { partial_radius_exponent(frame.first_batch) } else { 0.0 },
         min_radius_share: MIN_RADIUS_SHARE,
