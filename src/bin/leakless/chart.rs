@@ -58,9 +58,9 @@ pub struct ChartArgs {
     /// Size of each chart, WIDTHxHEIGHT pixels (the SVG's too).
     #[arg(long, default_value = "800x600", value_parser = crate::parse_size)]
     pub(crate) chart_size: (u32, u32),
-    /// Convergence instead: error (relMSE, RMSE, HDR-FLIP) against wall time while leakless,
-    /// splat (photon frames) and the reference path tracer (samples) accumulate, against a
-    /// jittered ground truth; writes PREFIX-<scene>-series.csv and -series-{relmse,flip}.svg/.png.
+    /// Convergence instead: error (relMSE, relMSE over the shaded pixels, RMSE, HDR-FLIP)
+    /// against wall time while leakless, splat (photon frames) and the reference path tracer
+    /// (samples) accumulate, against a jittered ground truth; writes PREFIX-<scene>-series.csv and -series-{relmse,flip}.svg/.png.
     #[arg(long)]
     pub(crate) series: bool,
     /// Series: wall time each method accumulates for, seconds [default: 10].

@@ -72,6 +72,8 @@ pub struct SeriesPoint {
     /// error metrics computed at earlier checkpoints.
     pub wall_ms: f64,
     pub relmse: Option<f64>,
+    /// The relMSE over the shaded pixels ([`SHADED_FRACTION`]).
+    pub shaded_relmse: Option<f64>,
     pub rmse: Option<f64>,
     pub flip: f64,
     /// Flicker of the method's single frames ([`leakless::flicker`]), the same on every row of a
@@ -102,6 +104,7 @@ pub struct ErrorAt {
     /// Frames (or spp) of the last checkpoint within the time.
     pub frames: u32,
     pub relmse: Option<f64>,
+    pub shaded_relmse: Option<f64>,
     pub flip: f64,
 }
 
@@ -118,7 +121,12 @@ impl SceneSeries {
         let mut points = self.points.iter().filter(|p| p.method == method);
         let before = points.clone().rfind(|p| p.wall_ms <= ms)?;
         if before.wall_ms == ms {
-            return Some(ErrorAt { frames: before.frames, relmse: before.relmse, flip: before.flip });
+            return Some(ErrorAt {
+                frames: before.frames,
+                relmse: before.relmse,
+                shaded_relmse: before.shaded_relmse,
+                flip: before.flip,
+            });
         }
         let after = points.find(|p| p.wall_ms > ms)?;
         let f = (ms.ln() - before.wall_ms.ln()) / (after.wall_ms.ln() - before.wall_ms.ln());
@@ -132,6 +140,7 @@ impl SceneSeries {
         Some(ErrorAt {
             frames: before.frames,
             relmse: before.relmse.zip(after.relmse).map(|(a, b)| lerp(a, b)),
+            shaded_relmse: before.shaded_relmse.zip(after.shaded_relmse).map(|(a, b)| lerp(a, b)),
             flip: lerp(before.flip, after.flip),
         })
     }
@@ -175,12 +184,15 @@ pub fn measure_series(
     drop(renderer);
     let truth_ms = start.elapsed().as_secs_f64() * 1e3;
     let eps = metrics::epsilon(&truth.radiance);
+    let lit: Vec<bool> = truth.radiance.iter().map(|p| *p != [0.0; 3]).collect();
+    let shaded = metrics::dark_mask(&truth.radiance, Some(&lit), SHADED_FRACTION);
+    let truth = Truth { image: &truth, eps, shaded: &shaded };
 
     let mut points: Vec<SeriesPoint> = Vec::new();
     for repeat in 0..config.repeats.max(1) {
         for method in SERIES_METHODS {
             progress(&format!("{} (run {} of {})", method.name(), repeat + 1, config.repeats.max(1)));
-            let run = measure_method(open, scene, &base, method, config, &truth, eps)?;
+            let run = measure_method(open, scene, &base, method, config, &truth)?;
             merge_run(&mut points, run);
         }
     }
@@ -222,8 +234,7 @@ fn measure_method(
     base: &RenderSettings,
     method: Method,
     config: &SeriesConfig,
-    truth: &RenderedFrame,
-    eps: f64,
+    truth: &Truth,
 ) -> Result<Vec<SeriesPoint>> {
     // Warm-up: pipelines compiled, node lists sized, before the clock starts. Photon methods
     // warm up on three accumulated frames: their second holds the accumulation's largest
@@ -254,7 +265,7 @@ fn measure_method(
         // The reference's frames grow in batches of `spp` samples: its count is samples.
         // (The renderer's own count: a restart could never mislabel a checkpoint.)
         let count = if method == Method::Reference { frame.batches.saturating_mul(spp) } else { frame.accumulated };
-        points.push(point(method, count, wall_ms, &frame, truth, eps, flicker));
+        points.push(point(method, count, wall_ms, &frame, truth, flicker));
         excluded += measuring.elapsed();
         if wall_ms >= config.budget.as_secs_f64() * 1e3 {
             break;
@@ -265,29 +276,42 @@ fn measure_method(
     Ok(points)
 }
 
+/// The shaded pixels, whose errors the series also reports: lit in the ground truth, at most this
+/// share of its mean radiance (a scene's aisles and the undersides of its galleries, where a
+/// path tracer is noisiest and photons are fewest).
+pub const SHADED_FRACTION: f64 = 0.3;
+
+/// The ground truth and what the errors against it need.
+struct Truth<'a> {
+    image: &'a RenderedFrame,
+    eps: f64,
+    shaded: &'a [bool],
+}
+
 fn point(
     method: Method,
     frames: u32,
     wall_ms: f64,
     frame: &RenderedFrame,
-    truth: &RenderedFrame,
-    eps: f64,
+    truth: &Truth,
     flicker: Option<f64>,
 ) -> SeriesPoint {
+    let reference = &truth.image.radiance;
     SeriesPoint {
         method,
         frames,
         wall_ms,
-        relmse: metrics::rel_mse(&frame.radiance, &truth.radiance, None, eps),
-        rmse: metrics::rmse(&frame.radiance, &truth.radiance, None),
-        flip: flip::hdr_flip(&frame.radiance, &truth.radiance, frame.width, frame.height),
+        relmse: metrics::rel_mse(&frame.radiance, reference, None, truth.eps),
+        shaded_relmse: metrics::rel_mse(&frame.radiance, reference, Some(truth.shaded), truth.eps),
+        rmse: metrics::rmse(&frame.radiance, reference, None),
+        flip: flip::hdr_flip(&frame.radiance, reference, frame.width, frame.height),
         flicker,
     }
 }
 
 /// The columns of [`write_series_csv`].
-pub const SERIES_COLUMNS: [&str; 8] =
-    ["scene", "method", "frames_or_spp", "wall_ms", "relmse", "rmse", "hdr_flip", "flicker"];
+pub const SERIES_COLUMNS: [&str; 9] =
+    ["scene", "method", "frames_or_spp", "wall_ms", "relmse", "relmse_shaded", "rmse", "hdr_flip", "flicker"];
 
 pub fn write_series_csv(series: &SceneSeries, path: &Path) -> Result<()> {
     let mut out = SERIES_COLUMNS.join(",") + "\n";
@@ -299,6 +323,7 @@ pub fn write_series_csv(series: &SceneSeries, path: &Path) -> Result<()> {
             p.frames.to_string(),
             format!("{:.3}", p.wall_ms),
             float(p.relmse),
+            float(p.shaded_relmse),
             float(p.rmse),
             float(Some(p.flip)),
             float(p.flicker),
@@ -319,6 +344,7 @@ mod tests {
             frames,
             wall_ms,
             relmse: Some(error),
+            shaded_relmse: None,
             rmse: None,
             flip: error,
             flicker: None,
@@ -374,7 +400,10 @@ mod tests {
         assert!((at.flip - 0.05).abs() < 1e-12, "{at:?}");
         assert!((at.relmse.expect("relmse") - 0.05).abs() < 1e-12);
         // On a checkpoint, the last one included: its own value.
-        assert_eq!(s.at(Method::LeakLess, 1000.0), Some(ErrorAt { frames: 2, relmse: Some(0.1), flip: 0.1 }));
+        assert_eq!(
+            s.at(Method::LeakLess, 1000.0),
+            Some(ErrorAt { frames: 2, relmse: Some(0.1), shaded_relmse: None, flip: 0.1 })
+        );
         assert_eq!(s.at(Method::LeakLess, 4000.0).map(|e| e.frames), Some(8));
         // Outside the series, or another method: nothing.
         assert_eq!(s.at(Method::LeakLess, 4000.5), None);
