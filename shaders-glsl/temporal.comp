@@ -17,8 +17,15 @@
 //   frame's whole neighbourhood is exactly zero the output is exactly zero: a shut door or a
 //   sealed room is black at once. Then new = lerp(history, frame, 1/n), n the frames the
 //   pixel's history holds with this one, at most `max_history`.
-// With `spatial`, a moving frame's own estimate is first filtered (spatial.comp), fully where
-//   the pixel has no history and less as its history grows.
+// With `spatial`, a moving frame's own estimate is first filtered (spatial.comp). The filter
+//   averages noise away but also blurs the light along a surface (towards a corner, beside a
+//   shadow, a wall's colour towards the next), and that blur is a bias. The pixel keeps a long
+//   mean of its filtered and of its own irradiance (`bias_frames`, a few times the history):
+//   their ratio, per channel, is the filter's bias on that surface, and the filtered estimate
+//   is divided by it. The new frame's estimate then has
+//   the filtered estimate's noise (little, so the image hardly flickers) and, once the ratio is
+//   known, the pixel's own mean. A ratio of fewer frames than a history holds is trusted in
+//   proportion to them.
 // MODE_STILL: nothing moved since the last motion frame, and the progressive accumulation
 //   holds the frames since (`still_batches` photon batches). The history is carried unchanged,
 //   and the image is their weighted mean, the history counting for the n - 1 frames it holds
@@ -50,6 +57,11 @@ layout(set = 0, binding = 13, rgba32f) uniform writeonly image2D reused_radiance
 layout(set = 0, binding = 15, rgba32f) uniform readonly image2D radiance;
 // The frame's irradiance after spatial reuse (read only when `spatial`).
 layout(set = 0, binding = 16, rgba32f) uniform readonly image2D filtered;
+// The long means of the filtered (.rgb, over .a frames) and of the own (.rgb) irradiance.
+layout(set = 0, binding = 17, rgba32f) uniform readonly image2D filtered_mean_previous;
+layout(set = 0, binding = 18, rgba32f) uniform writeonly image2D filtered_mean_current;
+layout(set = 0, binding = 24, rgba32f) uniform readonly image2D own_mean_previous;
+layout(set = 0, binding = 25, rgba32f) uniform writeonly image2D own_mean_current;
 // The animated instances' vertex positions as they were in the history's frame, from the first
 // moving triangle's first vertex on (read only when `instances_moved`).
 layout(set = 0, binding = 14, std430) readonly buffer PreviousPositions { float xyz[]; } previous_positions;
@@ -64,8 +76,10 @@ layout(push_constant) uniform TemporalParams {
     uint instances_moved;     // 1: previous_positions differ from the scene's vertices
     float clamp_relative;
     uint spatial;             // 1: `filtered` holds this frame's spatially reused irradiance
-    uint pad0;
+    float bias_frames;        // frames the filter's bias is measured over at most
 } params;
+
+
 
 // The frame's irradiance at `p`, spatially reused when it was.
 vec3 irradiance_at(ivec2 p) {
@@ -98,8 +112,10 @@ vec3 previous_position(vec3 p, uint triangle) {
 }
 
 // The history at the surface point `p` of `triangle` with normal `n` (.a = its frames; 0 when
-// no tap of last frame saw the same surface).
-vec4 reprojected_history(vec3 p, uint triangle, vec3 n) {
+// no tap of last frame saw the same surface), and the filter's bias there.
+vec4 reprojected_history(vec3 p, uint triangle, vec3 n, out vec4 filtered_mean, out vec3 own_mean) {
+    filtered_mean = vec4(0.0);
+    own_mean = vec3(0.0);
     vec3 was = previous_position(p, triangle);
     vec4 clip = params.previous_view_proj * vec4(was, 1.0);
     if (clip.w <= 0.0) {
@@ -134,10 +150,14 @@ vec4 reprojected_history(vec3 p, uint triangle, vec3 n) {
         w *= (k >> 1) == 1 ? f.y : 1.0 - f.y;
         if (w > 0.0) {
             sum += w * imageLoad(history_previous, q);
+            filtered_mean += w * imageLoad(filtered_mean_previous, q);
+            own_mean += w * imageLoad(own_mean_previous, q).rgb;
             weight += w;
         }
     }
     // A history read mostly from taps of other surfaces is not this surface's.
+    filtered_mean = weight > 0.25 ? filtered_mean / weight : vec4(0.0);
+    own_mean = weight > 0.25 ? own_mean / weight : vec3(0.0);
     return weight > 0.25 ? sum / weight : vec4(0.0);
 }
 
@@ -177,6 +197,8 @@ void main() {
     if (params.mode == MODE_STILL) {
         vec4 history = imageLoad(history_previous, pixel);
         imageStore(history_current, pixel, history);
+        imageStore(filtered_mean_current, pixel, imageLoad(filtered_mean_previous, pixel));
+        imageStore(own_mean_current, pixel, imageLoad(own_mean_previous, pixel));
         imageStore(surface_current, pixel, imageLoad(surface_previous, pixel));
         imageStore(normal_current, pixel, imageLoad(normal_previous, pixel));
         float w = history.a - 1.0;
@@ -187,23 +209,41 @@ void main() {
     } else {
         vec3 e = demodulate(l.rgb, albedo);
         float frames = surface.w != 0.0 ? 1.0 : 0.0;
+        vec4 filtered_mean_out = vec4(e, frames);
+        vec3 own_mean_out = e;
         if (params.mode == MODE_MOTION && surface.w != 0.0) {
-            // The frame's own estimate: spatially reused where the history is short (a
-            // disocclusion has nothing else), the pixel's own as the history grows.
             vec3 smooth_e = params.spatial != 0u ? imageLoad(filtered, pixel).rgb : e;
-            vec4 history = reprojected_history(surface.xyz, uint(surface.w) - 1u, n);
+            vec4 filtered_mean;
+            vec3 own_mean;
+            vec4 history = reprojected_history(surface.xyz, uint(surface.w) - 1u, n, filtered_mean, own_mean);
+            filtered_mean_out.rgb = smooth_e;
             if (history.a > 0.0) {
                 frames = min(history.a + 1.0, params.max_history);
-                vec3 current = mix(smooth_e, e, (frames - 1.0) / max(params.max_history - 1.0, 1.0));
+                // The filter's bias on this surface, per channel: its long mean over the
+                // pixel's own.
+                float count = min(filtered_mean.a + 1.0, params.bias_frames);
+                filtered_mean_out = vec4(mix(filtered_mean.rgb, smooth_e, 1.0 / count), count);
+                own_mean_out = mix(own_mean, e, 1.0 / count);
+                vec3 ratio = vec3(1.0);
+                for (int c = 0; c < 3; c++) {
+                    if (filtered_mean_out[c] > 0.0) {
+                        ratio[c] = clamp(own_mean_out[c] / filtered_mean_out[c], 0.5, 2.0);
+                    }
+                }
+                ratio = mix(vec3(1.0), ratio, min((count - 1.0) / max(params.max_history - 1.0, 1.0), 1.0));
+                vec3 current = smooth_e * ratio;
                 vec3 lo, hi;
-                neighbourhood(pixel, smooth_e, lo, hi);
+                neighbourhood(pixel, current, lo, hi);
                 e = mix(clamp(history.rgb, lo, hi), current, 1.0 / frames);
             } else {
+                // A disocclusion has nothing else: the filtered estimate as it is.
                 e = smooth_e;
             }
             reused = albedo * e;
         }
         imageStore(history_current, pixel, vec4(e, frames));
+        imageStore(filtered_mean_current, pixel, filtered_mean_out);
+        imageStore(own_mean_current, pixel, vec4(own_mean_out, 0.0));
         imageStore(surface_current, pixel, surface);
         imageStore(normal_current, pixel, vec4(n, 0.0));
     }

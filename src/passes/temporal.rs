@@ -1,5 +1,6 @@
 //! Temporal reuse: the indirect light of the frames before, reprojected to this one, rejected
-//! where the surface differs, clamped to this frame's neighbourhood and blended with it
+//! where the surface differs, clamped to this frame's neighbourhood and blended with it; the
+//! frame's spatially filtered estimate enters with the filter's bias divided out
 //! (`temporal.comp`; docs/architecture.md §1, "Motion").
 
 use ash::vk;
@@ -48,7 +49,9 @@ gpu_struct! {
         pub clamp_relative: f32,
         /// 1: `filtered` holds the frame's spatially reused irradiance.
         pub spatial: u32,
-        pub pad0: u32,
+        /// Frames the spatial filter's bias is measured over at most.
+        pub bias_frames: f32,
+
     }
 }
 
@@ -74,6 +77,10 @@ shader_bindings! {
         reused_indirect: write image,
         reused_radiance: write image,
         filtered: read image,
+        filtered_mean_previous: read image,
+        filtered_mean_current: write image,
+        own_mean_previous: read image,
+        own_mean_current: write image,
         previous_positions: read array(f32::LAYOUT),
     }
     pub struct TemporalResources;
@@ -86,12 +93,15 @@ pub static TEMPORAL: ComputePassDef = ComputePassDef::any(
 )
 .push(TemporalParams::LAYOUT);
 
-/// The pass's history pairs: demodulated irradiance (.a: frames held), and the surface each
-/// pixel saw (position with triangle + 1, normal).
+/// The pass's history pairs: demodulated irradiance (.a: frames held), the surface each pixel
+/// saw (position with triangle + 1, normal), and the long means whose ratio is the spatial
+/// filter's bias (the filtered irradiance with its frames in .a, the pixel's own).
 pub struct TemporalHistories {
     pub irradiance: History,
     pub surface: History,
     pub normal: History,
+    pub filtered_mean: History,
+    pub own_mean: History,
 }
 
 /// The name of the history image the app's history-length view shows.
@@ -106,12 +116,18 @@ impl TemporalHistories {
             irradiance: pair(IRRADIANCE_HISTORY)?,
             surface: pair("reuse surface")?,
             normal: pair("reuse normal")?,
+            filtered_mean: pair("reuse filtered mean")?,
+            own_mean: pair("reuse own mean")?,
         })
     }
 
     /// Whether every pair holds the last frame's images.
     pub fn valid(&self) -> bool {
-        self.irradiance.valid && self.surface.valid && self.normal.valid
+        self.irradiance.valid
+            && self.surface.valid
+            && self.normal.valid
+            && self.filtered_mean.valid
+            && self.own_mean.valid
     }
 }
 
@@ -164,6 +180,10 @@ pub fn add<'r>(
             reused_indirect: out.indirect,
             reused_radiance: out.radiance,
             filtered: inputs.filtered,
+            filtered_mean_previous: &histories.filtered_mean.previous,
+            filtered_mean_current: &mut histories.filtered_mean.current,
+            own_mean_previous: &histories.own_mean.previous,
+            own_mean_current: &mut histories.own_mean.current,
             previous_positions: inputs.previous_positions,
         },
     );

@@ -297,7 +297,7 @@ impl Renderer {
             let params = self.reuse.params(mode, batches, first_moving, instances_moved);
             // Spatial reuse of a moving frame's own estimate, before the history weighs in.
             let mut spatial = SpatialImages::new(&mut g, extent)?;
-            if mode == TemporalMode::Motion {
+            if params.spatial != 0 {
                 spatial::add(&mut g, &frame, &gbuffer, &indirect, &mut spatial);
             }
             let mut reused_indirect = layer(&mut g, "reused indirect")?;
@@ -365,7 +365,8 @@ impl Renderer {
             let tonemap = passes.tonemaps.iter().find(|t| t.format() == shown_rgba8.format()).expect("made at start");
             let exposure = view_exposure(request.view, request.exposure, self.reuse.history_frames);
             tonemap.add(&mut g, request.view, exposure, shown, &luminance, &mut shown_rgba8);
-            readback::add(&mut g, LAYERS_BUFFER, &[&radiance, &direct, &indirect, &leaked, &shown_rgba8])?;
+            let layers = [&radiance, &direct, &indirect, &leaked, &gbuffer.position, &shown_rgba8];
+            readback::add(&mut g, LAYERS_BUFFER, &layers)?;
         }
 
         // The counters, for the stats of this frame once it completed.

@@ -398,6 +398,12 @@ impl Renderer {
         self.reuse.history_frames = frames.clamp(1, reuse::MAX_HISTORY_FRAMES);
     }
 
+    /// Whether moving frames filter their own estimate spatially before the history weighs in
+    /// (on by default; off only to measure what the filter does).
+    pub fn set_spatial_reuse(&mut self, on: bool) {
+        self.reuse.spatial = on;
+    }
+
     /// Forgets the frames before: the next frame starts temporal reuse anew (a render from
     /// scratch).
     pub fn forget_history(&mut self) {
@@ -449,8 +455,9 @@ impl Renderer {
     /// plane, 0 at the far one (or at infinity). A float depth buffer then keeps about the same
     /// relative precision at every distance; with depth 0 at the near plane, two surfaces a
     /// tenth of a millimetre apart 5 m away tie, and the raster can keep the hidden one (a
-    /// wall's face below the floor it stands in).
-    fn view_proj(&self) -> Mat4 {
+    /// wall's face below the floor it stands in). Without pixel jitter: what the first frame
+    /// after a change sees through.
+    pub fn view_proj(&self) -> Mat4 {
         let aspect = self.settings.width as f32 / self.settings.height as f32;
         let c = &self.camera;
         let proj = match c.zfar {

@@ -35,6 +35,9 @@ pub struct RenderedFrame {
     pub indirect: Vec<[f32; 3]>,
     /// Indirect light the visibility test removed (zero for methods without it).
     pub leaked: Vec<[f32; 3]>,
+    /// The surface each pixel sees in the frame's G-buffer (the last frame's, for an
+    /// accumulation): its world position, and in .w its triangle + 1 (0 where it sees none).
+    pub surface: Vec<[f32; 4]>,
     /// The final image tonemapped as the window shows it (sRGB, RGBA8): the PNG.
     pub display: Vec<[u8; 4]>,
     /// Per-pass times, summed over the frames that made the image (a reference image
@@ -136,11 +139,11 @@ impl Renderer {
         let buffer = self.runner.pool().frame_buffer(LAYERS_BUFFER, report.slot).ok_or_else(|| {
             crate::RenderError::Settings("reading layers back: the frame was not rendered with a readback".into())
         })?;
-        let texels: Vec<[f32; 4]> = buffer.read_vec(4 * n)?;
+        let texels: Vec<[f32; 4]> = buffer.read_vec(5 * n)?;
         let layer =
             |i: usize| -> Vec<[f32; 3]> { texels[i * n..(i + 1) * n].iter().map(|t| [t[0], t[1], t[2]]).collect() };
         let mut display = vec![[0u8; 4]; n];
-        buffer.read(4 * n as u64 * 16, bytemuck::cast_slice_mut(&mut display))?;
+        buffer.read(5 * n as u64 * 16, bytemuck::cast_slice_mut(&mut display))?;
         Ok(RenderedFrame {
             width,
             height,
@@ -148,6 +151,7 @@ impl Renderer {
             direct: layer(1),
             indirect: layer(2),
             leaked: layer(3),
+            surface: texels[4 * n..5 * n].to_vec(),
             display,
             timings: report.timings.clone(),
             gpu_span_ms: report.gpu_span_ms,

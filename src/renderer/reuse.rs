@@ -11,6 +11,9 @@ use crate::passes::temporal::{TemporalMode, TemporalParams, CLAMP_RELATIVE};
 pub const DEFAULT_HISTORY_FRAMES: u32 = 16;
 /// The most frames a history may hold (two seconds at 64 frames a second): longer only lags.
 pub const MAX_HISTORY_FRAMES: u32 = 128;
+/// The spatial filter's bias is measured over this many histories' frames: it changes only as
+/// the view does, slowly, and a longer mean knows it better.
+pub const BIAS_HISTORIES: u32 = 4;
 
 pub(super) struct ReuseState {
     /// The history's frame's view-projection and camera position.
@@ -21,6 +24,8 @@ pub(super) struct ReuseState {
     pub vertices: Vec<Vertex>,
     /// Frames a pixel's history holds at most.
     pub history_frames: u32,
+    /// Whether moving frames are filtered spatially.
+    pub spatial: bool,
 }
 
 impl ReuseState {
@@ -31,6 +36,7 @@ impl ReuseState {
             pose_version,
             vertices: vertices.to_vec(),
             history_frames: DEFAULT_HISTORY_FRAMES,
+            spatial: true,
         }
     }
 
@@ -52,8 +58,8 @@ impl ReuseState {
             first_moving_triangle,
             instances_moved: instances_moved as u32,
             clamp_relative: CLAMP_RELATIVE,
-            spatial: (mode == TemporalMode::Motion) as u32,
-            pad0: 0,
+            spatial: (mode == TemporalMode::Motion && self.spatial) as u32,
+            bias_frames: (BIAS_HISTORIES * self.history_frames) as f32,
         }
     }
 

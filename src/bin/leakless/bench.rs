@@ -77,8 +77,9 @@ pub enum BenchCommand {
         frames: u32,
     },
     /// Temporal reuse in motion, per scene: its animation (or an orbit of its camera) rendered
-    /// frame by frame with reuse on and off, against the path tracer at each frame: mean
-    /// relMSE and HDR-FLIP, flicker and frame time.
+    /// frame by frame with reuse on, on without its spatial filter, and off, against the path
+    /// tracer at each frame: mean relMSE and HDR-FLIP, flicker on the screen and on the
+    /// surfaces, the dark band beside lit regions, frame time, and the references' own noise.
     Motion {
         /// The scenes (.gltf or .glb).
         #[arg(required = true)]
@@ -102,6 +103,9 @@ pub enum BenchCommand {
         /// Also write each frame's errors to this CSV (error against frame index).
         #[arg(long)]
         csv: Option<PathBuf>,
+        /// Also chart each frame's errors against its index: an SVG, and a PNG beside it.
+        #[arg(long)]
+        chart: Option<PathBuf>,
     },
     /// Scene size, per scene (the same scene tessellated finer: `tools/gen-scenes --basilica
     /// DETAIL`): triangles, the load, each backend's setup and trace-structure build, the
@@ -151,11 +155,11 @@ pub fn run(cmd: BenchCommand) -> anyhow::Result<()> {
         BenchCommand::Animation { scene, size, paths, frames } => {
             crate::bench_animation::run(&scene, size, paths, frames)
         }
-        BenchCommand::Motion { scenes, size, paths, frames, fps, spp, backend, csv } => {
+        BenchCommand::Motion { scenes, size, paths, frames, fps, spp, backend, csv, chart } => {
             if !(fps > 0.0 && fps <= 1000.0) {
                 anyhow::bail!("--fps {fps} must be within (0, 1000]");
             }
-            let bench = crate::bench_motion::MotionBench { scenes, size, paths, frames, fps, spp, backend, csv };
+            let bench = crate::bench_motion::MotionBench { scenes, size, paths, frames, fps, spp, backend, csv, chart };
             crate::bench_motion::run(&bench)
         }
         BenchCommand::Scale { scenes, size, paths, repeats, backend, csv, chart } => {

@@ -1,7 +1,7 @@
 //! `leakless bench motion`: what temporal reuse does to moving frames. Per scene, its
 //! animation (or, where it has none, an orbit of its camera) rendered frame by frame as the
-//! app renders it, with reuse on and off, each frame against the path tracer's image of the
-//! same time and view.
+//! app renders it, with reuse on, on without its spatial filter, and off, each frame against
+//! the path tracer's image of the same time and view.
 
 use std::path::PathBuf;
 use std::time::Instant;
@@ -12,6 +12,8 @@ use leakless::{BackendChoice, Method, RenderSettings, Renderer, Scene, SplatSett
 use leakless_scene::Camera;
 
 use crate::measure::chart::flip;
+use crate::measure::chart::motion_plot::{plot_motion, MotionRun};
+use crate::measure::motion::{DarkBand, ScreenFlicker, SeenFrame, SurfaceFlicker, BAND_PIXELS, DARK};
 
 /// What the bench renders.
 pub struct MotionBench {
@@ -26,6 +28,8 @@ pub struct MotionBench {
     /// Each frame's errors, as CSV (`scene,reuse,frame,time,relmse,flip`): the error against
     /// frame index.
     pub csv: Option<PathBuf>,
+    /// The chart of each frame's errors (an SVG; a PNG beside it).
+    pub chart: Option<PathBuf>,
 }
 
 /// One run's figures: means over the displayed frames.
@@ -36,6 +40,10 @@ struct Figures {
     frame_ms: f64,
     /// The frames' mean radiance over their references' (lag shows as a bias).
     mean_ratio: f64,
+    /// Flicker on the surfaces (`SurfaceFlicker`).
+    surface_flicker: f64,
+    /// The dark band's mean over the reference's (light carried into shadow shows above 1).
+    band: Option<f64>,
 }
 
 /// Frame `k`'s view: the scene at time k/fps, or its camera turned about the point it looks at.
@@ -60,42 +68,78 @@ pub fn run(bench: &MotionBench) -> anyhow::Result<()> {
         "bench motion ({w}x{h}, leakless, {} paths a frame, {} frames at {} fps; references {} spp): means over the frames",
         bench.paths, bench.frames, bench.fps, bench.spp
     );
-    println!("flicker: mean |ΔY| between successive frames over mean Y, from frame {}", settle(bench));
+    println!(
+        "flicker: mean |ΔY| between successive frames over mean Y, from frame {}: the moving view's change counts too",
+        settle(bench)
+    );
+    println!(
+        "surface flicker: the same, each pixel against its surface point in the frame before (0 for a perfect image of still light)"
+    );
+    println!(
+        "dark band: pixels under {DARK} of the reference's mean within {BAND_PIXELS} pixels of one above it; its mean over the reference's"
+    );
     println!(
         "{:<22} {:>10} {:>10} {:>9} {:>10}   {:>10} {:>10} {:>10} {:>10}",
         "scene", "relMSE on", "relMSE off", "FLIP on", "FLIP off", "flicker on", "flicker off", "ms on", "ms off"
     );
     let mut csv = String::from("scene,reuse,frame,time,relmse,flip\n");
+    let (mut runs, mut device) = (Vec::new(), String::new());
     for path in &bench.scenes {
         let scene = Scene::load(path).with_context(|| format!("loading {}", path.display()))?;
-        let settings = |method, reuse| RenderSettings {
+        let name = path.file_name().map_or(String::new(), |n| n.to_string_lossy().into_owned());
+        let settings = |method, reuse, seed| RenderSettings {
             width: w,
             height: h,
             backend: bench.backend,
             method,
             spp: bench.spp,
             reuse,
+            seed,
             splat: SplatSettings { paths: bench.paths, ..Default::default() },
             ..Default::default()
         };
         let open = || crate::open_gpu(bench.backend);
-        let mut reference = Renderer::new(open()?, &scene, settings(Method::Reference, false))?;
+        let mut reference = Renderer::new(open()?, &scene, settings(Method::Reference, false, 0))?;
         let start = reference.camera().clone();
+        device.clone_from(&reference.gpu().report().name);
         let mut references = Vec::new();
+        let mut reference_change = ScreenFlicker::new(settle(bench));
+        let mut reference_surface_change = SurfaceFlicker::new(settle(bench));
         for k in 0..bench.frames {
             place(&mut reference, &scene, k, bench, &start)?;
-            references.push(reference.render()?.radiance);
+            let frame = reference.render()?;
+            reference_change.add(k, &frame.radiance);
+            reference_surface_change.add(k, seen(&reference, &frame));
+            references.push(frame.radiance);
         }
         reference.gpu().check_validation()?;
         drop(reference);
+        // The references' own noise, which every error below includes: the last frame's
+        // reference against one of another seed.
+        let last = bench.frames - 1;
+        let mut second = Renderer::new(open()?, &scene, settings(Method::Reference, false, 1))?;
+        place(&mut second, &scene, last, bench, &start)?;
+        let other = second.render()?.radiance;
+        second.gpu().check_validation()?;
+        drop(second);
+        let truth = &references[last as usize];
+        let reference_noise = (
+            metrics::rel_mse(&other, truth, None, metrics::epsilon(truth)).unwrap_or(0.0),
+            flip::hdr_flip(&other, truth, w, h),
+        );
         let mut figures = Vec::new();
-        for reuse in [true, false] {
-            let mut r = Renderer::new(open()?, &scene, settings(Method::LeakLess, reuse))?;
+        // Reuse on, on without its spatial filter (the same photons: what the filter alone
+        // does), and off.
+        for (reuse, filter) in [(true, true), (true, false), (false, true)] {
+            let mut r = Renderer::new(open()?, &scene, settings(Method::LeakLess, reuse, 0))?;
+            r.set_spatial_reuse(filter);
             r.set_progressive(true);
             r.set_advance_seed(true);
             r.set_reuse_history_frames((0.5 * bench.fps).round().max(1.0) as u32);
-            let (mut relmse, mut flip_sum, mut ms, mut ratio) = (0.0, 0.0, 0.0, 0.0);
-            let (mut change, mut counted, mut last): (f64, u32, Option<Vec<f64>>) = (0.0, 0, None);
+            let (mut ms, mut ratio, mut band) = (0.0, 0.0, DarkBand::default());
+            let mut errors = Vec::new();
+            let mut change = ScreenFlicker::new(settle(bench));
+            let mut surface_change = SurfaceFlicker::new(settle(bench));
             for (k, truth) in (0..bench.frames).zip(&references) {
                 place(&mut r, &scene, k, bench, &start)?;
                 let t = Instant::now();
@@ -106,51 +150,88 @@ pub fn run(bench: &MotionBench) -> anyhow::Result<()> {
                     metrics::rel_mse(&frame.radiance, truth, None, eps).unwrap_or(0.0),
                     flip::hdr_flip(&frame.radiance, truth, w, h),
                 );
-                relmse += e;
-                flip_sum += f;
-                let reuse = if reuse { "on" } else { "off" };
+                errors.push((e, f));
+                let reuse = match (reuse, filter) {
+                    (true, true) => "on",
+                    (true, false) => "on-unfiltered",
+                    (false, _) => "off",
+                };
                 csv += &format!("{},{reuse},{k},{},{e},{f}\n", path.display(), k as f32 / bench.fps);
                 ratio += metrics::mean_value(&frame.radiance) / metrics::mean_value(truth).max(1e-30);
-                let y: Vec<f64> = frame.radiance.iter().map(leakless::flicker::luminance).collect();
-                if let Some(prev) = &last {
-                    let mean = y.iter().sum::<f64>() / y.len() as f64;
-                    if k >= settle(bench) && mean > 0.0 {
-                        change += y.iter().zip(prev).map(|(a, b)| (a - b).abs()).sum::<f64>() / y.len() as f64 / mean;
-                        counted += 1;
-                    }
-                }
-                last = Some(y);
+                change.add(k, &frame.radiance);
+                surface_change.add(k, seen(&r, &frame));
+                band.add(&frame.radiance, truth, w, h);
             }
             r.gpu().check_validation()?;
             let n = bench.frames as f64;
             figures.push(Figures {
-                relmse: relmse / n,
-                flip: flip_sum / n,
-                flicker: change / counted.max(1) as f64,
+                relmse: errors.iter().map(|e| e.0).sum::<f64>() / n,
+                flip: errors.iter().map(|e| e.1).sum::<f64>() / n,
+                flicker: change.mean(),
+                surface_flicker: surface_change.mean(),
                 frame_ms: ms / n,
                 mean_ratio: ratio / n,
+                band: band.ratio(),
             });
+            if filter {
+                runs.push(MotionRun { scene: name.clone(), reuse, errors });
+            }
         }
-        let (on, off) = (&figures[0], &figures[1]);
-        let name = path.file_name().map_or(String::new(), |n| n.to_string_lossy().into_owned());
+        let (on, unfiltered, off) = (&figures[0], &figures[1], &figures[2]);
         println!(
             "{:<22} {:>10.5} {:>10.5} {:>9.4} {:>10.4}   {:>10.4} {:>11.4} {:>10.1} {:>10.1}",
             name, on.relmse, off.relmse, on.flip, off.flip, on.flicker, off.flicker, on.frame_ms, off.frame_ms
         );
         println!(
-            "{:<22} on/off: relMSE {:.2}×, FLIP {:.2}×, flicker {:.2}×, frame time {:.2}×; mean / reference: on {:.3}, off {:.3}",
+            "{:<22} on/off: relMSE {:.2}×, FLIP {:.2}×, flicker {:.2}×, surface flicker {:.4}/{:.4} = {:.2}×, frame time {:.2}×; mean / reference: on {:.3}, off {:.3}",
             "",
             on.relmse / off.relmse,
             on.flip / off.flip,
             on.flicker / off.flicker.max(1e-12),
+            on.surface_flicker,
+            off.surface_flicker,
+            on.surface_flicker / off.surface_flicker.max(1e-12),
             on.frame_ms / off.frame_ms,
             on.mean_ratio,
             off.mean_ratio
+        );
+        let band = |f: &Figures| f.band.map_or("-".into(), |b| format!("{b:.3}"));
+        println!(
+            "{:<22} without the spatial filter: relMSE {:.5}, FLIP {:.4}, flicker {:.4}, surface flicker {:.4}; dark band / reference: on {}, on unfiltered {}, off {}",
+            "",
+            unfiltered.relmse,
+            unfiltered.flip,
+            unfiltered.flicker,
+            unfiltered.surface_flicker,
+            band(on),
+            band(unfiltered),
+            band(off),
+        );
+        println!(
+            "{:<22} references' own: flicker {:.4}, surface flicker {:.4}; noise (another seed, last frame): relMSE {:.5}, FLIP {:.4}",
+            "",
+            reference_change.mean(),
+            reference_surface_change.mean(),
+            reference_noise.0,
+            reference_noise.1,
         );
     }
     if let Some(path) = &bench.csv {
         std::fs::write(path, csv).with_context(|| format!("writing {}", path.display()))?;
         println!("wrote {}", path.display());
+    }
+    if let Some(svg) = &bench.chart {
+        let png = svg.with_extension("png");
+        let caption = format!(
+            "{} · leakless {w}×{h}, {} paths a frame, {} fps, history {} frames; references {} spp · `leakless bench motion`",
+            device,
+            bench.paths,
+            bench.fps,
+            (0.5 * bench.fps).round().max(1.0),
+            bench.spp
+        );
+        plot_motion(&runs, &caption, svg, &png).with_context(|| format!("writing {}", svg.display()))?;
+        println!("wrote {} and {}", svg.display(), png.display());
     }
     Ok(())
 }
@@ -158,4 +239,16 @@ pub fn run(bench: &MotionBench) -> anyhow::Result<()> {
 /// The first frame the flicker counts: after half a second.
 fn settle(bench: &MotionBench) -> u32 {
     (0.5 * bench.fps).round() as u32
+}
+
+/// What `SurfaceFlicker` needs of a frame the renderer `r` just rendered.
+fn seen<'a>(r: &Renderer, frame: &'a leakless::RenderedFrame) -> SeenFrame<'a> {
+    SeenFrame {
+        image: &frame.radiance,
+        surface: &frame.surface,
+        view_proj: r.view_proj(),
+        camera: r.camera().position(),
+        width: frame.width,
+        height: frame.height,
+    }
 }

@@ -131,6 +131,7 @@ fn read(file: &PathBuf) -> Option<(u64, RenderedFrame)> {
         direct: layer(1),
         indirect: layer(2),
         leaked: vec![[0.0; 3]; pixels],
+        surface: Vec::new(),
         display: Vec::new(),
         timings: Vec::new(),
         gpu_span_ms: 0.0,

@@ -3,4 +3,5 @@
 
 pub mod bench;
 pub mod chart;
+pub mod motion;
 pub mod stability;

@@ -6,6 +6,7 @@
 //! and [`plot::plot`] (or [`write_outputs`] for all of a scene's files).
 
 pub mod flip;
+pub mod motion_plot;
 pub mod plot;
 pub mod scale_plot;
 pub mod series;

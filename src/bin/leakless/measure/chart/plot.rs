@@ -417,6 +417,39 @@ fn draw<DB: DrawingBackend>(root: DrawingArea<DB, Shift>, chart: &SceneChart, me
     Ok(())
 }
 
+/// The legend of `cc`'s labelled series, at `position`, in the charts' one style.
+pub(super) fn draw_legend<'a, DB: DrawingBackend + 'a, CT: plotters::coord::CoordTranslate>(
+    cc: &mut ChartContext<'a, DB, CT>,
+    position: SeriesLabelPosition,
+    font_size: f64,
+) -> DrawResult<DB> {
+    cc.configure_series_labels()
+        .position(position)
+        .label_font((FAMILY, font_size))
+        .background_style(WHITE.mix(0.85))
+        .border_style(RGBColor(200, 200, 200))
+        .draw()
+}
+
+/// One labelled line of `points` in `colour`, solid or dashed, with its legend entry.
+pub(super) fn draw_line<'a, DB: DrawingBackend + 'a, CT: plotters::coord::CoordTranslate<From = (f64, f64)>>(
+    cc: &mut ChartContext<'a, DB, CT>,
+    points: Vec<(f64, f64)>,
+    colour: RGBColor,
+    dashed: bool,
+    label: String,
+) -> DrawResult<DB> {
+    let style = colour.stroke_width(2);
+    if dashed {
+        cc.draw_series(DashedLineSeries::new(points, 6, 4, style))?
+    } else {
+        cc.draw_series(LineSeries::new(points, style))?
+    }
+    .label(label)
+    .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], colour.stroke_width(2)));
+    Ok(())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -7,7 +7,7 @@ use std::path::Path;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
-use super::plot::{log_range, log_ticks, tick, write_svg_png, DrawResult, Drawing, FAMILY};
+use super::plot::{draw_legend, draw_line, log_range, log_ticks, tick, write_svg_png, DrawResult, Drawing, FAMILY};
 use leakless::error::Result;
 use leakless::trace::Backend;
 
@@ -80,22 +80,10 @@ fn panel<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, title: &str, unit: &
             continue;
         }
         let colour = *colour;
-        let style = colour.stroke_width(2);
-        if *dashed {
-            cc.draw_series(DashedLineSeries::new(line.clone(), 6, 4, style))?
-        } else {
-            cc.draw_series(LineSeries::new(line.clone(), style))?
-        }
-        .label(label.clone())
-        .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], colour.stroke_width(2)));
+        draw_line(&mut cc, line.clone(), colour, *dashed, label.clone())?;
         cc.draw_series(line.iter().map(|&p| Circle::new(p, 3, colour.filled())))?;
     }
-    cc.configure_series_labels()
-        .position(SeriesLabelPosition::UpperLeft)
-        .label_font(font(12.0))
-        .background_style(WHITE.mix(0.85))
-        .border_style(RGBColor(200, 200, 200))
-        .draw()?;
+    draw_legend(&mut cc, SeriesLabelPosition::UpperLeft, 12.0)?;
     Ok(())
 }
 

@@ -7,7 +7,7 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 
-use super::plot::{log_range, log_ticks, method_colour, tick, write_svg_png, DrawResult, Drawing, FAMILY};
+use super::plot::{draw_legend, log_range, log_ticks, method_colour, tick, write_svg_png, DrawResult, Drawing, FAMILY};
 use super::series::{SceneSeries, SeriesPoint, SERIES_METHODS};
 use leakless::error::Result;
 
@@ -121,12 +121,7 @@ fn draw<DB: DrawingBackend>(
             cc.draw_series(std::iter::once(Text::new(format!("{}", p.2), (p.0, p.1), style)))?;
         }
     }
-    cc.configure_series_labels()
-        .position(SeriesLabelPosition::UpperRight)
-        .label_font(font(13.0))
-        .background_style(WHITE.mix(0.85))
-        .border_style(RGBColor(200, 200, 200))
-        .draw()?;
+    draw_legend(&mut cc, SeriesLabelPosition::UpperRight, 13.0)?;
     let settings = format!(
         "{}×{}; batches of {} paths; radius {:.4}, shrinking from {}× it after frame 1",
         series.width,

@@ -6,7 +6,7 @@ use std::path::Path;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
-use super::plot::{method_colour, tick, write_svg_png, DrawResult, Drawing, FAMILY};
+use super::plot::{draw_legend, method_colour, tick, write_svg_png, DrawResult, Drawing, FAMILY};
 use leakless::error::Result;
 use leakless::Method;
 
@@ -110,12 +110,7 @@ fn draw<DB: DrawingBackend>(root: DrawingArea<DB, Shift>, points: &[ThicknessPoi
                 .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], colour.stroke_width(2)));
             cc.draw_series(line.iter().map(|&p| Circle::new(p, px(4.0), colour.filled())))?;
         }
-        cc.configure_series_labels()
-            .position(SeriesLabelPosition::UpperRight)
-            .label_font(font(12.0))
-            .background_style(WHITE.mix(0.85))
-            .border_style(RGBColor(200, 200, 200))
-            .draw()?;
+        draw_legend(&mut cc, SeriesLabelPosition::UpperRight, 12.0)?;
     }
     foot_area.draw(&Text::new(
         caption.to_string(),
