@@ -7,7 +7,9 @@ use std::path::Path;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
-use super::plot::{draw_legend, draw_line, log_range, log_ticks, tick, write_svg_png, DrawResult, Drawing, FAMILY};
+use super::plot::{
+    captioned, draw_legend, draw_line, log_range, log_ticks, tick, write_svg_png, DrawResult, Drawing, FAMILY,
+};
 use leakless::error::Result;
 
 /// One scene's run with reuse on or off: per frame, (relMSE, HDR-FLIP).
@@ -84,12 +86,9 @@ fn panel<DB: DrawingBackend>(
 }
 
 fn draw<DB: DrawingBackend>(root: DrawingArea<DB, Shift>, chart: &MotionChart<'_>) -> DrawResult<DB> {
-    root.fill(&WHITE)?;
-    let (w, h) = root.dim_in_pixel();
-    let (main, foot) = root.split_vertically(h.saturating_sub(26));
-    let (left, right) = main.split_horizontally(w / 2);
+    let main = captioned(root, chart.caption)?;
+    let (left, right) = main.split_horizontally(main.dim_in_pixel().0 / 2);
     panel(&left, "relMSE", chart.runs, |e| e.0)?;
     panel(&right, "HDR-FLIP", chart.runs, |e| e.1)?;
-    foot.draw(&Text::new(chart.caption.to_string(), (12, 4), (FAMILY, 13.0).into_font().color(&RGBColor(90, 90, 90))))?;
     Ok(())
 }

@@ -417,6 +417,18 @@ fn draw<DB: DrawingBackend>(root: DrawingArea<DB, Shift>, chart: &SceneChart, me
     Ok(())
 }
 
+/// A white chart with a one-line `caption` along its foot; the area above it, to draw in.
+pub(super) fn captioned<DB: DrawingBackend>(
+    root: DrawingArea<DB, Shift>,
+    caption: &str,
+) -> std::result::Result<DrawingArea<DB, Shift>, DrawingAreaErrorKind<DB::ErrorType>> {
+    root.fill(&WHITE)?;
+    let h = root.dim_in_pixel().1;
+    let (main, foot) = root.split_vertically(h.saturating_sub(26));
+    foot.draw(&Text::new(caption.to_string(), (12, 4), (FAMILY, 13.0).into_font().color(&RGBColor(90, 90, 90))))?;
+    Ok(main)
+}
+
 /// The legend of `cc`'s labelled series, at `position`, in the charts' one style.
 pub(super) fn draw_legend<'a, DB: DrawingBackend + 'a, CT: plotters::coord::CoordTranslate>(
     cc: &mut ChartContext<'a, DB, CT>,

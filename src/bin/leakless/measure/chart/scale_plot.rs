@@ -7,7 +7,9 @@ use std::path::Path;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
-use super::plot::{draw_legend, draw_line, log_range, log_ticks, tick, write_svg_png, DrawResult, Drawing, FAMILY};
+use super::plot::{
+    captioned, draw_legend, draw_line, log_range, log_ticks, tick, write_svg_png, DrawResult, Drawing, FAMILY,
+};
 use leakless::error::Result;
 use leakless::trace::Backend;
 
@@ -88,10 +90,12 @@ fn panel<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, title: &str, unit: &
 }
 
 fn draw<DB: DrawingBackend>(root: DrawingArea<DB, Shift>, chart: &ScaleChart<'_>) -> DrawResult<DB> {
-    root.fill(&WHITE)?;
-    let (w, h) = root.dim_in_pixel();
-    let (main, foot) = root.split_vertically(h.saturating_sub(26));
-    let (left, right) = main.split_horizontally(w * 3 / 5);
+    let note = format!(
+        "{} · leakless {}×{}, fastest frame after a warm-up (host wall time) · `leakless bench scale`",
+        chart.device, chart.size.0, chart.size.1
+    );
+    let main = captioned(root, &note)?;
+    let (left, right) = main.split_horizontally(main.dim_in_pixel().0 * 3 / 5);
     let backends: Vec<Backend> = [Backend::Compute, Backend::RayQuery]
         .into_iter()
         .filter(|b| chart.points.iter().any(|p| p.backend == *b))
@@ -123,10 +127,5 @@ fn draw<DB: DrawingBackend>(root: DrawingArea<DB, Shift>, chart: &ScaleChart<'_>
         .map(|&b| (b.name().to_string(), backend_colour(b), false, series(b, |p| p.memory_mib)))
         .collect();
     panel(&right, "device memory allocated", "MiB", &memory)?;
-    let note = format!(
-        "{} · leakless {}×{}, fastest frame after a warm-up (host wall time) · `leakless bench scale`",
-        chart.device, chart.size.0, chart.size.1
-    );
-    foot.draw(&Text::new(note, (12, 4), (FAMILY, 13.0).into_font().color(&RGBColor(90, 90, 90))))?;
     Ok(())
 }
