@@ -71,6 +71,42 @@ pub fn rel_mse(x: &[[f32; 3]], r: &[[f32; 3]], mask: Option<&[bool]>, eps: f64) 
     mean_over(x, r, mask, |a, b| rel_squared_error(a, b, eps))
 }
 
+/// The noise of `r̄`, the mean of two independent, unbiased estimates `r1` and `r2` of a truth,
+/// in [`rel_mse`]'s terms: mean of `((r1 − r2) / 2)² / (r̄² + eps)`. The numerator's
+/// expectation is `r̄`'s variance, which every image's relMSE against `r̄` includes.
+pub fn reference_noise(r1: &[[f32; 3]], r2: &[[f32; 3]], eps: f64) -> Option<f64> {
+    noise_terms(r1, r1, r2, eps).map(|(_, noise)| noise)
+}
+
+/// [`rel_mse`] of `x` against `r̄` less [`reference_noise`]: mean of
+/// `(x − r1)(x − r2) / (r̄² + eps)`. Where the denominators are steady (`eps` dominates, or `r̄`
+/// is much less noisy than it is bright), it estimates `x`'s relMSE against the truth without
+/// bias; where they are not, their noise weighs every image's errors alike. A single image's
+/// figure may be negative.
+pub fn rel_mse_without_reference_noise(x: &[[f32; 3]], r1: &[[f32; 3]], r2: &[[f32; 3]], eps: f64) -> Option<f64> {
+    noise_terms(x, r1, r2, eps).map(|(product, _)| product)
+}
+
+/// Means over (pixel, channel) of `(x − r1)(x − r2)` and of `((r1 − r2) / 2)²`, each over
+/// `r̄² + eps`.
+fn noise_terms(x: &[[f32; 3]], r1: &[[f32; 3]], r2: &[[f32; 3]], eps: f64) -> Option<(f64, f64)> {
+    assert!(x.len() == r1.len() && r1.len() == r2.len(), "image and references differ in size");
+    if eps.is_nan() || eps <= 0.0 || x.is_empty() {
+        return None;
+    }
+    let (mut product, mut noise) = (0.0f64, 0.0f64);
+    for (a, (b1, b2)) in x.iter().zip(r1.iter().zip(r2)) {
+        for c in 0..3 {
+            let (a, b1, b2) = (a[c] as f64, b1[c] as f64, b2[c] as f64);
+            let mean = 0.5 * (b1 + b2);
+            product += (a - b1) * (a - b2) / (mean * mean + eps);
+            noise += (0.5 * (b1 - b2)).powi(2) / (mean * mean + eps);
+        }
+    }
+    let n = (3 * x.len()) as f64;
+    Some((product / n, noise / n))
+}
+
 /// One channel's term of [`rel_mse`]: `(a − b)² / (b² + eps)`.
 pub fn rel_squared_error(a: f64, b: f64, eps: f64) -> f64 {
     (a - b).powi(2) / (b * b + eps)
@@ -200,5 +236,33 @@ mod tests {
         assert_eq!((black.relmse, black.relmse_dark), (None, None));
         assert_eq!(black.rmse, Some((6.25f64 / 6.0).sqrt()));
         assert_eq!(black.rmse_dark, black.rmse);
+    }
+
+    /// Against two noisy estimates of a truth, the estimator finds the image's own error, where
+    /// relMSE against their mean adds the mean's variance.
+    #[test]
+    fn rel_mse_without_reference_noise_removes_the_references_variance() {
+        // A ±0.5 noise on a truth of 1, independent between the references (every pair of
+        // signs equally often), and an image 0.1 above the truth. `eps` = 100 keeps the
+        // denominators steady (100.25 to 102.25).
+        let n = 4096;
+        let noise = |i: usize, bit: usize| if i >> bit & 1 == 0 { 0.5 } else { -0.5 };
+        let r1: Vec<[f32; 3]> = (0..n).map(|i| [1.0 + noise(i, 0); 3]).collect();
+        let r2: Vec<[f32; 3]> = (0..n).map(|i| [1.0 + noise(i, 1); 3]).collect();
+        let x = vec![[1.1f32; 3]; n];
+        let eps = 100.0;
+        let mean: Vec<[f32; 3]> = r1.iter().zip(&r2).map(|(a, b)| [0.5 * (a[0] + b[0]); 3]).collect();
+        // Against the mean: the image's 0.01 and the mean's variance, 0.125.
+        let with_noise = (1.0 + eps) * rel_mse(&x, &mean, None, eps).unwrap();
+        let without = (1.0 + eps) * rel_mse_without_reference_noise(&x, &r1, &r2, eps).unwrap();
+        assert!((with_noise - 0.135).abs() < 0.01, "{with_noise}");
+        assert!((without - 0.01).abs() < 0.001, "{without}");
+        // The difference is the mean's noise, 0.125 (over steady denominators).
+        let noise = (1.0 + eps) * reference_noise(&r1, &r2, eps).unwrap();
+        assert!((noise - 0.125).abs() < 0.002, "{noise}");
+        assert!((with_noise - without - noise).abs() < 1e-12);
+        // Identical references are a noise-free truth: the estimator is rel_mse exactly.
+        assert_eq!(rel_mse_without_reference_noise(&x, &mean, &mean, 1e-3), rel_mse(&x, &mean, None, 1e-3));
+        assert_eq!(rel_mse_without_reference_noise(&x, &mean, &mean, 0.0), None);
     }
 }

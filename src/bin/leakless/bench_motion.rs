@@ -25,7 +25,8 @@ pub struct MotionBench {
     /// Samples per pixel of each frame's reference.
     pub spp: u32,
     pub backend: BackendChoice,
-    /// Each frame's errors, as CSV (`scene,reuse,frame,time,relmse,flip`): the error against
+    /// Each frame's errors, as CSV (`scene,reuse,frame,time,relmse,flip,relmse_less_noise`): the
+    /// error against
     /// frame index.
     pub csv: Option<PathBuf>,
     /// The chart of each frame's errors (an SVG; a PNG beside it).
@@ -35,6 +36,8 @@ pub struct MotionBench {
 /// One run's figures: means over the displayed frames.
 struct Figures {
     relmse: f64,
+    /// relMSE less the references' own noise (`metrics::rel_mse_without_reference_noise`).
+    relmse_less_noise: f64,
     flip: f64,
     flicker: f64,
     frame_ms: f64,
@@ -82,7 +85,7 @@ pub fn run(bench: &MotionBench) -> anyhow::Result<()> {
         "{:<22} {:>10} {:>10} {:>9} {:>10}   {:>10} {:>10} {:>10} {:>10}",
         "scene", "relMSE on", "relMSE off", "FLIP on", "FLIP off", "flicker on", "flicker off", "ms on", "ms off"
     );
-    let mut csv = String::from("scene,reuse,frame,time,relmse,flip\n");
+    let mut csv = String::from("scene,reuse,frame,time,relmse,flip,relmse_less_noise\n");
     let (mut runs, mut device) = (Vec::new(), String::new());
     for path in &bench.scenes {
         let scene = Scene::load(path).with_context(|| format!("loading {}", path.display()))?;
@@ -99,34 +102,49 @@ pub fn run(bench: &MotionBench) -> anyhow::Result<()> {
             ..Default::default()
         };
         let open = || crate::open_gpu(bench.backend);
-        let mut reference = Renderer::new(open()?, &scene, settings(Method::Reference, false, 0))?;
-        let start = reference.camera().clone();
-        device.clone_from(&reference.gpu().report().name);
-        let mut references = Vec::new();
+        // Each frame's reference is the mean of two halves of its samples, of two seeds: the
+        // halves' difference is the reference's own noise, which every error against it
+        // includes, and their product removes it (`metrics::rel_mse_without_reference_noise`).
+        let half_spp = bench.spp.div_ceil(2);
+        let mut halves: [Vec<Vec<[f32; 3]>>; 2] = [Vec::new(), Vec::new()];
+        // Each frame's surfaces and camera, for the references' surface flicker.
+        let (mut start, mut views) = (None, Vec::new());
+        for (seed, half) in halves.iter_mut().enumerate() {
+            let mut reference = Renderer::new(
+                open()?,
+                &scene,
+                RenderSettings { spp: half_spp, ..settings(Method::Reference, false, seed as u32) },
+            )?;
+            let start = start.get_or_insert_with(|| reference.camera().clone()).clone();
+            device.clone_from(&reference.gpu().report().name);
+            for k in 0..bench.frames {
+                place(&mut reference, &scene, k, bench, &start)?;
+                let frame = reference.render()?;
+                if seed == 0 {
+                    views.push((frame.surface.clone(), reference.view_proj(), reference.camera().position()));
+                }
+                half.push(frame.radiance);
+            }
+            reference.gpu().check_validation()?;
+        }
+        let start = start.expect("two halves rendered");
+        let references: Vec<Vec<[f32; 3]>> = halves[0]
+            .iter()
+            .zip(&halves[1])
+            .map(|(a, b)| a.iter().zip(b).map(|(a, b)| std::array::from_fn(|c| 0.5 * (a[c] + b[c]))).collect())
+            .collect();
         let mut reference_change = ScreenFlicker::new(settle(bench));
         let mut reference_surface_change = SurfaceFlicker::new(settle(bench));
-        for k in 0..bench.frames {
-            place(&mut reference, &scene, k, bench, &start)?;
-            let frame = reference.render()?;
-            reference_change.add(k, &frame.radiance);
-            reference_surface_change.add(k, seen(&reference, &frame));
-            references.push(frame.radiance);
+        let mut noise = (0.0, 0.0);
+        for (k, (truth, (surface, view_proj, camera))) in (0..bench.frames).zip(references.iter().zip(&views)) {
+            reference_change.add(k, truth);
+            let (view_proj, camera, width, height) = (*view_proj, *camera, w, h);
+            reference_surface_change.add(k, SeenFrame { image: truth, surface, view_proj, camera, width, height });
+            let (a, b) = (&halves[0][k as usize], &halves[1][k as usize]);
+            noise.0 += metrics::reference_noise(a, b, metrics::epsilon(truth)).unwrap_or(0.0);
+            noise.1 += flip::hdr_flip(a, b, w, h);
         }
-        reference.gpu().check_validation()?;
-        drop(reference);
-        // The references' own noise, which every error below includes: the last frame's
-        // reference against one of another seed.
-        let last = bench.frames - 1;
-        let mut second = Renderer::new(open()?, &scene, settings(Method::Reference, false, 1))?;
-        place(&mut second, &scene, last, bench, &start)?;
-        let other = second.render()?.radiance;
-        second.gpu().check_validation()?;
-        drop(second);
-        let truth = &references[last as usize];
-        let reference_noise = (
-            metrics::rel_mse(&other, truth, None, metrics::epsilon(truth)).unwrap_or(0.0),
-            flip::hdr_flip(&other, truth, w, h),
-        );
+        let reference_noise = (noise.0 / bench.frames as f64, noise.1 / bench.frames as f64);
         let mut figures = Vec::new();
         // Reuse on, on without its spatial filter (the same photons: what the filter alone
         // does), and off.
@@ -136,7 +154,7 @@ pub fn run(bench: &MotionBench) -> anyhow::Result<()> {
             r.set_progressive(true);
             r.set_advance_seed(true);
             r.set_reuse_history_frames((0.5 * bench.fps).round().max(1.0) as u32);
-            let (mut ms, mut ratio, mut band) = (0.0, 0.0, DarkBand::default());
+            let (mut ms, mut ratio, mut band, mut less_noise) = (0.0, 0.0, DarkBand::default(), 0.0);
             let mut errors = Vec::new();
             let mut change = ScreenFlicker::new(settle(bench));
             let mut surface_change = SurfaceFlicker::new(settle(bench));
@@ -151,12 +169,15 @@ pub fn run(bench: &MotionBench) -> anyhow::Result<()> {
                     flip::hdr_flip(&frame.radiance, truth, w, h),
                 );
                 errors.push((e, f));
+                let (a, b) = (&halves[0][k as usize], &halves[1][k as usize]);
+                let clean = metrics::rel_mse_without_reference_noise(&frame.radiance, a, b, eps).unwrap_or(0.0);
+                less_noise += clean;
                 let reuse = match (reuse, filter) {
                     (true, true) => "on",
                     (true, false) => "on-unfiltered",
                     (false, _) => "off",
                 };
-                csv += &format!("{},{reuse},{k},{},{e},{f}\n", path.display(), k as f32 / bench.fps);
+                csv += &format!("{},{reuse},{k},{},{e},{f},{clean}\n", path.display(), k as f32 / bench.fps);
                 ratio += metrics::mean_value(&frame.radiance) / metrics::mean_value(truth).max(1e-30);
                 change.add(k, &frame.radiance);
                 surface_change.add(k, seen(&r, &frame));
@@ -166,6 +187,7 @@ pub fn run(bench: &MotionBench) -> anyhow::Result<()> {
             let n = bench.frames as f64;
             figures.push(Figures {
                 relmse: errors.iter().map(|e| e.0).sum::<f64>() / n,
+                relmse_less_noise: less_noise / n,
                 flip: errors.iter().map(|e| e.1).sum::<f64>() / n,
                 flicker: change.mean(),
                 surface_flicker: surface_change.mean(),
@@ -195,6 +217,13 @@ pub fn run(bench: &MotionBench) -> anyhow::Result<()> {
             on.mean_ratio,
             off.mean_ratio
         );
+        println!(
+            "{:<22} relMSE less the references' noise: on {:.5}, off {:.5}, on/off {:.2}×",
+            "",
+            on.relmse_less_noise,
+            off.relmse_less_noise,
+            on.relmse_less_noise / off.relmse_less_noise
+        );
         let band = |f: &Figures| f.band.map_or("-".into(), |b| format!("{b:.3}"));
         println!(
             "{:<22} without the spatial filter: relMSE {:.5}, FLIP {:.4}, flicker {:.4}, surface flicker {:.4}; dark band / reference: on {}, on unfiltered {}, off {}",
@@ -208,7 +237,7 @@ pub fn run(bench: &MotionBench) -> anyhow::Result<()> {
             band(off),
         );
         println!(
-            "{:<22} references' own: flicker {:.4}, surface flicker {:.4}; noise (another seed, last frame): relMSE {:.5}, FLIP {:.4}",
+            "{:<22} references' own: flicker {:.4}, surface flicker {:.4}; noise (from the halves of two seeds, each frame): relMSE {:.5}; FLIP between the halves {:.4}",
             "",
             reference_change.mean(),
             reference_surface_change.mean(),
