@@ -45,8 +45,10 @@ struct Figures {
     mean_ratio: f64,
     /// Flicker on the surfaces (`SurfaceFlicker`).
     surface_flicker: f64,
-    /// The dark band's mean over the reference's (light carried into shadow shows above 1).
+    /// The dark band's mean over the reference's (light carried into shadow shows above 1), and
+    /// its pixels over the frames.
     band: Option<f64>,
+    band_pixels: usize,
 }
 
 /// Frame `k`'s view: the scene at time k/fps, or its camera turned about the point it looks at.
@@ -79,7 +81,7 @@ pub fn run(bench: &MotionBench) -> anyhow::Result<()> {
         "surface flicker: the same, each pixel against its surface point in the frame before (0 for a perfect image of still light)"
     );
     println!(
-        "dark band: pixels under {DARK} of the reference's mean within {BAND_PIXELS} pixels of one above it; its mean over the reference's"
+        "dark band: pixels under {DARK} of a reference half's mean within {BAND_PIXELS} pixels of one above it; its mean over the other half's there"
     );
     println!(
         "{:<22} {:>10} {:>10} {:>9} {:>10}   {:>10} {:>10} {:>10} {:>10}",
@@ -181,7 +183,7 @@ pub fn run(bench: &MotionBench) -> anyhow::Result<()> {
                 ratio += metrics::mean_value(&frame.radiance) / metrics::mean_value(truth).max(1e-30);
                 change.add(k, &frame.radiance);
                 surface_change.add(k, seen(&r, &frame));
-                band.add(&frame.radiance, truth, w, h);
+                band.add(&frame.radiance, a, b, w, h);
             }
             r.gpu().check_validation()?;
             let n = bench.frames as f64;
@@ -194,6 +196,7 @@ pub fn run(bench: &MotionBench) -> anyhow::Result<()> {
                 frame_ms: ms / n,
                 mean_ratio: ratio / n,
                 band: band.ratio(),
+                band_pixels: band.pixels(),
             });
             if filter {
                 runs.push(MotionRun { scene: name.clone(), reuse, errors });
@@ -226,12 +229,13 @@ pub fn run(bench: &MotionBench) -> anyhow::Result<()> {
         );
         let band = |f: &Figures| f.band.map_or("-".into(), |b| format!("{b:.3}"));
         println!(
-            "{:<22} without the spatial filter: relMSE {:.5}, FLIP {:.4}, flicker {:.4}, surface flicker {:.4}; dark band / reference: on {}, on unfiltered {}, off {}",
+            "{:<22} without the spatial filter: relMSE {:.5}, FLIP {:.4}, flicker {:.4}, surface flicker {:.4}; dark band ({} pixels over the frames) / reference: on {}, on unfiltered {}, off {}",
             "",
             unfiltered.relmse,
             unfiltered.flip,
             unfiltered.flicker,
             unfiltered.surface_flicker,
+            on.band_pixels,
             band(on),
             band(unfiltered),
             band(off),

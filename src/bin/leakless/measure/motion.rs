@@ -139,16 +139,21 @@ pub const DARK: f64 = 0.1;
 pub const BAND_PIXELS: i32 = 4;
 
 /// Light a filter would carry out of lit regions lands in the dark pixels beside them: the
-/// band's luminance summed over the frames, the frame's and the reference's.
+/// band's luminance summed over the frames, the frame's and the reference's, and its pixels.
+///
+/// The band is chosen on one estimate of the truth (`select`) and measured against another,
+/// independent one (`measure`): a pixel chosen for being dark in a noisy reference is, on
+/// average, darker there than the truth, and every image would seem bright against it.
 #[derive(Default)]
 pub struct DarkBand {
     frame: f64,
     reference: f64,
+    pixels: usize,
 }
 
 impl DarkBand {
-    pub fn add(&mut self, image: &[[f32; 3]], reference: &[[f32; 3]], w: u32, h: u32) {
-        let y: Vec<f64> = reference.iter().map(luminance).collect();
+    pub fn add(&mut self, image: &[[f32; 3]], select: &[[f32; 3]], measure: &[[f32; 3]], w: u32, h: u32) {
+        let y: Vec<f64> = select.iter().map(luminance).collect();
         let mean = y.iter().sum::<f64>() / y.len().max(1) as f64;
         let (w, h) = (w as i32, h as i32);
         let lit_near = |x: i32, yy: i32| {
@@ -164,7 +169,8 @@ impl DarkBand {
                 let i = (yy * w + x) as usize;
                 if y[i] < DARK * mean && lit_near(x, yy) {
                     self.frame += luminance(&image[i]);
-                    self.reference += y[i];
+                    self.reference += luminance(&measure[i]);
+                    self.pixels += 1;
                 }
             }
         }
@@ -173,6 +179,11 @@ impl DarkBand {
     /// The band's luminance over the reference's (None: no band).
     pub fn ratio(&self) -> Option<f64> {
         (self.reference > 0.0).then(|| self.frame / self.reference)
+    }
+
+    /// The band's pixels, summed over the frames.
+    pub fn pixels(&self) -> usize {
+        self.pixels
     }
 }
 
@@ -189,15 +200,21 @@ mod tests {
     fn the_dark_band_sees_light_carried_into_shadow() {
         let reference = half_lit(0.01);
         let mut same = DarkBand::default();
-        same.add(&reference, &reference, 8, 8);
+        same.add(&reference, &reference, &reference, 8, 8);
         assert_eq!(same.ratio(), Some(1.0));
+        assert_eq!(same.pixels(), 32);
+        // Chosen on one estimate, measured against another: a second estimate twice as dark
+        // there halves what the image is measured against.
+        let mut other = DarkBand::default();
+        other.add(&reference, &reference, &half_lit(0.005), 8, 8);
+        assert!((other.ratio().unwrap() - 2.0).abs() < 1e-6);
         // Light bled into the dark half doubles its luminance there.
         let mut bled = DarkBand::default();
-        bled.add(&half_lit(0.02), &reference, 8, 8);
+        bled.add(&half_lit(0.02), &reference, &reference, 8, 8);
         assert!((bled.ratio().unwrap() - 2.0).abs() < 1e-6);
         // No dark pixel beside a lit one: no band.
         let mut none = DarkBand::default();
-        none.add(&[[1.0; 3]; 64], &[[1.0; 3]; 64], 8, 8);
+        none.add(&[[1.0; 3]; 64], &[[1.0; 3]; 64], &[[1.0; 3]; 64], 8, 8);
         assert_eq!(none.ratio(), None);
     }
 
