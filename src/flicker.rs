@@ -42,9 +42,19 @@ pub fn single_frames(renderer: &mut Renderer, frames: u32) -> Result<Vec<Vec<f64
 /// less grainy for it. 0 for a smooth or constant image.
 pub fn grain_of(series: &[Vec<f64>], width: usize) -> f64 {
     let Some(first) = series.first() else { return 0.0 };
-    let height = first.len() / width.max(1);
     let mean = series.iter().flatten().sum::<f64>() / (series.len() * first.len()).max(1) as f64;
-    if width < 3 || height < 3 || mean <= 0.0 {
+    if mean <= 0.0 {
+        return 0.0;
+    }
+    deviation_from_median(series, width) / mean
+}
+
+/// The mean over the frames and their pixels not on the border of |v − the median of v's 3×3
+/// neighbourhood|; 0 for images narrower or lower than 3 pixels.
+fn deviation_from_median(series: &[Vec<f64>], width: usize) -> f64 {
+    let Some(first) = series.first() else { return 0.0 };
+    let height = first.len() / width.max(1);
+    if width < 3 || height < 3 {
         return 0.0;
     }
     let mut total = 0.0;
@@ -60,7 +70,27 @@ pub fn grain_of(series: &[Vec<f64>], width: usize) -> f64 {
             }
         }
     }
-    total / ((series.len() * (width - 2) * (height - 2)) as f64 * mean)
+    total / (series.len() * (width - 2) * (height - 2)) as f64
+}
+
+/// [`grain_of`] the noise alone: each frame less the frames' mean image, scaled by
+/// `√(n / (n − 1))` (the mean holds `1/n` of each frame's noise), over the frames' mean
+/// luminance. What every frame shares (a thin bright line, a corner, the contact shadow of a
+/// baluster, which a 3×3 median does not keep) is the image, not noise, and does not count.
+pub fn noise_grain_of(series: &[Vec<f64>], width: usize) -> f64 {
+    let Some(first) = series.first() else { return 0.0 };
+    let n = series.len();
+    let total = series.iter().flatten().sum::<f64>();
+    if n < 2 || total <= 0.0 {
+        return 0.0;
+    }
+    let mean_image: Vec<f64> = (0..first.len()).map(|i| series.iter().map(|f| f[i]).sum::<f64>() / n as f64).collect();
+    let scale = (n as f64 / (n - 1) as f64).sqrt();
+    let noise: Vec<Vec<f64>> =
+        series.iter().map(|f| f.iter().zip(&mean_image).map(|(l, m)| scale * (l - m)).collect()).collect();
+    // grain_of divides by its series' mean luminance, which the noise does not have.
+    let mean = total / (n * first.len()) as f64;
+    deviation_from_median(&noise, width) / mean
 }
 
 /// [`flicker`] of per-frame luminance images (each the same length).
@@ -130,5 +160,25 @@ mod tests {
         spot[5] = 10.0;
         assert!((grain_of(&[spot], 4) - 9.0 / 4.0 / (25.0 / 16.0)).abs() < 1e-12);
         assert_eq!(grain_of(&[vec![0.0; 16]], 4), 0.0);
+    }
+
+    #[test]
+    fn noise_grain_counts_what_changes_between_frames_only() {
+        // A bright pixel every frame shares is the image: grain sees it, noise grain does not.
+        let mut spot = vec![1.0; 16];
+        spot[5] = 10.0;
+        let still = vec![spot.clone(), spot.clone()];
+        assert!((grain_of(&still, 4) - 9.0 / 4.0 / (25.0 / 16.0)).abs() < 1e-12);
+        assert_eq!(noise_grain_of(&still, 4), 0.0);
+        // A spike of +2 in one frame of two at pixel 5: the frames less their mean are +1 and
+        // −1 there (× √2), and each inner pixel's median stays 0; over 2 frames × 4 inner
+        // pixels and a mean luminance of (32 + 2) / 32.
+        let mut spiked = vec![1.0; 16];
+        spiked[5] = 3.0;
+        let noisy = vec![spiked, vec![1.0; 16]];
+        let expected = 2.0 * 2f64.sqrt() / 8.0 / (34.0 / 32.0);
+        assert!((noise_grain_of(&noisy, 4) - expected).abs() < 1e-12, "{}", noise_grain_of(&noisy, 4));
+        assert_eq!(noise_grain_of(&[vec![0.0; 16], vec![0.0; 16]], 4), 0.0);
+        assert_eq!(noise_grain_of(&noisy[..1], 4), 0.0);
     }
 }

@@ -4,7 +4,7 @@
 use std::path::PathBuf;
 
 use anyhow::Context;
-use leakless::flicker::{accumulation_changes, flicker_of, grain_of, single_frames, FLICKER_FRAMES};
+use leakless::flicker::{accumulation_changes, flicker_of, grain_of, noise_grain_of, single_frames, FLICKER_FRAMES};
 use leakless::{BackendChoice, Method, RenderSettings, Renderer, Scene, SplatSettings};
 
 pub fn run(
@@ -28,7 +28,7 @@ pub fn run(
         "{:<14} {:>9} {:>16} {:>9} {:>17}   accumulation: change made by frame N (N = 2, 4, 8, 16, 32 ...)",
         "scene", "splat", "leakless-capped", "leakless", "leakless / splat"
     );
-    let mut grain_rows = Vec::new();
+    let (mut grain_rows, mut noise_rows) = (Vec::new(), Vec::new());
     for path in scenes {
         let scene = Scene::load(path).with_context(|| format!("loading {}", path.display()))?;
         let settings = |method| RenderSettings {
@@ -40,12 +40,13 @@ pub fn run(
             ..Default::default()
         };
         let mut renderer = Renderer::new(open()?, &scene, settings(Method::Splat))?;
-        let (mut values, mut grains) = (Vec::new(), Vec::new());
+        let (mut values, mut grains, mut noise_grains) = (Vec::new(), Vec::new(), Vec::new());
         for method in [Method::Splat, Method::LeakLessCapped, Method::LeakLess] {
             renderer.set_settings(settings(method))?;
             let frames = single_frames(&mut renderer, FLICKER_FRAMES)?;
             values.push(flicker_of(&frames));
             grains.push(grain_of(&frames, w as usize));
+            noise_grains.push(noise_grain_of(&frames, w as usize));
         }
         renderer.set_settings(settings(Method::LeakLess))?;
         let changes = accumulation_changes(&mut renderer, frames)?;
@@ -72,6 +73,14 @@ pub fn run(
             grains[2],
             grains[2] / grains[0].max(1e-12)
         ));
+        noise_rows.push(format!(
+            "{:<14} {:>9.4} {:>16.4} {:>9.4} {:>16.2}x",
+            scene.name,
+            noise_grains[0],
+            noise_grains[1],
+            noise_grains[2],
+            noise_grains[2] / noise_grains[0].max(1e-12)
+        ));
     }
     println!();
     println!(
@@ -79,6 +88,14 @@ pub fn run(
     );
     println!("{:<14} {:>9} {:>16} {:>9} {:>17}", "scene", "splat", "leakless-capped", "leakless", "leakless / splat");
     for row in grain_rows {
+        println!("{row}");
+    }
+    println!();
+    println!(
+        "grain of the noise alone: the same, of each frame less the {FLICKER_FRAMES} frames' mean (what every frame shares, such as a thin line or a contact shadow, is the image and does not count)"
+    );
+    println!("{:<14} {:>9} {:>16} {:>9} {:>17}", "scene", "splat", "leakless-capped", "leakless", "leakless / splat");
+    for row in noise_rows {
         println!("{row}");
     }
     Ok(())
