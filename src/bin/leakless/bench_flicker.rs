@@ -24,31 +24,36 @@ pub fn run(
     println!(
         "bench flicker ({w}x{h}, {paths} paths): per pixel, temporal std / mean of luminance over {FLICKER_FRAMES} frames with fresh photons, averaged over lit pixels"
     );
+    println!("whole disk: leakless without its visible-disk estimate (--whole-disk)");
     println!(
-        "{:<14} {:>9} {:>16} {:>9} {:>17}   accumulation: change made by frame N (N = 2, 4, 8, 16, 32 ...)",
-        "scene", "splat", "leakless-capped", "leakless", "leakless / splat"
+        "{:<14} {:>9} {:>16} {:>9} {:>17} {:>11}   accumulation: change made by frame N (N = 2, 4, 8, 16, 32 ...)",
+        "scene", "splat", "leakless-capped", "leakless", "leakless / splat", "whole disk"
     );
     let (mut grain_rows, mut noise_rows) = (Vec::new(), Vec::new());
     for path in scenes {
         let scene = Scene::load(path).with_context(|| format!("loading {}", path.display()))?;
-        let settings = |method| RenderSettings {
+        let settings = |method, visible_disk| RenderSettings {
             width: w,
             height: h,
             backend,
             method,
-            splat: SplatSettings { paths, ..Default::default() },
+            splat: SplatSettings { paths, visible_disk, ..Default::default() },
             ..Default::default()
         };
-        let mut renderer = Renderer::new(open()?, &scene, settings(Method::Splat))?;
+        let mut renderer = Renderer::new(open()?, &scene, settings(Method::Splat, true))?;
         let (mut values, mut grains, mut noise_grains) = (Vec::new(), Vec::new(), Vec::new());
-        for method in [Method::Splat, Method::LeakLessCapped, Method::LeakLess] {
-            renderer.set_settings(settings(method))?;
+        // The last: leakless without its visible-disk estimate (`--whole-disk`), to tell what
+        // that estimate adds.
+        for (method, visible_disk) in
+            [(Method::Splat, true), (Method::LeakLessCapped, true), (Method::LeakLess, true), (Method::LeakLess, false)]
+        {
+            renderer.set_settings(settings(method, visible_disk))?;
             let frames = single_frames(&mut renderer, FLICKER_FRAMES)?;
             values.push(flicker_of(&frames));
             grains.push(grain_of(&frames, w as usize));
             noise_grains.push(noise_grain_of(&frames, w as usize));
         }
-        renderer.set_settings(settings(Method::LeakLess))?;
+        renderer.set_settings(settings(Method::LeakLess, true))?;
         let changes = accumulation_changes(&mut renderer, frames)?;
         renderer.gpu().check_validation()?;
         let at_powers: Vec<String> = (1..)
@@ -57,36 +62,42 @@ pub fn run(
             .map(|n| format!("{:.4}", changes[n - 2]))
             .collect();
         println!(
-            "{:<14} {:>9.4} {:>16.4} {:>9.4} {:>16.2}x   {}",
+            "{:<14} {:>9.4} {:>16.4} {:>9.4} {:>16.2}x {:>11.4}   {}",
             scene.name,
             values[0],
             values[1],
             values[2],
             values[2] / values[0].max(1e-12),
+            values[3],
             at_powers.join(" ")
         );
         grain_rows.push(format!(
-            "{:<14} {:>9.4} {:>16.4} {:>9.4} {:>16.2}x",
+            "{:<14} {:>9.4} {:>16.4} {:>9.4} {:>16.2}x {:>11.4}",
             scene.name,
             grains[0],
             grains[1],
             grains[2],
-            grains[2] / grains[0].max(1e-12)
+            grains[2] / grains[0].max(1e-12),
+            grains[3]
         ));
         noise_rows.push(format!(
-            "{:<14} {:>9.4} {:>16.4} {:>9.4} {:>16.2}x",
+            "{:<14} {:>9.4} {:>16.4} {:>9.4} {:>16.2}x {:>11.4}",
             scene.name,
             noise_grains[0],
             noise_grains[1],
             noise_grains[2],
-            noise_grains[2] / noise_grains[0].max(1e-12)
+            noise_grains[2] / noise_grains[0].max(1e-12),
+            noise_grains[3]
         ));
     }
     println!();
     println!(
         "grain, the same frames: per frame, mean |L - median of its 3x3 neighbourhood| over the mean luminance (pixel-scale noise)"
     );
-    println!("{:<14} {:>9} {:>16} {:>9} {:>17}", "scene", "splat", "leakless-capped", "leakless", "leakless / splat");
+    println!(
+        "{:<14} {:>9} {:>16} {:>9} {:>17} {:>11}",
+        "scene", "splat", "leakless-capped", "leakless", "leakless / splat", "whole disk"
+    );
     for row in grain_rows {
         println!("{row}");
     }
@@ -94,7 +105,10 @@ pub fn run(
     println!(
         "grain of the noise alone: the same, of each frame less the {FLICKER_FRAMES} frames' mean (what every frame shares, such as a thin line or a contact shadow, is the image and does not count)"
     );
-    println!("{:<14} {:>9} {:>16} {:>9} {:>17}", "scene", "splat", "leakless-capped", "leakless", "leakless / splat");
+    println!(
+        "{:<14} {:>9} {:>16} {:>9} {:>17} {:>11}",
+        "scene", "splat", "leakless-capped", "leakless", "leakless / splat", "whole disk"
+    );
     for row in noise_rows {
         println!("{row}");
     }
