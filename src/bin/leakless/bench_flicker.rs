@@ -71,46 +71,34 @@ pub fn run(
             values[3],
             at_powers.join(" ")
         );
-        grain_rows.push(format!(
-            "{:<14} {:>9.4} {:>16.4} {:>9.4} {:>16.2}x {:>11.4}",
-            scene.name,
-            grains[0],
-            grains[1],
-            grains[2],
-            grains[2] / grains[0].max(1e-12),
-            grains[3]
-        ));
-        noise_rows.push(format!(
-            "{:<14} {:>9.4} {:>16.4} {:>9.4} {:>16.2}x {:>11.4}",
-            scene.name,
-            noise_grains[0],
-            noise_grains[1],
-            noise_grains[2],
-            noise_grains[2] / noise_grains[0].max(1e-12),
-            noise_grains[3]
-        ));
+        grain_rows.push(row(&scene.name, &grains));
+        noise_rows.push(row(&scene.name, &noise_grains));
     }
-    println!();
-    println!(
-        "grain, the same frames: per frame, mean |L - median of its 3x3 neighbourhood| over the mean luminance (pixel-scale noise)"
+    table(
+        "grain, the same frames: per frame, mean |L - median of its 3x3 neighbourhood| over the mean luminance (pixel-scale noise)",
+        &grain_rows,
     );
-    println!(
-        "{:<14} {:>9} {:>16} {:>9} {:>17} {:>11}",
-        "scene", "splat", "leakless-capped", "leakless", "leakless / splat", "whole disk"
+    table(
+        &format!("grain of the noise alone: the same, of each frame less the {FLICKER_FRAMES} frames' mean (what every frame shares, such as a thin line or a contact shadow, is the image and does not count)"),
+        &noise_rows,
     );
-    for row in grain_rows {
-        println!("{row}");
-    }
-    println!();
-    println!(
-        "grain of the noise alone: the same, of each frame less the {FLICKER_FRAMES} frames' mean (what every frame shares, such as a thin line or a contact shadow, is the image and does not count)"
-    );
-    println!(
-        "{:<14} {:>9} {:>16} {:>9} {:>17} {:>11}",
-        "scene", "splat", "leakless-capped", "leakless", "leakless / splat", "whole disk"
-    );
-    for row in noise_rows {
-        println!("{row}");
-    }
     Ok(())
+}
+
+/// A scene's row of a grain table: splat, leakless-capped, leakless, leakless over splat, and
+/// leakless without its visible disk.
+fn row(scene: &str, v: &[f64]) -> String {
+    format!("{:<14} {:>9.4} {:>16.4} {:>9.4} {:>16.2}x {:>11.4}", scene, v[0], v[1], v[2], v[2] / v[0].max(1e-12), v[3])
+}
+
+fn table(title: &str, rows: &[String]) {
+    println!();
+    println!("{title}");
+    println!(
+        "{:<14} {:>9} {:>16} {:>9} {:>17} {:>11}",
+        "scene", "splat", "leakless-capped", "leakless", "leakless / splat", "whole disk"
+    );
+    for row in rows {
+        println!("{row}");
+    }
 }
