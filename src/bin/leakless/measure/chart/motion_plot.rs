@@ -8,7 +8,8 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 
 use super::plot::{
-    captioned, draw_legend, draw_line, log_range, log_ticks, tick, write_svg_png, DrawResult, Drawing, FAMILY,
+    captioned, draw_legend, draw_line, grey_grid, log_range, log_ticks, tick, write_svg_png, DrawResult, Drawing,
+    FAMILY,
 };
 use leakless::error::Result;
 
@@ -60,16 +61,16 @@ fn panel<DB: DrawingBackend>(
         0.0..(frames - 1) as f64,
         y_range.log_scale().with_key_points(y_bold).with_light_points(y_light),
     )?;
-    cc.configure_mesh()
-        .x_desc("frame")
-        .y_desc(title)
-        .x_label_formatter(&|v| format!("{v:.0}"))
-        .y_label_formatter(&|v| tick(*v))
-        .label_style(font(12.0))
-        .axis_desc_style(font(13.0))
-        .light_line_style(RGBColor(238, 238, 238))
-        .bold_line_style(RGBColor(200, 200, 200))
-        .draw()?;
+    grey_grid(
+        cc.configure_mesh()
+            .x_desc("frame")
+            .y_desc(title)
+            .x_label_formatter(&|v| if v.fract() == 0.0 { format!("{v:.0}") } else { String::new() })
+            .y_label_formatter(&|v| tick(*v)),
+        font(12.0),
+        font(13.0),
+    )
+    .draw()?;
     let mut scenes: Vec<&str> = Vec::new();
     for run in runs {
         if !scenes.contains(&run.scene.as_str()) {

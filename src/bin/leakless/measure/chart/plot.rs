@@ -10,6 +10,7 @@
 use std::path::Path;
 use std::sync::Once;
 
+use plotters::chart::MeshStyle;
 use plotters::coord::Shift;
 use plotters::element::DashedPathElement;
 use plotters::prelude::*;
@@ -33,6 +34,18 @@ pub(super) fn register_font() {
             panic!("the compiled-in chart font does not parse");
         }
     });
+}
+
+/// The charts' grid: light and bold lines in greys, labels and axis titles in the chart font.
+pub(super) fn grey_grid<'m, 'a, 'b, X: Ranged, Y: Ranged, DB: DrawingBackend>(
+    mesh: &'m mut MeshStyle<'a, 'b, X, Y, DB>,
+    labels: impl IntoTextStyle<'b>,
+    titles: impl IntoTextStyle<'b>,
+) -> &'m mut MeshStyle<'a, 'b, X, Y, DB> {
+    mesh.label_style(labels)
+        .axis_desc_style(titles)
+        .light_line_style(RGBColor(238, 238, 238))
+        .bold_line_style(RGBColor(200, 200, 200))
 }
 
 /// Which error a chart plots.
@@ -305,16 +318,16 @@ fn draw<DB: DrawingBackend>(root: DrawingArea<DB, Shift>, chart: &SceneChart, me
             y_range.log_scale().with_key_points(y_bold).with_light_points(y_light),
         )?;
     let x_desc = if chart.cpu_device { "frame time, ms (CPU time on this CPU device)" } else { "frame time, ms" };
-    cc.configure_mesh()
-        .x_desc(x_desc)
-        .y_desc(metric.axis_label())
-        .x_label_formatter(&|v| tick(*v))
-        .y_label_formatter(&y_tick)
-        .label_style(font(13.0))
-        .axis_desc_style(font(14.0))
-        .light_line_style(RGBColor(238, 238, 238))
-        .bold_line_style(RGBColor(200, 200, 200))
-        .draw()?;
+    grey_grid(
+        cc.configure_mesh()
+            .x_desc(x_desc)
+            .y_desc(metric.axis_label())
+            .x_label_formatter(&|v| tick(*v))
+            .y_label_formatter(&y_tick),
+        font(13.0),
+        font(14.0),
+    )
+    .draw()?;
 
     for s in &series {
         let colour = method_colour(s.method);

@@ -8,7 +8,8 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 
 use super::plot::{
-    captioned, draw_legend, draw_line, log_range, log_ticks, tick, write_svg_png, DrawResult, Drawing, FAMILY,
+    captioned, draw_legend, draw_line, grey_grid, log_range, log_ticks, tick, write_svg_png, DrawResult, Drawing,
+    FAMILY,
 };
 use leakless::error::Result;
 use leakless::trace::Backend;
@@ -67,16 +68,16 @@ fn panel<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, title: &str, unit: &
         x_range.log_scale().with_key_points(x_bold).with_light_points(x_light),
         y_range.log_scale().with_key_points(y_bold).with_light_points(y_light),
     )?;
-    cc.configure_mesh()
-        .x_desc("triangles")
-        .y_desc(unit)
-        .x_label_formatter(&|v| tick(*v))
-        .y_label_formatter(&|v| tick(*v))
-        .label_style(font(12.0))
-        .axis_desc_style(font(13.0))
-        .light_line_style(RGBColor(238, 238, 238))
-        .bold_line_style(RGBColor(200, 200, 200))
-        .draw()?;
+    grey_grid(
+        cc.configure_mesh()
+            .x_desc("triangles")
+            .y_desc(unit)
+            .x_label_formatter(&|v| tick(*v))
+            .y_label_formatter(&|v| tick(*v)),
+        font(12.0),
+        font(13.0),
+    )
+    .draw()?;
     for (label, colour, dashed, line) in lines {
         if line.is_empty() {
             continue;

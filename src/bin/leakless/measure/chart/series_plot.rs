@@ -7,7 +7,9 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 
-use super::plot::{draw_legend, log_range, log_ticks, method_colour, tick, write_svg_png, DrawResult, Drawing, FAMILY};
+use super::plot::{
+    draw_legend, grey_grid, log_range, log_ticks, method_colour, tick, write_svg_png, DrawResult, Drawing, FAMILY,
+};
 use super::series::{SceneSeries, SeriesPoint, SERIES_METHODS};
 use leakless::error::Result;
 
@@ -92,16 +94,16 @@ fn draw<DB: DrawingBackend>(
             x_range.log_scale().with_key_points(x_bold).with_light_points(x_light),
             y_range.log_scale().with_key_points(y_bold).with_light_points(y_light),
         )?;
-    cc.configure_mesh()
-        .x_desc("wall time, s (accumulating while the view is still)")
-        .y_desc(metric.name())
-        .x_label_formatter(&|v| tick(*v))
-        .y_label_formatter(&|v| tick(*v))
-        .label_style(font(13.0))
-        .axis_desc_style(font(14.0))
-        .light_line_style(RGBColor(238, 238, 238))
-        .bold_line_style(RGBColor(200, 200, 200))
-        .draw()?;
+    grey_grid(
+        cc.configure_mesh()
+            .x_desc("wall time, s (accumulating while the view is still)")
+            .y_desc(metric.name())
+            .x_label_formatter(&|v| tick(*v))
+            .y_label_formatter(&|v| tick(*v)),
+        font(13.0),
+        font(14.0),
+    )
+    .draw()?;
     for method in SERIES_METHODS {
         let colour = method_colour(method);
         let line: Vec<(f64, f64)> = points(method).map(|p| (p.0, p.1)).collect();
