@@ -94,7 +94,7 @@ pub enum BenchCommand {
         /// Frames per second of the animation's clock.
         #[arg(long, default_value_t = 30.0)]
         fps: f32,
-        /// Samples per pixel of each frame's reference.
+        /// Samples per pixel of each frame's reference, in two halves of two seeds (an odd count is rounded up).
         #[arg(long, default_value_t = 64, value_parser = clap::value_parser!(u32).range(1..=65_536))]
         spp: u32,
         /// Trace backend.

@@ -69,9 +69,11 @@ fn place(r: &mut Renderer, scene: &Scene, k: u32, bench: &MotionBench, start: &C
 
 pub fn run(bench: &MotionBench) -> anyhow::Result<()> {
     let (w, h) = bench.size;
+    // Each frame's reference is the mean of two halves of its samples (below).
+    let half_spp = bench.spp.div_ceil(2);
     println!(
-        "bench motion ({w}x{h}, leakless, {} paths a frame, {} frames at {} fps; references {} spp): means over the frames",
-        bench.paths, bench.frames, bench.fps, bench.spp
+        "bench motion ({w}x{h}, leakless, {} paths a frame, {} frames at {} fps; references 2 x {half_spp} spp): means over the frames",
+        bench.paths, bench.frames, bench.fps
     );
     println!(
         "flicker: mean |ΔY| between successive frames over mean Y, from frame {}: the moving view's change counts too",
@@ -97,7 +99,7 @@ pub fn run(bench: &MotionBench) -> anyhow::Result<()> {
             height: h,
             backend: bench.backend,
             method,
-            spp: bench.spp,
+            spp: half_spp,
             reuse,
             seed,
             splat: SplatSettings { paths: bench.paths, ..Default::default() },
@@ -107,16 +109,11 @@ pub fn run(bench: &MotionBench) -> anyhow::Result<()> {
         // Each frame's reference is the mean of two halves of its samples, of two seeds: the
         // halves' difference is the reference's own noise, which every error against it
         // includes, and their product removes it (`metrics::rel_mse_without_reference_noise`).
-        let half_spp = bench.spp.div_ceil(2);
         let mut halves: [Vec<Vec<[f32; 3]>>; 2] = [Vec::new(), Vec::new()];
         // Each frame's surfaces and camera, for the references' surface flicker.
         let (mut start, mut views) = (None, Vec::new());
         for (seed, half) in halves.iter_mut().enumerate() {
-            let mut reference = Renderer::new(
-                open()?,
-                &scene,
-                RenderSettings { spp: half_spp, ..settings(Method::Reference, false, seed as u32) },
-            )?;
+            let mut reference = Renderer::new(open()?, &scene, settings(Method::Reference, false, seed as u32))?;
             let start = start.get_or_insert_with(|| reference.camera().clone()).clone();
             device.clone_from(&reference.gpu().report().name);
             for k in 0..bench.frames {
@@ -256,12 +253,11 @@ pub fn run(bench: &MotionBench) -> anyhow::Result<()> {
     if let Some(svg) = &bench.chart {
         let png = svg.with_extension("png");
         let caption = format!(
-            "{} · leakless {w}×{h}, {} paths a frame, {} fps, history {} frames; references {} spp · `leakless bench motion`",
+            "{} · leakless {w}×{h}, {} paths a frame, {} fps, history {} frames; references 2 × {half_spp} spp · `leakless bench motion`",
             device,
             bench.paths,
             bench.fps,
             (0.5 * bench.fps).round().max(1.0),
-            bench.spp
         );
         plot_motion(&runs, &caption, svg, &png).with_context(|| format!("writing {}", svg.display()))?;
         println!("wrote {} and {}", svg.display(), png.display());
