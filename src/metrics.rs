@@ -71,40 +71,82 @@ pub fn rel_mse(x: &[[f32; 3]], r: &[[f32; 3]], mask: Option<&[bool]>, eps: f64) 
     mean_over(x, r, mask, |a, b| rel_squared_error(a, b, eps))
 }
 
+/// Pixels on each side of a pixel whose references' mean makes its denominator in
+/// [`rel_mse_without_reference_noise`] and [`reference_noise`].
+pub const DENOMINATOR_RADIUS: usize = 2;
+
 /// The noise of `r̄`, the mean of two independent, unbiased estimates `r1` and `r2` of a truth,
-/// in [`rel_mse`]'s terms: mean of `((r1 − r2) / 2)² / (r̄² + eps)`. The numerator's
-/// expectation is `r̄`'s variance, which every image's relMSE against `r̄` includes.
-pub fn reference_noise(r1: &[[f32; 3]], r2: &[[f32; 3]], eps: f64) -> Option<f64> {
-    noise_terms(r1, r1, r2, eps).map(|(_, noise)| noise)
+/// `width` pixels wide, in [`rel_mse_without_reference_noise`]'s terms: mean of
+/// `((r1 − r2) / 2)² / (s² + eps)`, `s` as there. The numerator's expectation is `r̄`'s
+/// variance, which every image's error against `r̄` includes.
+pub fn reference_noise(r1: &[[f32; 3]], r2: &[[f32; 3]], width: usize, eps: f64) -> Option<f64> {
+    noise_terms(r1, r1, r2, width, eps).map(|(_, noise)| noise)
 }
 
-/// [`rel_mse`] of `x` against `r̄` less [`reference_noise`]: mean of
-/// `(x − r1)(x − r2) / (r̄² + eps)`. Where the denominators are steady (`eps` dominates, or `r̄`
-/// is much less noisy than it is bright), it estimates `x`'s relMSE against the truth without
-/// bias; where they are not, their noise weighs every image's errors alike. A single image's
-/// figure may be negative.
-pub fn rel_mse_without_reference_noise(x: &[[f32; 3]], r1: &[[f32; 3]], r2: &[[f32; 3]], eps: f64) -> Option<f64> {
-    noise_terms(x, r1, r2, eps).map(|(product, _)| product)
+/// The relMSE of `x` against the truth that `r1` and `r2` (independent, unbiased estimates of
+/// it, `width` pixels wide) estimate: mean of `(x − r1)(x − r2) / (s² + eps)`. The product's
+/// expectation is `x`'s squared error without the references' variance. `s` is `r̄` averaged
+/// over the pixels around each pixel ([`DENOMINATOR_RADIUS`] on each side), not the pixel
+/// itself: a noisy reference's own denominator is small where its noise happens to be dark and
+/// weighs those pixels' errors many times over, while the neighbours' mean is steady and
+/// independent of the pixel's noise. Where the light changes within the window the weights
+/// blur, alike for every image compared. A single image's figure may be negative.
+pub fn rel_mse_without_reference_noise(
+    x: &[[f32; 3]],
+    r1: &[[f32; 3]],
+    r2: &[[f32; 3]],
+    width: usize,
+    eps: f64,
+) -> Option<f64> {
+    noise_terms(x, r1, r2, width, eps).map(|(product, _)| product)
 }
 
 /// Means over (pixel, channel) of `(x − r1)(x − r2)` and of `((r1 − r2) / 2)²`, each over
-/// `r̄² + eps`.
-fn noise_terms(x: &[[f32; 3]], r1: &[[f32; 3]], r2: &[[f32; 3]], eps: f64) -> Option<(f64, f64)> {
+/// `s² + eps`.
+fn noise_terms(x: &[[f32; 3]], r1: &[[f32; 3]], r2: &[[f32; 3]], width: usize, eps: f64) -> Option<(f64, f64)> {
     assert!(x.len() == r1.len() && r1.len() == r2.len(), "image and references differ in size");
-    if eps.is_nan() || eps <= 0.0 || x.is_empty() {
+    if eps.is_nan() || eps <= 0.0 || x.is_empty() || width == 0 {
         return None;
     }
+    assert_eq!(x.len() % width, 0, "the image is not `width` pixels wide");
+    let mean: Vec<[f64; 3]> =
+        r1.iter().zip(r2).map(|(a, b)| std::array::from_fn(|c| 0.5 * (a[c] as f64 + b[c] as f64))).collect();
+    let scale = neighbours_mean(&mean, width, DENOMINATOR_RADIUS);
     let (mut product, mut noise) = (0.0f64, 0.0f64);
-    for (a, (b1, b2)) in x.iter().zip(r1.iter().zip(r2)) {
+    for (i, (a, (b1, b2))) in x.iter().zip(r1.iter().zip(r2)).enumerate() {
         for c in 0..3 {
             let (a, b1, b2) = (a[c] as f64, b1[c] as f64, b2[c] as f64);
-            let mean = 0.5 * (b1 + b2);
-            product += (a - b1) * (a - b2) / (mean * mean + eps);
-            noise += (0.5 * (b1 - b2)).powi(2) / (mean * mean + eps);
+            let denominator = scale[i][c] * scale[i][c] + eps;
+            product += (a - b1) * (a - b2) / denominator;
+            noise += (0.5 * (b1 - b2)).powi(2) / denominator;
         }
     }
     let n = (3 * x.len()) as f64;
     Some((product / n, noise / n))
+}
+
+/// Each pixel's mean of the other pixels within `radius` of it (clipped to the image); the
+/// pixel's own value where it has none.
+fn neighbours_mean(image: &[[f64; 3]], width: usize, radius: usize) -> Vec<[f64; 3]> {
+    let height = image.len() / width;
+    let mut out = Vec::with_capacity(image.len());
+    for y in 0..height {
+        for x in 0..width {
+            let (mut sum, mut n) = ([0.0f64; 3], 0usize);
+            for v in y.saturating_sub(radius)..(y + radius + 1).min(height) {
+                for u in x.saturating_sub(radius)..(x + radius + 1).min(width) {
+                    if (u, v) != (x, y) {
+                        let p = image[v * width + u];
+                        (0..3).for_each(|c| sum[c] += p[c]);
+                        n += 1;
+                    }
+                }
+            }
+            let own = image[y * width + x];
+            out.push(if n == 0 { own } else { sum.map(|s| s / n as f64) });
+        }
+    }
+    out
 }
 
 /// One channel's term of [`rel_mse`]: `(a − b)² / (b² + eps)`.
@@ -242,27 +284,42 @@ mod tests {
     /// relMSE against their mean adds the mean's variance.
     #[test]
     fn rel_mse_without_reference_noise_removes_the_references_variance() {
-        // A ±0.5 noise on a truth of 1, independent between the references (every pair of
-        // signs equally often), and an image 0.1 above the truth. `eps` = 100 keeps the
-        // denominators steady (100.25 to 102.25).
-        let n = 4096;
-        let noise = |i: usize, bit: usize| if i >> bit & 1 == 0 { 0.5 } else { -0.5 };
+        // A ±0.5 noise on a truth of 1, independent between the references and the pixels
+        // (a hash's bits), and an image 0.1 above the truth.
+        let (width, n) = (256, 256 * 256);
+        // splitmix64's finaliser: every output bit depends on every input bit.
+        let hash = |i: usize| {
+            let mut z = (i as u64).wrapping_add(0x9E37_79B9_7F4A_7C15);
+            z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+            z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+            z ^ (z >> 31)
+        };
+        let bit = |i: usize, k: u32| hash(i) >> k & 1;
+        let noise = |i: usize, k: u32| if bit(i, k) == 0 { 0.5 } else { -0.5 };
         let r1: Vec<[f32; 3]> = (0..n).map(|i| [1.0 + noise(i, 0); 3]).collect();
-        let r2: Vec<[f32; 3]> = (0..n).map(|i| [1.0 + noise(i, 1); 3]).collect();
+        let r2: Vec<[f32; 3]> = (0..n).map(|i| [1.0 + noise(i, 7); 3]).collect();
         let x = vec![[1.1f32; 3]; n];
-        let eps = 100.0;
         let mean: Vec<[f32; 3]> = r1.iter().zip(&r2).map(|(a, b)| [0.5 * (a[0] + b[0]); 3]).collect();
-        // Against the mean: the image's 0.01 and the mean's variance, 0.125.
+        // `eps` = 100 keeps every denominator about 101: against the mean, the image's 0.01
+        // and the mean's variance, 0.125.
+        let eps = 100.0;
         let with_noise = (1.0 + eps) * rel_mse(&x, &mean, None, eps).unwrap();
-        let without = (1.0 + eps) * rel_mse_without_reference_noise(&x, &r1, &r2, eps).unwrap();
-        assert!((with_noise - 0.135).abs() < 0.01, "{with_noise}");
-        assert!((without - 0.01).abs() < 0.001, "{without}");
-        // The difference is the mean's noise, 0.125 (over steady denominators).
-        let noise = (1.0 + eps) * reference_noise(&r1, &r2, eps).unwrap();
-        assert!((noise - 0.125).abs() < 0.002, "{noise}");
-        assert!((with_noise - without - noise).abs() < 1e-12);
-        // Identical references are a noise-free truth: the estimator is rel_mse exactly.
-        assert_eq!(rel_mse_without_reference_noise(&x, &mean, &mean, 1e-3), rel_mse(&x, &mean, None, 1e-3));
-        assert_eq!(rel_mse_without_reference_noise(&x, &mean, &mean, 0.0), None);
+        let without = (1.0 + eps) * rel_mse_without_reference_noise(&x, &r1, &r2, width, eps).unwrap();
+        let noise = (1.0 + eps) * reference_noise(&r1, &r2, width, eps).unwrap();
+        assert!((with_noise - 0.135).abs() < 0.003, "{with_noise}");
+        assert!((without - 0.01).abs() < 0.003, "{without}");
+        assert!((noise - 0.125).abs() < 0.003, "{noise}");
+        // A small `eps`: the mean's own denominators (0.25 to 2.25) would weigh its dark pixels
+        // ninefold; the neighbours' mean is steady, and the image's 0.01 is found again.
+        let eps = 1e-4;
+        assert!(rel_mse(&x, &mean, None, eps).unwrap() > 0.3);
+        let without = rel_mse_without_reference_noise(&x, &r1, &r2, width, eps).unwrap();
+        assert!((without - 0.01).abs() < 0.003, "{without}");
+        // Identical references are a noise-free truth: on a flat image the estimator is
+        // rel_mse exactly.
+        let flat = vec![[2.0f32; 3]; n];
+        let noisy = rel_mse_without_reference_noise(&x, &flat, &flat, width, eps);
+        assert_eq!(noisy, rel_mse(&x, &flat, None, eps));
+        assert_eq!(rel_mse_without_reference_noise(&x, &flat, &flat, width, 0.0), None);
     }
 }

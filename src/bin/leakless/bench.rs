@@ -97,6 +97,11 @@ pub enum BenchCommand {
         /// Samples per pixel of each frame's reference, in two halves of two seeds (an odd count is rounded up).
         #[arg(long, default_value_t = 64, value_parser = clap::value_parser!(u32).range(1..=65_536))]
         spp: u32,
+        /// Also judge each scene's last frame against one reference of this many samples per
+        /// pixel (0: none): a near-truth, for scenes whose per-frame references are noisier than
+        /// the frames they judge.
+        #[arg(long, default_value_t = 0, value_parser = clap::value_parser!(u32).range(0..=65_536))]
+        truth_spp: u32,
         /// Trace backend.
         #[arg(long, default_value = "auto", value_parser = crate::parse_backend)]
         backend: BackendChoice,
@@ -155,11 +160,22 @@ pub fn run(cmd: BenchCommand) -> anyhow::Result<()> {
         BenchCommand::Animation { scene, size, paths, frames } => {
             crate::bench_animation::run(&scene, size, paths, frames)
         }
-        BenchCommand::Motion { scenes, size, paths, frames, fps, spp, backend, csv, chart } => {
+        BenchCommand::Motion { scenes, size, paths, frames, fps, spp, truth_spp, backend, csv, chart } => {
             if !(fps > 0.0 && fps <= 1000.0) {
                 anyhow::bail!("--fps {fps} must be within (0, 1000]");
             }
-            let bench = crate::bench_motion::MotionBench { scenes, size, paths, frames, fps, spp, backend, csv, chart };
+            let bench = crate::bench_motion::MotionBench {
+                scenes,
+                size,
+                paths,
+                frames,
+                fps,
+                spp,
+                truth_spp,
+                backend,
+                csv,
+                chart,
+            };
             crate::bench_motion::run(&bench)
         }
         BenchCommand::Scale { scenes, size, paths, repeats, backend, csv, chart } => {

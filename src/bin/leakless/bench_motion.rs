@@ -24,6 +24,8 @@ pub struct MotionBench {
     pub fps: f32,
     /// Samples per pixel of each frame's reference.
     pub spp: u32,
+    /// Samples per pixel of the last frame's near-truth (0: none).
+    pub truth_spp: u32,
     pub backend: BackendChoice,
     /// Each frame's errors, as CSV (`scene,reuse,frame,time,relmse,flip,relmse_less_noise`): the
     /// error against
@@ -49,6 +51,8 @@ struct Figures {
     /// its pixels over the frames.
     band: Option<f64>,
     band_pixels: usize,
+    /// The last frame's relMSE and HDR-FLIP against the near-truth.
+    against_truth: Option<(f64, f64)>,
 }
 
 /// Frame `k`'s view: the scene at time k/fps, or its camera turned about the point it looks at.
@@ -140,10 +144,21 @@ pub fn run(bench: &MotionBench) -> anyhow::Result<()> {
             let (view_proj, camera, width, height) = (*view_proj, *camera, w, h);
             reference_surface_change.add(k, SeenFrame { image: truth, surface, view_proj, camera, width, height });
             let (a, b) = (&halves[0][k as usize], &halves[1][k as usize]);
-            noise.0 += metrics::reference_noise(a, b, metrics::epsilon(truth)).unwrap_or(0.0);
+            noise.0 += metrics::reference_noise(a, b, w as usize, metrics::epsilon(truth)).unwrap_or(0.0);
             noise.1 += flip::hdr_flip(a, b, w, h);
         }
         let reference_noise = (noise.0 / bench.frames as f64, noise.1 / bench.frames as f64);
+        let last = bench.frames - 1;
+        let near_truth = if bench.truth_spp > 0 {
+            let settings = RenderSettings { spp: bench.truth_spp, ..settings(Method::Reference, false, 2) };
+            let mut reference = Renderer::new(open()?, &scene, settings)?;
+            place(&mut reference, &scene, last, bench, &start)?;
+            let image = reference.render()?.radiance;
+            reference.gpu().check_validation()?;
+            Some(image)
+        } else {
+            None
+        };
         let mut figures = Vec::new();
         // Reuse on, on without its spatial filter (the same photons: what the filter alone
         // does), and off.
@@ -154,7 +169,7 @@ pub fn run(bench: &MotionBench) -> anyhow::Result<()> {
             r.set_advance_seed(true);
             r.set_reuse_history_frames((0.5 * bench.fps).round().max(1.0) as u32);
             let (mut ms, mut ratio, mut band, mut less_noise) = (0.0, 0.0, DarkBand::default(), 0.0);
-            let mut errors = Vec::new();
+            let (mut errors, mut against_truth) = (Vec::new(), None);
             let mut change = ScreenFlicker::new(settle(bench));
             let mut surface_change = SurfaceFlicker::new(settle(bench));
             for (k, truth) in (0..bench.frames).zip(&references) {
@@ -169,7 +184,8 @@ pub fn run(bench: &MotionBench) -> anyhow::Result<()> {
                 );
                 errors.push((e, f));
                 let (a, b) = (&halves[0][k as usize], &halves[1][k as usize]);
-                let clean = metrics::rel_mse_without_reference_noise(&frame.radiance, a, b, eps).unwrap_or(0.0);
+                let clean =
+                    metrics::rel_mse_without_reference_noise(&frame.radiance, a, b, w as usize, eps).unwrap_or(0.0);
                 less_noise += clean;
                 let reuse = match (reuse, filter) {
                     (true, true) => "on",
@@ -181,6 +197,12 @@ pub fn run(bench: &MotionBench) -> anyhow::Result<()> {
                 change.add(k, &frame.radiance);
                 surface_change.add(k, seen(&r, &frame));
                 band.add(&frame.radiance, a, b, w, h);
+                if let Some(truth) = near_truth.as_ref().filter(|_| k == last) {
+                    against_truth = Some((
+                        metrics::rel_mse(&frame.radiance, truth, None, metrics::epsilon(truth)).unwrap_or(0.0),
+                        flip::hdr_flip(&frame.radiance, truth, w, h),
+                    ));
+                }
             }
             r.gpu().check_validation()?;
             let n = bench.frames as f64;
@@ -194,6 +216,7 @@ pub fn run(bench: &MotionBench) -> anyhow::Result<()> {
                 mean_ratio: ratio / n,
                 band: band.ratio(),
                 band_pixels: band.pixels(),
+                against_truth,
             });
             if filter {
                 runs.push(MotionRun { scene: name.clone(), reuse, errors });
@@ -237,6 +260,19 @@ pub fn run(bench: &MotionBench) -> anyhow::Result<()> {
             band(unfiltered),
             band(off),
         );
+        if let (Some(t_on), Some(t_off)) = (on.against_truth, off.against_truth) {
+            println!(
+                "{:<22} frame {last} against {} spp: relMSE on {:.5}, off {:.5} ({:.2}×); FLIP on {:.4}, off {:.4} ({:.2}×)",
+                "",
+                bench.truth_spp,
+                t_on.0,
+                t_off.0,
+                t_on.0 / t_off.0,
+                t_on.1,
+                t_off.1,
+                t_on.1 / t_off.1
+            );
+        }
         println!(
             "{:<22} references' own: flicker {:.4}, surface flicker {:.4}; noise (from the halves of two seeds, each frame): relMSE {:.5}; FLIP between the halves {:.4}",
             "",
