@@ -26,7 +26,7 @@ layout(push_constant) uniform SpatialParams {
     int step;               // pixels between taps
     uint first;             // 1: read the frame's indirect layer and demodulate it
     float plane_tolerance;  // a tap's distance from the pixel's plane, per metre of view distance
-    uint pad0;
+    float kernel_pixels;    // the gather kernel's radius in pixels, one metre from the camera
 } params;
 
 vec3 irradiance(ivec2 q) {
@@ -48,8 +48,15 @@ void main() {
         imageStore(filtered, pixel, vec4(e, 1.0));
         return;
     }
+    float distance = length(surface.xyz - frame.camera_position.xyz);
+    // Beyond the kernel's projected radius the noise is its blotches, which the history
+    // averages: a later iteration that would reach further passes the pixel through.
+    if (params.first == 0u && 2.0 * float(params.step) > params.kernel_pixels / max(distance, 1e-6)) {
+        imageStore(filtered, pixel, vec4(e, 1.0));
+        return;
+    }
     vec3 n = imageLoad(gbuffer_normal, pixel).xyz;
-    float tolerance = params.plane_tolerance * length(surface.xyz - frame.camera_position.xyz);
+    float tolerance = params.plane_tolerance * distance;
     const float kernel[3] = float[3](3.0 / 8.0, 1.0 / 4.0, 1.0 / 16.0);
     vec3 sum = vec3(0.0);
     float weight = 0.0;

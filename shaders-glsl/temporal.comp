@@ -11,9 +11,9 @@
 //   frame's camera, and the history is read bilinearly from the taps that saw the same surface:
 //   the same static geometry or the same animated triangle, within a slope-aware distance of
 //   its plane, facing the same way. A pixel with no such tap starts anew. The history is
-//   clamped to the new frame's pixel and neighbourhood mean, widened by `clamp_relative`: a
-//   photon frame's low-frequency noise is averaged out, a change of the lighting is followed
-//   within a few frames. Where the new
+//   clamped to the new frame's pixel and its mean over a few kernels, widened by
+//   `clamp_relative`: a photon frame's low-frequency noise is averaged out, a change of the
+//   lighting is followed within a few frames. Where the new
 //   frame's whole neighbourhood is exactly zero the output is exactly zero: a shut door or a
 //   sealed room is black at once. Then new = lerp(history, frame, 1/n), n the frames the
 //   pixel's history holds with this one, at most `max_history`.
@@ -77,6 +77,10 @@ layout(push_constant) uniform TemporalParams {
     float clamp_relative;
     uint spatial;             // 1: `filtered` holds this frame's spatially reused irradiance
     float bias_frames;        // frames the filter's bias is measured over at most
+    float kernel_pixels;      // the gather kernel's radius in pixels, one metre from the camera
+    float clamp_kernels;      // the clamp's footprint's half width, in kernel radii
+    uint pad0;
+    uint pad1;
 } params;
 
 
@@ -162,22 +166,40 @@ vec4 reprojected_history(vec3 p, uint triangle, vec3 n, out vec4 filtered_mean, 
 }
 
 // The range the history may take at `pixel`, whose new estimate is `e`: within
-// `clamp_relative` of the span between `e` and the new frame's mean over a 19×19 footprint (49
-// taps). A single photon frame's noise is correlated over the kernel's footprint and often
-// larger than its mean, so a box of the footprint's extremes or a few deviations would clamp
-// the history to this frame's blotches and average nothing; the footprint's mean is steadier,
-// and a change of the lighting moves it. Holding `e` in the range keeps a sharp feature that a
-// still camera sees the same every frame. Where every tap is exactly zero, `e` and the mean
-// are, and so is the range.
-void neighbourhood(ivec2 pixel, vec3 e, out vec3 lo, out vec3 hi) {
+// `clamp_relative` of the span between `e` and the new frame's mean over a footprint
+// `clamp_kernels` gather-kernel radii wide on each side at the pixel's `view_distance` (7×7
+// taps, 19×19 pixels at least, 97 at most), of the taps on the pixel's kind of surface (static
+// or animated, facing its way, normal `n`). A single photon frame's noise is correlated over the
+// kernel's footprint and often larger than its mean, so a box of the footprint's extremes or a
+// few deviations would clamp the history to this frame's blotches and average nothing, and so
+// would the mean of a footprint inside one blotch; the mean over a few kernels is steadier, and
+// a change of the lighting moves it. Another wall's light, or what a doorway shows, would widen
+// the range where the light is changing: those taps do not count. Holding `e` in the range
+// keeps a sharp feature that a still camera sees the same every frame. Where every tap is
+// exactly zero, `e` and the mean are, and so is the range.
+void neighbourhood(ivec2 pixel, vec3 e, float view_distance, vec3 n, bool moving, out vec3 lo, out vec3 hi) {
     vec3 sum = vec3(0.0);
+    float count = 0.0;
     ivec2 size = ivec2(frame.width, frame.height);
+    float stride = 3.0;
+    if (params.clamp_kernels > 0.0) {
+        float kernel = params.kernel_pixels / max(view_distance, 1e-6);
+        stride = clamp(params.clamp_kernels * kernel / 3.0, 3.0, 16.0);
+    }
     for (int y = -3; y <= 3; y++) {
         for (int x = -3; x <= 3; x++) {
-            sum += irradiance_at(clamp(pixel + 3 * ivec2(x, y), ivec2(0), size - 1));
+            ivec2 q = clamp(pixel + ivec2(round(stride * vec2(x, y))), ivec2(0), size - 1);
+            float t = imageLoad(gbuffer_position, q).w;
+            if (t == 0.0 || (uint(t) - 1u >= params.first_moving_triangle) != moving
+                || dot(imageLoad(gbuffer_normal, q).xyz, n) < 0.9) {
+                continue;
+            }
+            sum += irradiance_at(q);
+            count += 1.0;
         }
     }
-    vec3 mean = sum / 49.0;
+    // The pixel's own tap always counts.
+    vec3 mean = sum / max(count, 1.0);
     lo = max(1.0 - params.clamp_relative, 0.0) * min(e, mean);
     hi = (1.0 + params.clamp_relative) * max(e, mean);
 }
@@ -233,7 +255,9 @@ void main() {
                 ratio = mix(vec3(1.0), ratio, min((count - 1.0) / max(params.max_history - 1.0, 1.0), 1.0));
                 vec3 current = smooth_e * ratio;
                 vec3 lo, hi;
-                neighbourhood(pixel, current, lo, hi);
+                bool moving = uint(surface.w) - 1u >= params.first_moving_triangle;
+                float distance = length(surface.xyz - frame.camera_position.xyz);
+                neighbourhood(pixel, current, distance, n, moving, lo, hi);
                 e = mix(clamp(history.rgb, lo, hi), current, 1.0 / frames);
             } else {
                 // A disocclusion has nothing else: the filtered estimate as it is.

@@ -22,11 +22,16 @@ gpu_struct! {
         /// 1: the iteration reads the frame's indirect layer and demodulates it.
         pub first: u32,
         pub plane_tolerance: f32,
-        pub pad0: u32,
+        /// The gather kernel's radius in pixels, one metre from the camera.
+        pub kernel_pixels: f32,
     }
 }
 
-/// The filter's iterations: taps 1, 2 and 4 pixels apart, a 17×17 footprint.
+/// The filter's iterations: taps 1, 2 and 4 pixels apart, a 17×17 footprint at most. A pixel
+/// takes an iteration only while its reach (twice the step) is within the gather kernel's
+/// projected radius there, the first always: within a kernel a frame's noise is pixel-scale
+/// grain, which the filter averages; beyond it the noise is the kernel's own blotches, which
+/// the history averages without the blur that the filter would leave as bias.
 pub const ITERATIONS: u32 = 3;
 
 /// How far from a pixel's plane a tap may lie, per metre from the camera: about the raster's
@@ -65,19 +70,22 @@ impl SpatialImages {
 }
 
 /// Filters `indirect` (radiance, demodulated by the G-buffer's albedo) into `images.result`
-/// (irradiance), in [`ITERATIONS`] passes.
+/// (irradiance), in [`ITERATIONS`] passes; `kernel_pixels`: the gather kernel's radius in pixels
+/// one metre from the camera.
 pub fn add<'r>(
     graph: &mut Graph<'r>,
     frame: &BufferHandle,
     gbuffer: &GBufferHandles,
     indirect: &ImageHandle,
     images: &mut SpatialImages,
+    kernel_pixels: f32,
 ) {
     let extent = indirect.extent();
     // Odd iterations write the scratch image, even ones the result: the last (the third)
     // writes the result.
     for i in 0..ITERATIONS {
-        let params = SpatialParams { step: 1 << i, first: (i == 0) as u32, plane_tolerance: PLANE_TOLERANCE, pad0: 0 };
+        let params =
+            SpatialParams { step: 1 << i, first: (i == 0) as u32, plane_tolerance: PLANE_TOLERANCE, kernel_pixels };
         let mut pass = graph.pass_numbered(SPATIAL.name, i);
         let g = gbuffer.declare(&mut pass);
         let (source, filtered) =

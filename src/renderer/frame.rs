@@ -294,11 +294,16 @@ impl Renderer {
             let previous_positions =
                 g.upload("previous instance positions", storage, bytemuck::cast_slice(&previous))?;
             let first_moving = self.scene.static_triangle_count() as u32;
-            let params = self.reuse.params(mode, batches, first_moving, instances_moved);
+            // The gather kernel's radius in pixels one metre away: the filter's reach and the
+            // clamp's footprint follow it.
+            let kernel_pixels = splat
+                .as_ref()
+                .map_or(0.0, |s| s.radius * 0.5 * self.settings.height as f32 / (0.5 * self.camera.yfov).tan());
+            let params = self.reuse.params(mode, batches, first_moving, instances_moved, kernel_pixels);
             // Spatial reuse of a moving frame's own estimate, before the history weighs in.
             let mut spatial = SpatialImages::new(&mut g, extent)?;
             if params.spatial != 0 {
-                spatial::add(&mut g, &frame, &gbuffer, &indirect, &mut spatial);
+                spatial::add(&mut g, &frame, &gbuffer, &indirect, &mut spatial, kernel_pixels);
             }
             let mut reused_indirect = layer(&mut g, "reused indirect")?;
             let mut reused_radiance = layer(&mut g, "reused radiance")?;

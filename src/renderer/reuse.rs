@@ -5,7 +5,7 @@
 use glam::Mat4;
 use leakless_scene::Vertex;
 
-use crate::passes::temporal::{TemporalMode, TemporalParams, CLAMP_RELATIVE};
+use crate::passes::temporal::{TemporalMode, TemporalParams, CLAMP_KERNELS, CLAMP_RELATIVE};
 
 /// Frames a history holds by default: about half a second at 30 frames a second.
 pub const DEFAULT_HISTORY_FRAMES: u32 = 16;
@@ -42,12 +42,14 @@ impl ReuseState {
 
     /// The pass's parameters for a frame of `mode`; `still_batches`: the photon batches in an
     /// accumulation's mean. `instances_moved`: the pose differs from the history's.
+    /// `kernel_pixels`: the gather kernel's radius in pixels one metre from the camera.
     pub fn params(
         &self,
         mode: TemporalMode,
         still_batches: u32,
         first_moving_triangle: u32,
         instances_moved: bool,
+        kernel_pixels: f32,
     ) -> TemporalParams {
         TemporalParams {
             previous_view_proj: self.view_proj.to_cols_array_2d(),
@@ -60,6 +62,10 @@ impl ReuseState {
             clamp_relative: CLAMP_RELATIVE,
             spatial: (mode == TemporalMode::Motion && self.spatial) as u32,
             bias_frames: (BIAS_HISTORIES * self.history_frames) as f32,
+            kernel_pixels,
+            clamp_kernels: CLAMP_KERNELS,
+            pad0: 0,
+            pad1: 0,
         }
     }
 
