@@ -44,14 +44,13 @@ void main() {
     }
     vec4 surface = imageLoad(gbuffer_position, pixel);
     vec3 e = irradiance(pixel);
-    if (surface.w == 0.0 || all(equal(e, vec3(0.0)))) {
-        imageStore(filtered, pixel, vec4(e, 1.0));
-        return;
-    }
     float distance = length(surface.xyz - frame.camera_position.xyz);
     // Beyond the kernel's projected radius the noise is its blotches, which the history
-    // averages: a later iteration that would reach further passes the pixel through.
-    if (params.first == 0u && 2.0 * float(params.step) > params.kernel_pixels / max(distance, 1e-6)) {
+    // averages: a later iteration that would reach further passes the pixel through, as it
+    // does a pixel without a surface or with an exact zero.
+    bool beyond_kernel =
+        params.first == 0u && 2.0 * float(params.step) > projected_kernel(params.kernel_pixels, distance);
+    if (surface.w == 0.0 || all(equal(e, vec3(0.0))) || beyond_kernel) {
         imageStore(filtered, pixel, vec4(e, 1.0));
         return;
     }

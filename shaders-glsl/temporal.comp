@@ -183,7 +183,7 @@ void neighbourhood(ivec2 pixel, vec3 e, float view_distance, vec3 n, bool moving
     ivec2 size = ivec2(frame.width, frame.height);
     float stride = 3.0;
     if (params.clamp_kernels > 0.0) {
-        float kernel = params.kernel_pixels / max(view_distance, 1e-6);
+        float kernel = projected_kernel(params.kernel_pixels, view_distance);
         stride = clamp(params.clamp_kernels * kernel / 3.0, 3.0, 16.0);
     }
     for (int y = -3; y <= 3; y++) {
