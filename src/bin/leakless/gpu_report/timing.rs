@@ -179,7 +179,7 @@ fn variants(device: &DeviceTuning, subgroup_arithmetic: bool) -> Vec<(String, De
         ("gather workgroup 32".to_string(), with(&|t| t.gather_workgroup = 32)),
         ("gather workgroup 128".to_string(), with(&|t| t.gather_workgroup = 128)),
     ];
-    for queue in [16, 64, 128, 256].into_iter().filter(|&q| q != device.ray_queue) {
+    for queue in [16, 64, 128, 256, 512].into_iter().filter(|&q| q != device.ray_queue) {
         v.push((format!("ray queue {queue}"), with(&|t| t.ray_queue = queue)));
     }
     if subgroup_arithmetic {
