@@ -347,6 +347,18 @@ impl Renderer {
         Ok(())
     }
 
+    /// Replaces the tuning with one of the caller's, on the same device (the GPU report's
+    /// sweeps: a driver may run out of something if every variant opened a device of its own).
+    pub fn set_tuning(&mut self, tuning: DeviceTuning) -> Result<()> {
+        check_tuning(&self.settings, &tuning, self.gpu.report())?;
+        let pipelines = Pipelines::new(&self.gpu, FRAME_PASSES, self.backend.backend, &tuning)?;
+        self.gpu.wait_idle()?; // the pipelines of frames in flight
+        self.pipelines = pipelines;
+        self.restart();
+        self.runner.invalidate_histories();
+        Ok(())
+    }
+
     /// Changes one setting through a copy of the settings ([`Renderer::set_settings`]).
     pub fn update(&mut self, change: impl FnOnce(&mut RenderSettings)) -> Result<()> {
         let mut settings = self.settings.clone();

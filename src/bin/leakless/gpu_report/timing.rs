@@ -143,9 +143,9 @@ pub fn sweeps(report: &mut Report, root: &Path, matrix: &Matrix) -> anyhow::Resu
     }
     let device = DeviceTuning::choose(renderer.gpu().report(), TuningChoice::Auto);
     let arithmetic = renderer.gpu().report().subgroup_arithmetic;
-    drop(renderer);
+    renderer.set_settings(base.clone())?;
     for (variant, tuning) in variants(&device, arithmetic) {
-        let mut renderer = Renderer::with_tuning(super::open(matrix.validate)?, &scene, base.clone(), tuning)?;
+        renderer.set_tuning(tuning)?;
         let r = row(&scene, &Measured::best_of_renderer(&mut renderer, "leakless", 1)?, &variant);
         println!("  {}: {:.2} ms", r.variant, r.frame_ms);
         report.tuning_sweep.push(r);
@@ -179,7 +179,7 @@ fn variants(device: &DeviceTuning, subgroup_arithmetic: bool) -> Vec<(String, De
         ("gather workgroup 32".to_string(), with(&|t| t.gather_workgroup = 32)),
         ("gather workgroup 128".to_string(), with(&|t| t.gather_workgroup = 128)),
     ];
-    for queue in [16, 64, 128, 256, 512].into_iter().filter(|&q| q != device.ray_queue) {
+    for queue in [16, 64, 128, 256, 512, 1024].into_iter().filter(|&q| q != device.ray_queue) {
         v.push((format!("ray queue {queue}"), with(&|t| t.ray_queue = queue)));
     }
     if subgroup_arithmetic {
