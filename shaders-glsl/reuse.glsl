@@ -8,6 +8,10 @@ vec3 demodulate(vec3 l, vec3 albedo) {
                 albedo.b > 0.0 ? l.b / albedo.b : 0.0);
 }
 
+float luminance_of(vec3 c) {
+    return dot(c, vec3(0.2126, 0.7152, 0.0722));
+}
+
 // The gather kernel's radius in pixels at `distance` from the camera, from its radius in pixels
 // one metre away: how far a frame's photon noise is correlated on the screen there.
 float projected_kernel(float kernel_pixels, float distance) {

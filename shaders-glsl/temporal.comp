@@ -15,7 +15,10 @@
 //   `clamp_relative`: a photon frame's low-frequency noise is averaged out, a change of the
 //   lighting is followed within a few frames. Where the new
 //   frame's whole neighbourhood is exactly zero the output is exactly zero: a shut door or a
-//   sealed room is black at once. Then new = lerp(history, frame, 1/n), n the frames the
+//   sealed room is black at once. Before the clamp, the history is scaled by how much the light
+//   changed around the pixel (`lighting_change`): so a light that moves is followed at once
+//   where the change stands out of a frame's noise, rather than over the history's frames
+//   within the clamp's margin. Then new = lerp(history, frame, 1/n), n the frames the
 //   pixel's history holds with this one, at most `max_history`.
 // With `spatial`, a moving frame's own estimate is first filtered (spatial.comp). The filter
 //   averages noise away but also blurs the light along a surface (towards a corner, beside a
@@ -116,17 +119,19 @@ vec3 previous_position(vec3 p, uint triangle) {
 }
 
 // The history at the surface point `p` of `triangle` with normal `n` (.a = its frames; 0 when
-// no tap of last frame saw the same surface), and the filter's bias there.
-vec4 reprojected_history(vec3 p, uint triangle, vec3 n, out vec4 filtered_mean, out vec3 own_mean) {
+// no tap of last frame saw the same surface), the filter's bias there, and where the point was
+// on last frame's screen.
+vec4 reprojected_history(vec3 p, uint triangle, vec3 n, out vec4 filtered_mean, out vec3 own_mean, out vec2 at) {
     filtered_mean = vec4(0.0);
     own_mean = vec3(0.0);
+    at = vec2(-1.0);
     vec3 was = previous_position(p, triangle);
     vec4 clip = params.previous_view_proj * vec4(was, 1.0);
     if (clip.w <= 0.0) {
         return vec4(0.0);
     }
     vec2 size = vec2(frame.width, frame.height);
-    vec2 at = (clip.xy / clip.w * 0.5 + 0.5) * size - 0.5;
+    at = (clip.xy / clip.w * 0.5 + 0.5) * size - 0.5;
     ivec2 base = ivec2(floor(at));
     vec2 f = at - vec2(base);
     // Slope-aware: the distance from the tap's point to the plane of this one, against a
@@ -177,15 +182,19 @@ vec4 reprojected_history(vec3 p, uint triangle, vec3 n, out vec4 filtered_mean, 
 // the range where the light is changing: those taps do not count. Holding `e` in the range
 // keeps a sharp feature that a still camera sees the same every frame. Where every tap is
 // exactly zero, `e` and the mean are, and so is the range.
-void neighbourhood(ivec2 pixel, vec3 e, float view_distance, vec3 n, bool moving, out vec3 lo, out vec3 hi) {
-    vec3 sum = vec3(0.0);
-    float count = 0.0;
-    ivec2 size = ivec2(frame.width, frame.height);
-    float stride = 3.0;
-    if (params.clamp_kernels > 0.0) {
-        float kernel = projected_kernel(params.kernel_pixels, view_distance);
-        stride = clamp(params.clamp_kernels * kernel / 3.0, 3.0, 16.0);
+// The clamp's taps' spacing in pixels at `view_distance`.
+float clamp_stride(float view_distance) {
+    if (params.clamp_kernels <= 0.0) {
+        return 3.0;
     }
+    return clamp(params.clamp_kernels * projected_kernel(params.kernel_pixels, view_distance) / 3.0, 3.0, 16.0);
+}
+
+void neighbourhood(ivec2 pixel, vec3 e, float stride, vec3 n, bool moving, out vec3 mean, out float mean_noise,
+                   out vec3 lo, out vec3 hi) {
+    vec3 sum = vec3(0.0);
+    float count = 0.0, squares = 0.0;
+    ivec2 size = ivec2(frame.width, frame.height);
     for (int y = -3; y <= 3; y++) {
         for (int x = -3; x <= 3; x++) {
             ivec2 q = clamp(pixel + ivec2(round(stride * vec2(x, y))), ivec2(0), size - 1);
@@ -194,14 +203,62 @@ void neighbourhood(ivec2 pixel, vec3 e, float view_distance, vec3 n, bool moving
                 || dot(imageLoad(gbuffer_normal, q).xyz, n) < 0.9) {
                 continue;
             }
-            sum += irradiance_at(q);
+            vec3 i = irradiance_at(q);
+            sum += i;
+            squares += luminance_of(i) * luminance_of(i);
             count += 1.0;
         }
     }
     // The pixel's own tap always counts.
-    vec3 mean = sum / max(count, 1.0);
+    mean = sum / max(count, 1.0);
+    // The deviation of the mean's luminance: the taps' spread over the root of their number,
+    // a quarter of them counted, since a frame's noise is correlated over a kernel.
+    float y = luminance_of(mean);
+    mean_noise = sqrt(max(squares / max(count, 1.0) - y * y, 0.0) / max(0.25 * count, 1.0));
     lo = max(1.0 - params.clamp_relative, 0.0) * min(e, mean);
     hi = (1.0 + params.clamp_relative) * max(e, mean);
+}
+
+// The history's mean over the clamp's footprint around `at` on last frame's screen, of the taps
+// on the pixel's kind of surface (.a: how many; 0 when none).
+vec4 history_neighbourhood(vec2 at, float stride, vec3 n, bool moving) {
+    vec3 sum = vec3(0.0);
+    float count = 0.0;
+    ivec2 size = ivec2(frame.width, frame.height);
+    ivec2 centre = ivec2(round(at));
+    for (int y = -3; y <= 3; y++) {
+        for (int x = -3; x <= 3; x++) {
+            ivec2 q = centre + ivec2(round(stride * vec2(x, y)));
+            if (any(lessThan(q, ivec2(0))) || any(greaterThanEqual(q, size))) {
+                continue;
+            }
+            float t = imageLoad(surface_previous, q).w;
+            if (t == 0.0 || (uint(t) - 1u >= params.first_moving_triangle) != moving
+                || dot(imageLoad(normal_previous, q).xyz, n) < 0.9) {
+                continue;
+            }
+            sum += imageLoad(history_previous, q).rgb;
+            count += 1.0;
+        }
+    }
+    return vec4(sum / max(count, 1.0), count);
+}
+
+// How much the light changed around the pixel since the history's frame: the new frame's mean
+// over the clamp's footprint against the history's there. A change within LAG_SIGMAS of the
+// new mean's noise is that noise and changes nothing; one beyond twice that is a change of the
+// lighting, and the history takes the new level at once (.x, the factor it is scaled by)
+// instead of lagging behind it over its frames. A history black around the pixel has no level
+// to scale: it counts for fewer of its frames instead (.y, the share it keeps).
+const float LAG_SIGMAS = 3.0;
+vec2 lighting_change(vec3 mean_now, float noise, vec4 mean_then) {
+    float now = luminance_of(mean_now), then = luminance_of(mean_then.rgb);
+    float tolerance = LAG_SIGMAS * noise;
+    if (mean_then.a == 0.0 || tolerance <= 0.0) {
+        return vec2(1.0);
+    }
+    float beyond = clamp((abs(now - then) - tolerance) / tolerance, 0.0, 1.0);
+    return then > 0.0 ? vec2(mix(1.0, now / then, beyond), 1.0) : vec2(1.0, 1.0 - beyond);
 }
 
 void main() {
@@ -237,7 +294,8 @@ void main() {
             vec3 smooth_e = params.spatial != 0u ? imageLoad(filtered, pixel).rgb : e;
             vec4 filtered_mean;
             vec3 own_mean;
-            vec4 history = reprojected_history(surface.xyz, uint(surface.w) - 1u, n, filtered_mean, own_mean);
+            vec2 at;
+            vec4 history = reprojected_history(surface.xyz, uint(surface.w) - 1u, n, filtered_mean, own_mean, at);
             filtered_mean_out.rgb = smooth_e;
             if (history.a > 0.0) {
                 frames = min(history.a + 1.0, params.max_history);
@@ -254,11 +312,14 @@ void main() {
                 }
                 ratio = mix(vec3(1.0), ratio, min((count - 1.0) / max(params.max_history - 1.0, 1.0), 1.0));
                 vec3 current = smooth_e * ratio;
-                vec3 lo, hi;
+                vec3 mean, lo, hi;
+                float mean_noise;
                 bool moving = uint(surface.w) - 1u >= params.first_moving_triangle;
-                float distance = length(surface.xyz - frame.camera_position.xyz);
-                neighbourhood(pixel, current, distance, n, moving, lo, hi);
-                e = mix(clamp(history.rgb, lo, hi), current, 1.0 / frames);
+                float stride = clamp_stride(length(surface.xyz - frame.camera_position.xyz));
+                neighbourhood(pixel, current, stride, n, moving, mean, mean_noise, lo, hi);
+                vec2 change = lighting_change(mean, mean_noise, history_neighbourhood(at, stride, n, moving));
+                frames = mix(1.0, frames, change.y);
+                e = mix(clamp(change.x * history.rgb, lo, hi), current, 1.0 / frames);
             } else {
                 // A disocclusion has nothing else: the filtered estimate as it is.
                 e = smooth_e;
