@@ -216,8 +216,8 @@ fn a_still_view_after_motion_converges_to_the_accumulation() {
     assert!(late < 0.5 * early, "the history does not fade: {early} then {late}");
 }
 
-/// A light that jumps is followed at once: after 12 frames of the moving light at rest, the
-/// light jumps to where it is 3 s on (from room A to the doorway's far side), and the first
+/// A light that jumps is followed at once: after 12 frames of the moving light all but at rest
+/// (1e-4 s a frame, so that each is a moving frame and builds the history), the light jumps to where it is 3 s on (from room A to the doorway's far side), and the first
 /// frame there has, with reuse, the indirect light's mean of a frame without within 5% (0.97×
 /// at 64×48). A history that took the new level only within the clamp's margin, over its
 /// frames, read 0.76×.
