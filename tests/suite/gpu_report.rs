@@ -79,3 +79,31 @@ fn the_quick_gpu_report_runs_end_to_end() {
         }
     }
 }
+
+/// `tools/gpu-benches --quick` runs end to end here too, so the benches that follow the report
+/// in a GPU session's one call cannot rot: every step exits 0 within its cap, the reuse passes'
+/// share is printed for both sequences, and the scale figures come back as a CSV and a chart.
+#[test]
+fn the_quick_gpu_benches_run_end_to_end() {
+    if common::gpu().is_none() {
+        return;
+    }
+    let out = common::tmp_path("gpu-benches-quick");
+    let _ = std::fs::remove_dir_all(&out);
+    let run = Command::new(common::root().join("tools/gpu-benches"))
+        .arg(&out)
+        .arg("--quick")
+        .env("LEAKLESS_BIN", env!("CARGO_BIN_EXE_leakless"))
+        .current_dir(common::root())
+        .output()
+        .expect("run tools/gpu-benches");
+    let log = std::fs::read_to_string(out.join("benches.log")).expect("benches.log");
+    assert!(run.status.success(), "tools/gpu-benches failed:\n{log}\n{}", String::from_utf8_lossy(&run.stderr));
+    let steps = log.lines().filter(|l| l.starts_with("$ ")).count();
+    let passed = log.lines().filter(|l| l.starts_with("[rc 0 in ")).count();
+    assert_eq!((steps, passed), (6, 6), "every step runs and exits 0:\n{log}");
+    assert_eq!(log.matches("% of the rest").count(), 2, "{log}");
+    let csv = std::fs::read_to_string(out.join("scale.csv")).expect("scale.csv");
+    assert_eq!(csv.lines().count(), 1 + 2 * common::choices().len(), "{csv}");
+    assert!(out.join("scale.svg").is_file() && out.join("scale.png").is_file());
+}
