@@ -170,19 +170,8 @@ vec4 reprojected_history(vec3 p, uint triangle, vec3 n, out vec4 filtered_mean, 
     return weight > 0.25 ? sum / weight : vec4(0.0);
 }
 
-// The range the history may take at `pixel`, whose new estimate is `e`: within
-// `clamp_relative` of the span between `e` and the new frame's mean over a footprint
-// `clamp_kernels` gather-kernel radii wide on each side at the pixel's `view_distance` (7×7
-// taps, 19×19 pixels at least, 97 at most), of the taps on the pixel's kind of surface (static
-// or animated, facing its way, normal `n`). A single photon frame's noise is correlated over the
-// kernel's footprint and often larger than its mean, so a box of the footprint's extremes or a
-// few deviations would clamp the history to this frame's blotches and average nothing, and so
-// would the mean of a footprint inside one blotch; the mean over a few kernels is steadier, and
-// a change of the lighting moves it. Another wall's light, or what a doorway shows, would widen
-// the range where the light is changing: those taps do not count. Holding `e` in the range
-// keeps a sharp feature that a still camera sees the same every frame. Where every tap is
-// exactly zero, `e` and the mean are, and so is the range.
-// The clamp's taps' spacing in pixels at `view_distance`.
+// The spacing in pixels of the clamp's 7×7 taps at `view_distance`: `clamp_kernels`
+// gather-kernel radii on each side (19×19 pixels at least, 97 at most).
 float clamp_stride(float view_distance) {
     if (params.clamp_kernels <= 0.0) {
         return 3.0;
@@ -190,6 +179,24 @@ float clamp_stride(float view_distance) {
     return clamp(params.clamp_kernels * projected_kernel(params.kernel_pixels, view_distance) / 3.0, 3.0, 16.0);
 }
 
+// Whether a tap whose surface is `t` (triangle + 1; 0 for none) with normal `tap_normal` counts
+// in a neighbourhood of a pixel of the kind `moving` (on an animated instance or not) facing
+// `n`: another wall's light, or what a doorway shows, would widen the range where the light is
+// changing.
+bool same_kind(float t, vec3 tap_normal, vec3 n, bool moving) {
+    return t != 0.0 && (uint(t) - 1u >= params.first_moving_triangle) == moving && dot(tap_normal, n) >= 0.9;
+}
+
+// The range the history may take at `pixel`, whose new estimate is `e`: within
+// `clamp_relative` of the span between `e` and the new frame's mean over the taps `stride`
+// pixels apart (`same_kind` of the pixel, normal `n`); with that mean and its noise (the
+// deviation of its luminance). A single photon frame's noise is correlated over the kernel's
+// footprint and often larger than its mean, so a box of the footprint's extremes or a few
+// deviations would clamp the history to this frame's blotches and average nothing, and so
+// would the mean of a footprint inside one blotch; the mean over a few kernels is steadier,
+// and a change of the lighting moves it. Holding `e` in the range keeps a sharp feature that a
+// still camera sees the same every frame. Where every tap is exactly zero, `e` and the mean
+// are, and so is the range.
 void neighbourhood(ivec2 pixel, vec3 e, float stride, vec3 n, bool moving, out vec3 mean, out float mean_noise,
                    out vec3 lo, out vec3 hi) {
     vec3 sum = vec3(0.0);
@@ -198,9 +205,7 @@ void neighbourhood(ivec2 pixel, vec3 e, float stride, vec3 n, bool moving, out v
     for (int y = -3; y <= 3; y++) {
         for (int x = -3; x <= 3; x++) {
             ivec2 q = clamp(pixel + ivec2(round(stride * vec2(x, y))), ivec2(0), size - 1);
-            float t = imageLoad(gbuffer_position, q).w;
-            if (t == 0.0 || (uint(t) - 1u >= params.first_moving_triangle) != moving
-                || dot(imageLoad(gbuffer_normal, q).xyz, n) < 0.9) {
+            if (!same_kind(imageLoad(gbuffer_position, q).w, imageLoad(gbuffer_normal, q).xyz, n, moving)) {
                 continue;
             }
             vec3 i = irradiance_at(q);
@@ -232,9 +237,7 @@ vec4 history_neighbourhood(vec2 at, float stride, vec3 n, bool moving) {
             if (any(lessThan(q, ivec2(0))) || any(greaterThanEqual(q, size))) {
                 continue;
             }
-            float t = imageLoad(surface_previous, q).w;
-            if (t == 0.0 || (uint(t) - 1u >= params.first_moving_triangle) != moving
-                || dot(imageLoad(normal_previous, q).xyz, n) < 0.9) {
+            if (!same_kind(imageLoad(surface_previous, q).w, imageLoad(normal_previous, q).xyz, n, moving)) {
                 continue;
             }
             sum += imageLoad(history_previous, q).rgb;
