@@ -1,26 +1,33 @@
-//! `tools/gpu-report --quick` runs end to end on this device, so the command a GPU session
-//! runs in its one call cannot rot: every section, every tuning variant's pipelines (with
-//! validation on), and the correctness fixtures, which on the device that made them must
-//! match bit for bit.
+//! `tools/gpu-report --quick` and `tools/gpu-benches --quick` run end to end on this device,
+//! so the command a GPU session runs in its one call cannot rot: every section, every tuning
+//! variant's pipelines (with validation on), and the correctness fixtures, which on the device
+//! that made them must match bit for bit; then every bench step.
 
-use std::process::Command;
+use std::path::PathBuf;
+use std::process::{Command, Output};
 
 use crate::common;
+
+/// Runs `tools/<tool> OUT --quick` with this build's binary; returns OUT and what it printed.
+fn quick(tool: &str) -> (PathBuf, Output) {
+    let out = common::tmp_path(&format!("{tool}-quick"));
+    let _ = std::fs::remove_dir_all(&out);
+    let run = Command::new(common::root().join("tools").join(tool))
+        .arg(&out)
+        .arg("--quick")
+        .env("LEAKLESS_BIN", env!("CARGO_BIN_EXE_leakless"))
+        .current_dir(common::root())
+        .output()
+        .unwrap_or_else(|e| panic!("run tools/{tool}: {e}"));
+    (out, run)
+}
 
 #[test]
 fn the_quick_gpu_report_runs_end_to_end() {
     if common::gpu().is_none() {
         return;
     }
-    let out = common::tmp_path("gpu-report-quick");
-    let _ = std::fs::remove_dir_all(&out);
-    let run = Command::new(common::root().join("tools/gpu-report"))
-        .arg(&out)
-        .arg("--quick")
-        .env("LEAKLESS_BIN", env!("CARGO_BIN_EXE_leakless"))
-        .current_dir(common::root())
-        .output()
-        .expect("run tools/gpu-report");
+    let (out, run) = quick("gpu-report");
     let (stdout, stderr) = (String::from_utf8_lossy(&run.stdout), String::from_utf8_lossy(&run.stderr));
     assert!(run.status.success(), "tools/gpu-report failed:\n{stdout}\n{stderr}");
     assert!(!stderr.contains("validation error"), "{stderr}");
@@ -88,15 +95,7 @@ fn the_quick_gpu_benches_run_end_to_end() {
     if common::gpu().is_none() {
         return;
     }
-    let out = common::tmp_path("gpu-benches-quick");
-    let _ = std::fs::remove_dir_all(&out);
-    let run = Command::new(common::root().join("tools/gpu-benches"))
-        .arg(&out)
-        .arg("--quick")
-        .env("LEAKLESS_BIN", env!("CARGO_BIN_EXE_leakless"))
-        .current_dir(common::root())
-        .output()
-        .expect("run tools/gpu-benches");
+    let (out, run) = quick("gpu-benches");
     let log = std::fs::read_to_string(out.join("benches.log")).expect("benches.log");
     assert!(run.status.success(), "tools/gpu-benches failed:\n{log}\n{}", String::from_utf8_lossy(&run.stderr));
     let steps = log.lines().filter(|l| l.starts_with("$ ")).count();
