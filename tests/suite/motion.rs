@@ -217,10 +217,11 @@ fn a_still_view_after_motion_converges_to_the_accumulation() {
 }
 
 /// A light that jumps is followed at once: after 12 frames of the moving light all but at rest
-/// (1e-4 s a frame, so that each is a moving frame and builds the history), the light jumps to where it is 3 s on (from room A to the doorway's far side), and the first
-/// frame there has, with reuse, the indirect light's mean of a frame without within 5% (0.97×
-/// at 64×48). A history that took the new level only within the clamp's margin, over its
-/// frames, read 0.76×.
+/// (1e-4 s a frame, so that each is a moving frame and builds the history), the light jumps to
+/// where it is 3 s on (from room A to the doorway's far side), and the first frame there has,
+/// with reuse, the indirect light's mean of a frame without within 5% (0.97× at 64×48). A
+/// history that takes the new level only within the clamp's margin, over its frames
+/// (`LAG_SIGMAS` infinite in temporal.comp), reads 0.76×.
 #[test]
 fn a_light_that_jumps_is_followed_at_once() {
     let scene = common::scene("scenes/moving-light.gltf");
