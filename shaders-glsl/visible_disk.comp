@@ -311,53 +311,74 @@ bool lends(uvec2 local, ivec2 offset, vec3 from, vec3 ng, out bool outside) {
     return plane.w > 0.0 && (offset == ivec2(0) || shares_surface(from, ng, params.radius, shared_origin[other].xyz, plane.xyz));
 }
 
-// Whether the sample at `offset` lends, and so does the one at −offset unless the tile's edge
-// hides it: the lenders lie symmetric about the sample where the surface ends. A neighbour's disk
-// is not the sample's; over a symmetric block the mass's change along the surface cancels to
-// first order. At a crease or a silhouette all the neighbours lie on one side and read the mass
-// further in, larger by its slope times their offset (the atrium's edges, accumulated, were 25%
-// worse in relMSE). A tile's edge is not required to be symmetric: it moves every frame, and
-// requiring it made a third of the samples trace more directions themselves.
-bool lends_both(uvec2 local, ivec2 offset, vec3 from, vec3 ng) {
-    bool outside;
-    bool mirror_outside;
-    bool mirror = lends(local, -offset, from, ng, mirror_outside);
-    return lends(local, offset, from, ng, outside) && (mirror || mirror_outside);
-}
+// Bit (dy + LEND_WINDOW)·LEND_SIDE + dx + LEND_WINDOW of a lender mask: the neighbour at (dx, dy).
+const int LEND_WINDOW = 2;
+const int LEND_SIDE = 2 * LEND_WINDOW + 1;
+const uint LEND_CENTRE = uint(LEND_WINDOW * LEND_SIDE + LEND_WINDOW);
+// The 3×3 block's bits.
+const uint LEND_3X3 = (7u << 6u) | (7u << 11u) | (7u << 16u);
 
-// Bit k set: the sample at `pixel` (in slot `local` of the tile) or a symmetric pair of
-// neighbours on its surface within `window` pixels traced direction k. Read after the barrier
-// that follows the shares' writes.
-uint lent_directions(uvec2 local, ivec2 pixel, vec3 from, vec3 ng, int window) {
-    uint lent = 0u;
+// The neighbours within `window` pixels (at most LEND_WINDOW) of the sample in slot `local` of
+// the tile (at `from`, normal `ng`) that lend it their directions: those on its surface whose
+// mirror image about it lends too, unless the tile's edge hides that one. The lenders lie
+// symmetric about the sample where the surface ends. A neighbour's disk is not the sample's;
+// over a symmetric block the mass's change along the surface cancels to first order. At a
+// crease or a silhouette all the neighbours lie on one side and read the mass further in,
+// larger by its slope times their offset (the atrium's edges, accumulated, were 25% worse in
+// relMSE). A tile's edge is not required to be symmetric: it moves every frame, and requiring
+// it made a third of the samples trace more directions themselves. Read after the barrier that
+// follows the shares' writes; computed once, since the directions lent and the mass both walk
+// the same lenders.
+uint lenders(uvec2 local, vec3 from, vec3 ng, int window) {
+    uint on_surface = 0u, outside_tile = 0u;
     for (int dy = -window; dy <= window; ++dy) {
         for (int dx = -window; dx <= window; ++dx) {
-            if (lends_both(local, ivec2(dx, dy), from, ng)) {
-                lent |= 1u << pixel_direction(pixel + ivec2(dx, dy));
-            }
+            uint bit = 1u << uint((dy + LEND_WINDOW) * LEND_SIDE + dx + LEND_WINDOW);
+            bool outside;
+            on_surface |= lends(local, ivec2(dx, dy), from, ng, outside) ? bit : 0u;
+            outside_tile |= outside ? bit : 0u;
         }
+    }
+    // The mirror of bit i is bit 2·LEND_CENTRE − i.
+    uint both = 0u;
+    for (uint i = 0u; i <= 2u * LEND_CENTRE; ++i) {
+        uint mirror = 1u << (2u * LEND_CENTRE - i);
+        if ((on_surface & (1u << i)) != 0u && ((on_surface | outside_tile) & mirror) != 0u) {
+            both |= 1u << i;
+        }
+    }
+    return both;
+}
+
+// The offset of lender bit `i`.
+ivec2 lender_offset(uint i) {
+    return ivec2(int(i) % LEND_SIDE, int(i) / LEND_SIDE) - LEND_WINDOW;
+}
+
+// Bit k set: the sample at `pixel` or one of its `mask` of lenders traced direction k.
+uint lent_directions(ivec2 pixel, uint mask) {
+    uint lent = 0u;
+    for (uint rest = mask; rest != 0u; rest &= rest - 1u) {
+        lent |= 1u << pixel_direction(pixel + lender_offset(uint(findLSB(rest))));
     }
     return lent;
 }
 
 // The sample's visible share of the kernel at radius `r`: per direction, the mean of what it and
-// the symmetric pairs of neighbours on its surface within `window` pixels measured at `big_r`,
-// or, for the directions in `missing`, what the tile traced for it (jobs `first` on, in the order
-// of their bits); then the mean over the directions.
-float shared_mass(uvec2 local, ivec2 pixel, vec3 from, vec3 ng, float big_r, float r, int window, uint missing, uint first) {
+// its `mask` of lenders measured at `big_r`, or, for the directions in `missing`, what the tile
+// traced for it (jobs `first` on, in the order of their bits); then the mean over the
+// directions.
+float shared_mass(uvec2 local, ivec2 pixel, float big_r, float r, uint mask, uint missing, uint first) {
     float sum[DISK_DIRECTIONS] = float[](0.0, 0.0, 0.0, 0.0);
     uint count[DISK_DIRECTIONS] = uint[](0u, 0u, 0u, 0u);
-    for (int dy = -window; dy <= window; ++dy) {
-        for (int dx = -window; dx <= window; ++dx) {
-            if (lends_both(local, ivec2(dx, dy), from, ng)) {
-                uint other = uint(int(local.y) + dy) * TILE + uint(int(local.x) + dx);
-                vec4 origin = shared_origin[other];
-                DirectionSamples lent = DirectionSamples(origin.w, shared_rho[other], uint(shared_plane[other].w) - 1u);
-                uint d = pixel_direction(pixel + ivec2(dx, dy));
-                sum[d] += direction_mass(lent, big_r, r);
-                count[d] += 1u;
-            }
-        }
+    for (uint rest = mask; rest != 0u; rest &= rest - 1u) {
+        ivec2 offset = lender_offset(uint(findLSB(rest)));
+        uint other = uint(int(local.y) + offset.y) * TILE + uint(int(local.x) + offset.x);
+        vec4 origin = shared_origin[other];
+        DirectionSamples lent = DirectionSamples(origin.w, shared_rho[other], uint(shared_plane[other].w) - 1u);
+        uint d = pixel_direction(pixel + offset);
+        sum[d] += direction_mass(lent, big_r, r);
+        count[d] += 1u;
     }
     float mass = 0.0;
     uint job = first;
@@ -411,6 +432,7 @@ void main() {
         }
         uint missing = 0u;  // the directions no neighbour lent: the tile traces them for the sample
         uint first = 0u;    // their first job
+        uint mask = 0u;     // the sample's lenders (`lenders`)
         // The neighbours within this many pixels lend their directions; none to a second
         // measurement, whose neighbours measured at radii of their own.
         int window = measure == 0u ? 1 : 0;
@@ -460,10 +482,13 @@ void main() {
                 barrier();
                 // The 3×3 block, or where it lacks a direction, the 5×5 one: a rail a pixel wide
                 // holds all four directions within five pixels along it.
-                uint lent = measuring ? lent_directions(local, pixel, from, ng, window) : 0xfu;
+                uint near = measuring ? lenders(local, from, ng, window == 0 ? 0 : LEND_WINDOW) : 0u;
+                mask = window == 1 ? near & LEND_3X3 : near;
+                uint lent = measuring ? lent_directions(pixel, mask) : 0xfu;
                 if (lent != 0xfu && window == 1) {
                     window = 2;
-                    lent = lent_directions(local, pixel, from, ng, window);
+                    mask = near;
+                    lent = lent_directions(pixel, mask);
                 }
                 missing = ~lent & 0xfu;
                 if (missing != 0u) {
@@ -480,11 +505,11 @@ void main() {
             barrier();
         }
         if (measuring) {
-            mass = shared_mass(local, pixel, from, ng, big_r, r, window, missing, first);
+            mass = shared_mass(local, pixel, big_r, r, mask, missing, first);
             if (measure == 0u && params.partial_radius_exponent != 0.0 && mass < 1.0) {
                 r *= radius_share(max(mass, 0.0));
                 if (measures == 1u) {
-                    mass = shared_mass(local, pixel, from, ng, big_r, r, window, missing, first);
+                    mass = shared_mass(local, pixel, big_r, r, mask, missing, first);
                 }
             } else {
                 measuring = false;  // nothing to measure again
