@@ -5,6 +5,7 @@
 pub mod accumulate;
 pub mod compose;
 pub mod direct;
+pub mod disk_smooth;
 pub mod emission_order;
 pub mod gather;
 pub mod gbuffer;
@@ -51,6 +52,7 @@ pub static FRAME_PASSES: &[&ComputePassDef] = &[
     &photon_order::PHOTON_CELLS,
     &photon_order::PHOTON_ORDER,
     &visible_disk::VISIBLE_DISK,
+    &disk_smooth::DISK_SMOOTH,
     &hierarchy::sample_bounds::SAMPLE_BOUNDS,
     &hierarchy::morton::MORTON,
     &sort::SORT_HISTOGRAM,

@@ -70,8 +70,17 @@ shader_bindings! {
 /// gather lifts the sample's visibility segments on a convex curved mesh (traced, so it
 /// stops short of anything in front; 0 elsewhere).
 pub fn image(graph: &mut Graph<'_>, extent: vk::Extent2D) -> Result<ImageHandle> {
+    mass_image(graph, extent, "disk mass")
+}
+
+/// The image this pass writes where `disk_smooth` then averages it into [`image`]'s.
+pub fn measured_image(graph: &mut Graph<'_>, extent: vk::Extent2D) -> Result<ImageHandle> {
+    mass_image(graph, extent, "disk mass measured")
+}
+
+fn mass_image(graph: &mut Graph<'_>, extent: vk::Extent2D, name: &'static str) -> Result<ImageHandle> {
     Ok(graph.image(&ImageDesc {
-        name: "disk mass",
+        name,
         extent,
         format: gbuffer::FORMAT,
         usage: vk::ImageUsageFlags::STORAGE | vk::ImageUsageFlags::TRANSFER_SRC,

@@ -26,6 +26,7 @@ use leakless_graph::{BufferHandle, Graph};
 use leakless_scene::Aabb;
 
 use crate::error::{RenderError, Result};
+use crate::passes::disk_smooth::{self, DiskSmoothParams};
 use crate::passes::gather::{self, GatherInputs, GatherOutputs};
 use crate::passes::hierarchy::{self, HierarchyHandles, Shape};
 use crate::passes::photon_clearance::{self, Needed};
@@ -159,7 +160,17 @@ pub fn add<'r>(
         walk_faces: frame.settings.walk_faces as u32,
         ..Default::default()
     };
-    visible_disk::add(graph, disk, input.frame, input.gbuffer, input.scene, input.trace, &mut disk_mass);
+    // A single frame's masses are smoothed over each surface (disk_smooth.rs); an
+    // accumulation keeps every sample's own.
+    if visible_disk && disk.share_distance > 0.0 {
+        let mut measured = visible_disk::measured_image(graph, extent)?;
+        visible_disk::add(graph, disk, input.frame, input.gbuffer, input.scene, input.trace, &mut measured);
+        let smooth =
+            DiskSmoothParams { radius: frame.radius, share_distance: disk.share_distance, ..Default::default() };
+        disk_smooth::add(graph, smooth, input.frame, input.gbuffer, &measured, &mut disk_mass);
+    } else {
+        visible_disk::add(graph, disk, input.frame, input.gbuffer, input.scene, input.trace, &mut disk_mass);
+    }
     let largest_radius = largest_gather_radius(frame.radius, frame.first_batch, partial);
     let mut h = HierarchyHandles::new(graph, &shape)?;
     hierarchy::add(graph, input.frame, input.gbuffer, &disk_mass, &shape, &mut h)?;

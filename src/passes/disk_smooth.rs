@@ -1,0 +1,62 @@
+//! Disk smoothing (`disk_smooth.comp`): a single `leakless` frame's visible-disk mass and
+//! radius, averaged over the samples of each surface within the distance neighbours lend their
+//! directions at (`visible_disk::share_distance`), with a stride that spans that distance on the
+//! screen. The visible-disk pass's own sharing spans a fixed 3×3 block of pixels (5×5 where a
+//! direction is missing), whose noise is pixel-scale grain on narrow faces at larger sizes; this
+//! takes it out at every resolution.
+
+use bytemuck::{Pod, Zeroable};
+use leakless_device::{gpu_struct, GpuStruct};
+use leakless_graph::{shader_bindings, BufferHandle, Graph, ImageHandle, PassName, Stage};
+
+use crate::gpu_types::Frame;
+use crate::passes::gbuffer::{GBufferBindings, GBufferHandles};
+use crate::passes::names::group;
+use crate::pipelines::ComputePassDef;
+use crate::shaders;
+
+gpu_struct! {
+    /// The `DiskSmoothParams` push constants of disk_smooth.comp.
+    #[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
+    pub struct DiskSmoothParams {
+        /// The frame's gather radius.
+        pub radius: f32,
+        /// Taps nearer than this share of the radius count (`visible_disk::share_distance`).
+        pub share_distance: f32,
+        pub pad0: u32,
+        pub pad1: u32,
+    }
+}
+
+shader_bindings! {
+    pub struct DiskSmoothBindings {
+        frame: read uniform(Frame::LAYOUT),
+        measured: read image,
+        disk_mass: write image,
+    }
+    pub struct DiskSmoothResources;
+}
+
+pub static DISK_SMOOTH: ComputePassDef = ComputePassDef::any(
+    PassName::new("disk smoothing", group::VISIBLE_DISK),
+    &shaders::DISK_SMOOTH_COMP,
+    &[DiskSmoothBindings::DECLS, GBufferBindings::DECLS],
+)
+.push(DiskSmoothParams::LAYOUT);
+
+/// Writes `measured` (the visible-disk pass's image), smoothed, into `disk_mass`.
+pub fn add<'r>(
+    graph: &mut Graph<'r>,
+    params: DiskSmoothParams,
+    frame: &BufferHandle,
+    gbuffer: &GBufferHandles,
+    measured: &ImageHandle,
+    disk_mass: &mut ImageHandle,
+) {
+    let extent = disk_mass.extent();
+    let mut pass = graph.pass(DISK_SMOOTH.name);
+    let own =
+        DiskSmoothBindings::declare(&mut pass, Stage::Compute, DiskSmoothResources { frame, measured, disk_mass });
+    let gbuffer = gbuffer.declare(&mut pass);
+    pass.dispatch(DISK_SMOOTH.name, (own, gbuffer), params, [extent.width, extent.height, 1]);
+}
