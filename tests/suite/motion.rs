@@ -182,9 +182,11 @@ fn reuse_halves_the_error_of_a_moving_camera() {
     assert!(on <= 0.5 * off, "reuse: relMSE {on}, without {off}");
     assert!((mean_on - 1.0).abs() < 0.03, "reuse moved the mean by {}", mean_on - 1.0);
     // The filter steadies the frames, and reaching no further than the kernel (a few pixels
-    // here) it adds no error: 0.91× that of reuse without it when written.
+    // here) it adds no error: 0.91× that of reuse without it when written. The change was
+    // 0.62× when written, 0.66× since single frames' visible-disk masses are smoothed over
+    // each surface (disk_smooth.comp), which takes out part of the grain the filter removed.
     assert!(
-        change_on <= 0.65 * change_unfiltered,
+        change_on <= 0.7 * change_unfiltered,
         "the filter left a change of {change_on} (without {change_unfiltered})"
     );
     assert!(on <= 1.25 * unfiltered, "the filter made the error {on} (without {unfiltered})");
