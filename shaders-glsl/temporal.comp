@@ -65,6 +65,12 @@ layout(set = 0, binding = 17, rgba32f) uniform readonly image2D filtered_mean_pr
 layout(set = 0, binding = 18, rgba32f) uniform writeonly image2D filtered_mean_current;
 layout(set = 0, binding = 24, rgba32f) uniform readonly image2D own_mean_previous;
 layout(set = 0, binding = 25, rgba32f) uniform writeonly image2D own_mean_current;
+// The light's level (lighting_level.comp): .r the factor a moving frame's shown history is
+// scaled by, measured over the frames before.
+layout(set = 0, binding = 19, rgba32f) uniform readonly image2D level_previous;
+// Per workgroup, Σ luminance of the new estimate and of the history it is blended with, over the
+// pixels that have one (.xy), and their count (.z).
+layout(set = 0, binding = 26, std430) writeonly buffer LevelPartials { vec4 sums[]; } level_partials;
 // The animated instances' vertex positions as they were in the history's frame, from the first
 // moving triangle's first vertex on (read only when `instances_moved`).
 layout(set = 0, binding = 14, std430) readonly buffer PreviousPositions { float xyz[]; } previous_positions;
@@ -82,7 +88,7 @@ layout(push_constant) uniform TemporalParams {
     float bias_frames;        // frames the filter's bias is measured over at most
     float kernel_pixels;      // the gather kernel's radius in pixels, one metre from the camera
     float clamp_kernels;      // the clamp's footprint's half width, in kernel radii
-    uint pad0;
+    uint level;               // 1: the shown history is scaled by level_previous's factor
     uint pad1;
 } params;
 
@@ -252,23 +258,24 @@ vec4 history_neighbourhood(vec2 at, float stride, vec3 n, bool moving) {
 // new mean's noise is that noise and changes nothing; one beyond twice that is a change of the
 // lighting, and the history takes the new level at once (.x, the factor it is scaled by)
 // instead of lagging behind it over its frames. A history black around the pixel has no level
-// to scale: it counts for fewer of its frames instead (.y, the share it keeps).
+// to scale: it counts for fewer of its frames instead (.y, the share it keeps). .z: how far the
+// change stands out (0 within LAG_SIGMAS, 1 beyond twice that).
 const float LAG_SIGMAS = 3.0;
-vec2 lighting_change(vec3 mean_now, float noise, vec4 mean_then) {
+vec3 lighting_change(vec3 mean_now, float noise, vec4 mean_then) {
     float now = luminance_of(mean_now), then = luminance_of(mean_then.rgb);
     float tolerance = LAG_SIGMAS * noise;
     if (mean_then.a == 0.0 || tolerance <= 0.0) {
-        return vec2(1.0);
+        return vec3(1.0, 1.0, 0.0);
     }
     float beyond = clamp((abs(now - then) - tolerance) / tolerance, 0.0, 1.0);
-    return then > 0.0 ? vec2(mix(1.0, now / then, beyond), 1.0) : vec2(1.0, 1.0 - beyond);
+    return then > 0.0 ? vec3(mix(1.0, now / then, beyond), 1.0, beyond) : vec3(1.0, 1.0 - beyond, beyond);
 }
 
-void main() {
-    ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
-    if (pixel.x >= int(frame.width) || pixel.y >= int(frame.height)) {
-        return;
-    }
+// Reuses the pixel's history, showing it scaled by `factor` (the image's level); `level`: the
+// luminance of its new estimate and of the history it was blended with, and 1 (all 0 where it
+// had none).
+void reuse_pixel(ivec2 pixel, float factor, out vec3 level) {
+    level = vec3(0.0);
     vec4 surface = imageLoad(gbuffer_position, pixel);
     vec3 n = imageLoad(gbuffer_normal, pixel).xyz;
     vec4 l = imageLoad(indirect, pixel);
@@ -320,14 +327,21 @@ void main() {
                 bool moving = uint(surface.w) - 1u >= params.first_moving_triangle;
                 float stride = clamp_stride(length(surface.xyz - frame.camera_position.xyz));
                 neighbourhood(pixel, current, stride, n, moving, mean, mean_noise, lo, hi);
-                vec2 change = lighting_change(mean, mean_noise, history_neighbourhood(at, stride, n, moving));
+                vec3 change = lighting_change(mean, mean_noise, history_neighbourhood(at, stride, n, moving));
                 frames = mix(1.0, frames, change.y);
                 e = mix(clamp(change.x * history.rgb, lo, hi), current, 1.0 / frames);
+                level = vec3(luminance_of(current), luminance_of(history.rgb), 1.0);
+                // What is shown: where no neighbourhood tells a change from noise, the history
+                // scaled by the image's level (a slow change of the light, lighting_level.comp),
+                // within the same range. The history kept is not, so the level's measurement
+                // of the history's lag never feeds on itself.
+                float shown = mix(factor, change.x, change.z);
+                reused = albedo * mix(clamp(shown * history.rgb, lo, hi), current, 1.0 / frames);
             } else {
                 // A disocclusion has nothing else: the filtered estimate as it is.
                 e = smooth_e;
+                reused = albedo * e;
             }
-            reused = albedo * e;
         }
         imageStore(history_current, pixel, vec4(e, frames));
         imageStore(filtered_mean_current, pixel, filtered_mean_out);
@@ -338,4 +352,29 @@ void main() {
     imageStore(reused_indirect, pixel, vec4(reused, l.a));
     vec4 composed = reused == l.rgb ? imageLoad(radiance, pixel) : vec4(l_direct + reused, 1.0);
     imageStore(reused_radiance, pixel, composed);
+}
+
+shared vec3 level_sums[64];
+
+void main() {
+    ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
+    vec3 level = vec3(0.0);
+    // Every invocation reaches the barrier below.
+    if (pixel.x < int(frame.width) && pixel.y < int(frame.height)) {
+        float factor = params.level != 0u ? imageLoad(level_previous, ivec2(0)).r : 1.0;
+        reuse_pixel(pixel, factor, level);
+    }
+    uint i = gl_LocalInvocationIndex;
+    level_sums[i] = level;
+    barrier();
+    for (uint stride = 32u; stride > 0u; stride >>= 1u) {
+        if (i < stride) {
+            level_sums[i] += level_sums[i + stride];
+        }
+        barrier();
+    }
+    if (i == 0u) {
+        uint group = gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x;
+        level_partials.sums[group] = vec4(level_sums[0], 0.0);
+    }
 }

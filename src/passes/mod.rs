@@ -12,6 +12,7 @@ pub mod gbuffer;
 pub mod hang;
 pub mod hierarchy;
 pub mod instance_vertices;
+pub mod lighting_level;
 pub mod luminance;
 pub mod names;
 pub mod photon_clearance;
@@ -66,6 +67,7 @@ pub static FRAME_PASSES: &[&ComputePassDef] = &[
     &accumulate::ACCUMULATE,
     &spatial::SPATIAL,
     &temporal::TEMPORAL,
+    &lighting_level::LIGHTING_LEVEL,
     &luminance::LUMINANCE_TILES,
     &luminance::LUMINANCE_TOTAL,
 ];

@@ -12,6 +12,7 @@ use crate::error::Result;
 use crate::gpu_scene::{SceneBindings, SceneHandles};
 use crate::gpu_types::Frame;
 use crate::passes::gbuffer::{self, GBufferBindings, GBufferHandles};
+use crate::passes::lighting_level;
 use crate::passes::names::group;
 use crate::pipelines::ComputePassDef;
 use crate::shaders;
@@ -55,7 +56,8 @@ gpu_struct! {
         pub kernel_pixels: f32,
         /// The clamp's footprint's half width, in kernel radii ([`CLAMP_KERNELS`]).
         pub clamp_kernels: f32,
-        pub pad0: u32,
+        /// 1: the history shown is scaled by `level_previous`'s factor (lighting_level.rs).
+        pub level: u32,
         pub pad1: u32,
 
     }
@@ -100,6 +102,8 @@ shader_bindings! {
         own_mean_previous: read image,
         own_mean_current: write image,
         previous_positions: read array(f32::LAYOUT),
+        level_previous: read image,
+        level_partials: write words,
     }
     pub struct TemporalResources;
 }
@@ -120,6 +124,8 @@ pub struct TemporalHistories {
     pub normal: History,
     pub filtered_mean: History,
     pub own_mean: History,
+    /// The image's lighting level (lighting_level.rs), 1×1.
+    pub level: History,
 }
 
 /// The name of the history image the app's history-length view shows.
@@ -136,6 +142,7 @@ impl TemporalHistories {
             normal: pair("reuse normal")?,
             filtered_mean: pair("reuse filtered mean")?,
             own_mean: pair("reuse own mean")?,
+            level: lighting_level::history(graph)?,
         })
     }
 
@@ -146,6 +153,7 @@ impl TemporalHistories {
             && self.normal.valid
             && self.filtered_mean.valid
             && self.own_mean.valid
+            && self.level.valid
     }
 }
 
@@ -162,6 +170,8 @@ pub struct TemporalInputs<'a> {
     pub radiance: &'a ImageHandle,
     /// The frame's irradiance after spatial reuse (unread unless `params.spatial`).
     pub filtered: &'a ImageHandle,
+    /// Where each workgroup writes its sums for the lighting level (`lighting_level::partials`).
+    pub level_partials: &'a mut BufferHandle,
 }
 
 /// The reused layers, out.
@@ -203,6 +213,8 @@ pub fn add<'r>(
             own_mean_previous: &histories.own_mean.previous,
             own_mean_current: &mut histories.own_mean.current,
             previous_positions: inputs.previous_positions,
+            level_previous: &histories.level.previous,
+            level_partials: inputs.level_partials,
         },
     );
     pass.dispatch(TEMPORAL.name, (own, gbuffer, scene), params, [extent.width, extent.height, 1]);

@@ -19,6 +19,7 @@ use crate::passes::compose::{self, ComposeImages, ComposeParams};
 use crate::passes::direct::DirectParams;
 use crate::passes::gather::{self, GatherCounters, GatherOutputs};
 use crate::passes::gbuffer::{self, GBufferHandles};
+use crate::passes::lighting_level;
 use crate::passes::luminance::{self, LuminanceInputs, LuminanceStats};
 use crate::passes::photons::PhotonCounters;
 use crate::passes::reference::{self, ReferenceParams};
@@ -305,6 +306,7 @@ impl Renderer {
             if params.spatial != 0 {
                 spatial::add(&mut g, &frame, &gbuffer, &indirect, &mut spatial, kernel_pixels);
             }
+            let mut level_partials = lighting_level::partials(&mut g, extent)?;
             let mut reused_indirect = layer(&mut g, "reused indirect")?;
             let mut reused_radiance = layer(&mut g, "reused radiance")?;
             let inputs = TemporalInputs {
@@ -316,9 +318,12 @@ impl Renderer {
                 indirect: &indirect,
                 radiance: &radiance,
                 filtered: &spatial.result,
+                level_partials: &mut level_partials,
             };
             let out = Reused { indirect: &mut reused_indirect, radiance: &mut reused_radiance };
             temporal::add(&mut g, params, inputs, &mut histories, out);
+            let motion = mode == TemporalMode::Motion;
+            lighting_level::add(&mut g, extent, motion, params.max_history, &level_partials, &mut histories.level);
             (indirect, radiance) = (reused_indirect, reused_radiance);
             history_shown = Some(histories.irradiance.current);
             reused = Some(mode);

@@ -64,7 +64,7 @@ impl ReuseState {
             bias_frames: (BIAS_HISTORIES * self.history_frames) as f32,
             kernel_pixels,
             clamp_kernels: CLAMP_KERNELS,
-            pad0: 0,
+            level: (mode == TemporalMode::Motion) as u32,
             pad1: 0,
         }
     }
