@@ -19,7 +19,10 @@
 //   changed around the pixel (`lighting_change`): so a light that moves is followed at once
 //   where the change stands out of a frame's noise, rather than over the history's frames
 //   within the clamp's margin. Then new = lerp(history, frame, 1/n), n the frames the
-//   pixel's history holds with this one, at most `max_history`.
+//   pixel's history holds with this one, at most `max_history`. What is shown scales the
+//   history by the image's lighting level too (lighting_level.comp: a light changing too
+//   slowly for any neighbourhood to tell), where the neighbourhood saw no change itself; what
+//   is kept does not, and each workgroup sums what the level measures.
 // With `spatial`, a moving frame's own estimate is first filtered (spatial.comp). The filter
 //   averages noise away but also blurs the light along a surface (towards a corner, beside a
 //   shadow, a wall's colour towards the next), and that blur is a bias. The pixel keeps a long
