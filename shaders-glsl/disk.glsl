@@ -3,7 +3,8 @@
 #ifndef LEAKLESS_DISK_GLSL
 #define LEAKLESS_DISK_GLSL
 
-const float DISK_SLOPE = 0.1763;            // tan 10°: the band around the tangent plane
+#include "disk_band.glsl"
+
 const float DISK_MIN_NORMAL_COSINE = 0.5;   // 60°
 const float SMOOTH_EDGE_COSINE = 0.866;     // 30°: convex_curvature
 

@@ -18,6 +18,7 @@
 // whole disk with whole neighbours stays exactly 1 at the frame's radius.
 #include "common.glsl"
 #include "gbuffer.glsl"
+#include "disk_band.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
 
@@ -34,10 +35,6 @@ layout(push_constant) uniform DiskSmoothParams {
     uint pad1;
 } params;
 
-// The band around the tangent plane a tap may lie in: disk.glsl's DISK_SLOPE (tan 10°), which
-// needs the scene's bindings this pass has no use for.
-const float TANGENT_SLOPE = 0.1763;
-
 // Taps (2·REACH + 1)² with a stride that spans `share_distance`·r on the screen.
 const int REACH = 3;
 
@@ -51,7 +48,7 @@ bool on_surface(ivec2 q, vec3 x, vec3 n, out bool off_screen) {
     vec3 d = s.xyz - x;
     float distance = length(d);
     return s.w != 0.0 && dot(imageLoad(gbuffer_normal, q).xyz, n) >= 0.9
-        && distance <= params.share_distance * params.radius && abs(dot(d, n)) <= TANGENT_SLOPE * distance + 1e-4;
+        && distance <= params.share_distance * params.radius && abs(dot(d, n)) <= DISK_SLOPE * distance + 1e-4;
 }
 
 void main() {
