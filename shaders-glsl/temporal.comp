@@ -262,7 +262,10 @@ vec4 history_neighbourhood(vec2 at, float stride, vec3 n, bool moving) {
 // lighting, and the history takes the new level at once (.x, the factor it is scaled by)
 // instead of lagging behind it over its frames. A history black around the pixel has no level
 // to scale: it counts for fewer of its frames instead (.y, the share it keeps). .z: how far the
-// change stands out (0 within LAG_SIGMAS, 1 beyond twice that).
+// change stands out (0 within LAG_SIGMAS, 1 beyond twice that). Chosen with `bench motion
+// --size 128x72 --spp 16 --truth-spp 1024`, the last frame's HDR-FLIP ratio of the moving light
+// and the atrium (without the lighting level): two deviations 0.57× and 0.42×, three 0.61× and
+// 0.37×, four 0.66× and 0.36×, none (the clamp alone) 0.73× and 0.35×.
 const float LAG_SIGMAS = 3.0;
 vec3 lighting_change(vec3 mean_now, float noise, vec4 mean_then) {
     float now = luminance_of(mean_now), then = luminance_of(mean_then.rgb);
