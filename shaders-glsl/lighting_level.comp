@@ -36,26 +36,19 @@ layout(push_constant) uniform LevelParams {
 // Fewer pixels with a history than this measure nothing.
 const float MIN_PIXELS = 64.0;
 
-shared vec3 partial[256];
+#define WORKGROUP_SUM_SIZE 256u
+#include "workgroup_sum.glsl"
 
 void main() {
     uint i = gl_LocalInvocationIndex;
-    vec3 sum = vec3(0.0);
-    for (uint g = i; g < params.groups; g += 256u) {
-        sum += level_partials.sums[g].xyz;
+    vec4 sum = vec4(0.0);
+    for (uint g = i; g < params.groups; g += WORKGROUP_SUM_SIZE) {
+        sum.xyz += level_partials.sums[g].xyz;
     }
-    partial[i] = sum;
-    barrier();
-    for (uint stride = 128u; stride > 0u; stride >>= 1u) {
-        if (i < stride) {
-            partial[i] += partial[i + stride];
-        }
-        barrier();
-    }
+    vec3 total = workgroup_sum(sum).xyz;
     if (i != 0u) {
         return;
     }
-    vec3 total = partial[0];
     vec4 level = vec4(1.0, 1.0, 0.0, 0.0);
     if (params.measure != 0u && total.z >= MIN_PIXELS && total.y > 0.0) {
         vec4 before = imageLoad(level_previous, ivec2(0));

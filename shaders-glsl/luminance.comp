@@ -18,7 +18,8 @@ layout(push_constant) uniform LuminanceParams {
     uint tiles_x;
 } params;
 
-shared vec4 tile[256];
+#define WORKGROUP_SUM_SIZE 256u
+#include "workgroup_sum.glsl"
 
 void main() {
     ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
@@ -31,16 +32,8 @@ void main() {
         sums.z = luminance(imageLoad(indirect, pixel).rgb);
         sums.w = luminance(imageLoad(leaked, pixel).rgb);
     }
-    uint i = gl_LocalInvocationIndex;
-    tile[i] = sums;
-    barrier();
-    for (uint stride = 128u; stride > 0u; stride >>= 1u) {
-        if (i < stride) {
-            tile[i] += tile[i + stride];
-        }
-        barrier();
-    }
-    if (i == 0u) {
-        partials.sums[gl_WorkGroupID.y * params.tiles_x + gl_WorkGroupID.x] = tile[0];
+    vec4 total = workgroup_sum(sums);
+    if (gl_LocalInvocationIndex == 0u) {
+        partials.sums[gl_WorkGroupID.y * params.tiles_x + gl_WorkGroupID.x] = total;
     }
 }

@@ -19,26 +19,20 @@ layout(push_constant) uniform TotalParams {
     uint pad2;
 } params;
 
-shared vec4 partial[256];
+#define WORKGROUP_SUM_SIZE 256u
+#include "workgroup_sum.glsl"
 
 void main() {
     uint i = gl_LocalInvocationIndex;
     vec4 sum = vec4(0.0);
-    for (uint t = i; t < params.tiles; t += 256u) {
+    for (uint t = i; t < params.tiles; t += WORKGROUP_SUM_SIZE) {
         sum += partials.sums[t];
     }
-    partial[i] = sum;
-    barrier();
-    for (uint stride = 128u; stride > 0u; stride >>= 1u) {
-        if (i < stride) {
-            partial[i] += partial[i + stride];
-        }
-        barrier();
-    }
+    vec4 total = workgroup_sum(sum);
     if (i == 0u) {
-        stats.log_sum = partial[0].x;
-        stats.lit_pixels = partial[0].y;
-        stats.indirect_sum = partial[0].z;
-        stats.leaked_sum = partial[0].w;
+        stats.log_sum = total.x;
+        stats.lit_pixels = total.y;
+        stats.indirect_sum = total.z;
+        stats.leaked_sum = total.w;
     }
 }

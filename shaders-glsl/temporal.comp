@@ -360,7 +360,8 @@ void reuse_pixel(ivec2 pixel, float factor, out vec3 level) {
     imageStore(reused_radiance, pixel, composed);
 }
 
-shared vec3 level_sums[64];
+#define WORKGROUP_SUM_SIZE 64u
+#include "workgroup_sum.glsl"
 
 void main() {
     ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
@@ -370,17 +371,9 @@ void main() {
         float factor = params.level != 0u ? imageLoad(level_previous, ivec2(0)).r : 1.0;
         reuse_pixel(pixel, factor, level);
     }
-    uint i = gl_LocalInvocationIndex;
-    level_sums[i] = level;
-    barrier();
-    for (uint stride = 32u; stride > 0u; stride >>= 1u) {
-        if (i < stride) {
-            level_sums[i] += level_sums[i + stride];
-        }
-        barrier();
-    }
-    if (i == 0u) {
+    vec4 total = workgroup_sum(vec4(level, 0.0));
+    if (gl_LocalInvocationIndex == 0u) {
         uint group = gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x;
-        level_partials.sums[group] = vec4(level_sums[0], 0.0);
+        level_partials.sums[group] = total;
     }
 }
