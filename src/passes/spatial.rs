@@ -31,7 +31,10 @@ gpu_struct! {
 /// takes an iteration only while its reach (twice the step) is within the gather kernel's
 /// projected radius there, the first always: within a kernel a frame's noise is pixel-scale
 /// grain, which the filter averages; beyond it the noise is the kernel's own blotches, which
-/// the history averages without the blur that the filter would leave as bias.
+/// the history averages without the blur that the filter would leave as bias. Measured: five
+/// iterations reaching three kernel radii raised the flicker they were to lower (`bench motion`
+/// at 128×72, on/off: the door 0.68× → 0.91×, the atrium pan 0.61× → 0.69×) and the door's
+/// last-frame relMSE (0.36× → 0.47×); the filter's bias correction follows a wide blur too slowly.
 pub const ITERATIONS: u32 = 3;
 
 /// How far from a pixel's plane a tap may lie, per metre from the camera: about the raster's

@@ -15,6 +15,8 @@ struct Row {
     scene: String,
     splat_ms: f64,
     leakless_ms: f64,
+    /// leakless / splat with the visible disk's extra time taken away: what the rest costs.
+    without_disk: f64,
     every_pair_ms: f64,
     proven: f64,
     photon_rate: f64,
@@ -56,11 +58,12 @@ pub fn run(
     }
     println!();
     println!(
-        "{:<14} {:>9} {:>12} {:>9} {:>17} {:>9} {:>22} {:>22}",
+        "{:<14} {:>9} {:>12} {:>9} {:>13} {:>17} {:>9} {:>22} {:>22}",
         "scene",
         "splat ms",
         "leakless ms",
         "ratio",
+        "no-disk ratio",
         "every pair ratio",
         "proven",
         "photons Mrays/s (lim)",
@@ -69,11 +72,12 @@ pub fn run(
     let limit = |x: Option<f64>| x.map_or("-".to_string(), |v| format!("{v:.2}"));
     for r in &rows {
         println!(
-            "{:<14} {:>9.1} {:>12.1} {:>8.2}x {:>16.2}x {:>8.1}% {:>13.2} ({:>6}) {:>13} ({:>6})",
+            "{:<14} {:>9.1} {:>12.1} {:>8.2}x {:>12.2}x {:>16.2}x {:>8.1}% {:>13.2} ({:>6}) {:>13} ({:>6})",
             r.scene,
             r.splat_ms,
             r.leakless_ms,
             r.leakless_ms / r.splat_ms,
+            r.without_disk,
             r.every_pair_ms / r.splat_ms,
             100.0 * r.proven,
             r.photon_rate,
@@ -83,7 +87,7 @@ pub fn run(
         );
     }
     println!(
-        "(lim: the device's incoherent closest-hit / occlusion rate from `bench rays` on the same scene and backend)"
+        "(no-disk ratio: leakless / splat with the visible disk's extra time taken away; lim: the device's incoherent closest-hit / occlusion rate from `bench rays` on the same scene and backend)"
     );
     Ok(())
 }
@@ -204,10 +208,22 @@ fn one_scene(
         100.0 * disk_ms / ours.frame_ms(),
         ours.pass_ms(DISK_SMOOTH.name)
     );
+    let parts = removal_parts(splat, ours);
+    let extra = ours.frame_ms() - splat.frame_ms();
+    let named: f64 = parts.iter().map(|(_, ms)| ms).sum();
+    let listed: Vec<String> = parts.iter().map(|(name, ms)| format!("{name} {ms:+.1}")).collect();
+    let without_disk = (ours.frame_ms() - parts[1].1) / splat.frame_ms();
+    println!(
+        "leak removal: {extra:+.1} ms over splat's frame ({:.0}% of it): {}, the rest {:+.1}; with the visible disk free, leakless / splat would be {without_disk:.2}",
+        100.0 * extra / splat.frame_ms(),
+        listed.join(", "),
+        extra - named
+    );
     Ok(Row {
         scene: scene.name.clone(),
         splat_ms: splat.frame_ms(),
         leakless_ms: ours.frame_ms(),
+        without_disk,
         every_pair_ms: every.frame_ms(),
         proven: ours.stats().proven_clear as f64 / ours.stats().visibility_tests.max(1) as f64,
         photon_rate,
@@ -215,6 +231,19 @@ fn one_scene(
         visibility_rate: vis_rate,
         occlusion_limit: occluded,
     })
+}
+
+/// Where leak removal's time goes: each part's time in the leakless frame less its time in the
+/// splat frame (splat runs the same passes with visibility and the visible disk off), in ms.
+/// The visible disk is second: `without_disk` takes it away.
+fn removal_parts(splat: &Measured, ours: &Measured) -> [(&'static str, f64); 4] {
+    let more = |f: &dyn Fn(&Measured) -> f64| f(ours) - f(splat);
+    [
+        ("gather (visibility rays, grown disks)", more(&|m| m.gather_ms())),
+        ("visible disk", more(&|m| m.group_ms(group::VISIBLE_DISK))),
+        ("photon clearance", more(&|m| m.pass_ms(PHOTON_CLEARANCE.name))),
+        ("splat (grown partial disks)", more(&|m| m.splat_ms())),
+    ]
 }
 
 fn find(rates: &[RayRate], backend: Backend, set: &str, query: &str) -> Option<f64> {

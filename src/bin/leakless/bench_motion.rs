@@ -281,6 +281,15 @@ pub fn run(bench: &MotionBench) -> anyhow::Result<()> {
             reference_noise.0,
             reference_noise.1,
         );
+        // A moving view's or light's own change counts as flicker by this measure, so an image
+        // that follows it flickers about as much as a perfect one: the references' ratio to the
+        // baseline is about the lowest a correct image reaches (a little above it: their noise
+        // adds change of its own).
+        println!(
+            "{:<22} references' flicker / the baseline's: {:.2}× (the view's and light's own change, with the references' noise)",
+            "",
+            reference_change.mean() / off.flicker.max(1e-12),
+        );
     }
     if let Some(path) = &bench.csv {
         std::fs::write(path, csv).with_context(|| format!("writing {}", path.display()))?;
