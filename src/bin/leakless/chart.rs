@@ -146,7 +146,7 @@ pub fn run(args: ChartArgs) -> anyhow::Result<()> {
         dark_fraction: args.dark_fraction.unwrap_or(defaults.dark_fraction),
     };
     config.validate()?;
-    chart::plot::check_size(args.chart_size)?;
+    chart::drawing::check_size(args.chart_size)?;
     // Fail on an unwritable output directory now, not after the measurements.
     if let Some(dir) = args.out.parent().filter(|d| !d.as_os_str().is_empty()) {
         std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;

@@ -5,14 +5,14 @@ use std::time::Duration;
 
 use crate::measure::chart::series::{measure_series, write_series_csv, SceneSeries, SeriesConfig, SHADED_FRACTION};
 use crate::measure::chart::series_plot::{plot_series, SeriesMetric};
-use crate::measure::chart::{file_stem, plot};
+use crate::measure::chart::{drawing, file_stem};
 use anyhow::Context;
 use leakless::{Backend, BackendChoice, Method, Scene};
 
 use crate::chart::ChartArgs;
 
 pub fn run(args: &ChartArgs) -> anyhow::Result<()> {
-    plot::check_size(args.chart_size)?;
+    drawing::check_size(args.chart_size)?;
     let defaults = SeriesConfig::default();
     let budget = args.budget.unwrap_or(defaults.budget.as_secs_f64());
     if !(budget.is_finite() && budget > 0.0 && budget <= 3600.0) {

@@ -5,6 +5,7 @@
 //! The CLI and the tests drive the same three steps: [`measure_with_progress`] one scene, then [`write_csv`]
 //! and [`plot::plot`] (or [`write_outputs`] for all of a scene's files).
 
+pub mod drawing;
 pub mod flip;
 pub mod motion_plot;
 pub mod plot;

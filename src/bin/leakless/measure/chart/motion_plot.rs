@@ -7,7 +7,7 @@ use std::path::Path;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
-use super::plot::{
+use super::drawing::{
     captioned, draw_legend, draw_line, grey_grid, log_range, log_ticks, tick, write_svg_png, DrawResult, Drawing,
     FAMILY,
 };

@@ -7,7 +7,7 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 
-use super::plot::{
+use super::drawing::{
     draw_legend, grey_grid, log_range, log_ticks, method_colour, tick, write_svg_png, DrawResult, Drawing, FAMILY,
 };
 use super::series::{SceneSeries, SeriesPoint, SERIES_METHODS};

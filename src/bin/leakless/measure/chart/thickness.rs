@@ -6,7 +6,7 @@ use std::path::Path;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
-use super::plot::{draw_legend, method_colour, tick, write_svg_png, DrawResult, Drawing, FAMILY};
+use super::drawing::{draw_legend, method_colour, tick, write_svg_png, DrawResult, Drawing, FAMILY};
 use leakless::error::Result;
 use leakless::Method;
 
