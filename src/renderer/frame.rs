@@ -86,38 +86,7 @@ impl Renderer {
             self.seed_offset = self.seed_offset.wrapping_add(1);
         }
         let seed = self.frame_seed();
-        let mut splat = None;
-        if let Some(mut settings) = self.settings.photon_settings().filter(|_| render) {
-            let radius = settings.radius.unwrap_or_else(|| splatting::auto_radius(&self.scene));
-            if !(radius.is_finite() && radius > 0.0) {
-                return Err(crate::RenderError::Settings(format!("--radius {radius} must be a positive number")));
-            }
-            let tuning = self.pipelines.tuning().clone();
-            settings.branching.get_or_insert(tuning.branching);
-            let batch_paths = settings.paths;
-            // Within limits::max_frame_paths: the batches are clamped to it, and check() holds
-            // one batch to it.
-            settings.paths = batch_paths.saturating_mul(frame_batches);
-            splat = Some(SplatFrame {
-                radius: splatting::progressive_radius(radius, first_batch),
-                path_offset: first_batch.wrapping_mul(batch_paths),
-                first_batch,
-                eye: self.camera.position().to_array(),
-                settings,
-                max_bounces: self.settings.max_bounces,
-                seed,
-                // The renderer's capacity is per batch, unless fixed by the user.
-                list_capacity: match self.settings.splat.list_capacity {
-                    Some(fixed) => fixed,
-                    None => (self.list_capacity as u64 * frame_batches as u64)
-                        .min(crate::limits::max_list_entries(&self.gpu.report().limits) as u64)
-                        as u32,
-                },
-                batches: frame_batches,
-                bounds: self.scene.bounds(),
-                tuning,
-            });
-        }
+        let splat = if render { self.splat_frame(first_batch, frame_batches, seed)? } else { None };
         let jitter = if progressive { pixel_jitter(index) } else { glam::Vec2::ZERO };
         let frame_constants = Frame {
             view_proj: self.jittered_view_proj(jitter).to_cols_array_2d(),
@@ -413,6 +382,43 @@ impl Renderer {
             self.seed_offset = self.seed_offset.wrapping_add(1);
         }
         Ok(())
+    }
+
+    /// The photon frame's settings (radius, paths, seed, list capacity) for a frame of
+    /// `frame_batches` batches from `first_batch`; `None` for a method without photons.
+    fn splat_frame(&self, first_batch: u32, frame_batches: u32, seed: u32) -> Result<Option<SplatFrame>> {
+        let Some(mut settings) = self.settings.photon_settings() else {
+            return Ok(None);
+        };
+        let radius = settings.radius.unwrap_or_else(|| splatting::auto_radius(&self.scene));
+        if !(radius.is_finite() && radius > 0.0) {
+            return Err(crate::RenderError::Settings(format!("--radius {radius} must be a positive number")));
+        }
+        let tuning = self.pipelines.tuning().clone();
+        settings.branching.get_or_insert(tuning.branching);
+        let batch_paths = settings.paths;
+        // Within limits::max_frame_paths: the batches are clamped to it, and check() holds
+        // one batch to it.
+        settings.paths = batch_paths.saturating_mul(frame_batches);
+        Ok(Some(SplatFrame {
+            radius: splatting::progressive_radius(radius, first_batch),
+            path_offset: first_batch.wrapping_mul(batch_paths),
+            first_batch,
+            eye: self.camera.position().to_array(),
+            settings,
+            max_bounces: self.settings.max_bounces,
+            seed,
+            // The renderer's capacity is per batch, unless fixed by the user.
+            list_capacity: match self.settings.splat.list_capacity {
+                Some(fixed) => fixed,
+                None => (self.list_capacity as u64 * frame_batches as u64)
+                    .min(crate::limits::max_list_entries(&self.gpu.report().limits) as u64)
+                    as u32,
+            },
+            batches: frame_batches,
+            bounds: self.scene.bounds(),
+            tuning,
+        }))
     }
 
     /// What the next frame's plan depends on.
