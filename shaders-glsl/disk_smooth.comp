@@ -5,9 +5,9 @@
 // directions, whatever the resolution.
 //
 // Why: visible_disk.comp shares directions within a 3×3 block of pixels (5×5 where one is
-// missing), so its noise is a few pixels across: grain at the pixel scale on a pier's face narrower than the disk, where
-// every sample's mass is partial (the atrium at 320×240: 1.63× splat's grain; at 1920×1080
-// the block is a speck of the disk). The mass varies along a surface over the disk's scale,
+// missing), so its noise is a few pixels across: grain at the pixel scale on a pier's face
+// narrower than the disk, where every sample's mass is partial (the atrium at 320×240: 1.63×
+// splat's grain; at 1920×1080 the block is a speck of the disk). The mass varies along a surface over the disk's scale,
 // and a mean over a footprint a fixed share of the disk in pixels takes the grain out at
 // every resolution. Only a single frame is smoothed, like the sharing: an accumulation keeps
 // each sample's own measurement, since the blur is a bias that averaging frames would keep.
@@ -37,6 +37,9 @@ layout(push_constant) uniform DiskSmoothParams {
 
 // Taps (2·REACH + 1)² with a stride that spans `share_distance`·r on the screen.
 const int REACH = 3;
+// A tap this share of the radius off the sample's tangent plane still counts, beyond the band's
+// slope: the raster's rounding on a plane, in the scene's own units (the radius scales with it).
+const float PLANE_ROUNDING = 2e-4;
 
 // Whether the tap `q` lies on the surface of the sample at `x` (normal `n`); its position.
 bool on_surface(ivec2 q, vec3 x, vec3 n, out bool off_screen) {
@@ -48,7 +51,8 @@ bool on_surface(ivec2 q, vec3 x, vec3 n, out bool off_screen) {
     vec3 d = s.xyz - x;
     float distance = length(d);
     return s.w != 0.0 && dot(imageLoad(gbuffer_normal, q).xyz, n) >= 0.9
-        && distance <= params.share_distance * params.radius && abs(dot(d, n)) <= DISK_SLOPE * distance + 1e-4;
+        && distance <= params.share_distance * params.radius
+        && abs(dot(d, n)) <= DISK_SLOPE * distance + PLANE_ROUNDING * params.radius;
 }
 
 void main() {
