@@ -148,7 +148,10 @@ fn a_stalled_pass_is_a_lost_device_naming_it() {
         let stderr = String::from_utf8_lossy(&out.stderr);
         assert!(stderr.lines().any(|l| l.starts_with(&format!("error: device lost during pass {pass}"))), "{stderr}");
         assert!(!stderr.contains("validation error"), "{stderr}");
-        assert!(started.elapsed().as_secs() < 60, "the process ended once the timeout expired");
+        // The default timeout is 600 s: a process that ends well before it ended by the 1 s
+        // one. The render itself takes seconds, so only an ignored LEAKLESS_GPU_TIMEOUT nears
+        // this bound, never a busy machine.
+        assert!(started.elapsed().as_secs() < 400, "the process ended once the 1 s timeout expired");
     }
 }
 

@@ -56,7 +56,9 @@ fn xvfb() -> Option<XServer> {
         let _ = BufReader::new(stdout).read_line(&mut line);
         let _ = tx.send(line);
     });
-    match rx.recv_timeout(Duration::from_secs(20)) {
+    // Xvfb reports its display within a second; the limit only ends a server that hangs, long
+    // enough that a busy machine never reaches it.
+    match rx.recv_timeout(Duration::from_secs(180)) {
         Ok(line) if line.trim().parse::<u32>().is_ok() => Some(XServer { child, display: format!(":{}", line.trim()) }),
         other => {
             let _ = child.kill();

@@ -257,10 +257,12 @@ pub(crate) fn env_u64(name: &str) -> Option<u64> {
     Some(v.trim().parse().unwrap_or_else(|_| panic!("{name}={v:?} is not a non-negative integer")))
 }
 
-/// Per-case wall-time limit: a few milliseconds is typical; unoptimized builds
-/// (the CI's `cargo test`) get more room.
+/// Per-case wall-time limit: a few milliseconds is typical and the slowest case takes well
+/// under a second (the test prints it), so only a hang or a run-away load (super-linear in the
+/// file's size) reaches it, not a busy machine: the test must pass beside another job.
+/// Unoptimized builds (the CI's `cargo test`) get more room.
 pub(crate) fn case_limit() -> Duration {
-    let default = if cfg!(debug_assertions) { 5 } else { 2 };
+    let default = if cfg!(debug_assertions) { 30 } else { 10 };
     Duration::from_secs(env_u64("LEAKLESS_FUZZ_CASE_SECONDS").unwrap_or(default))
 }
 
