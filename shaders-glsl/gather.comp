@@ -20,8 +20,8 @@
 // tracing it would find nothing. The images are bit-identical either way
 // (tests/suite/leak.rs checks it on every leak scene and both backends).
 //
-// Sums are kept in 64-bit fixed point: the splat appends to the lists with atomics, so their
-// order changes from run to run, and only an order-independent sum makes a frame
+// Sums are kept in 64-bit fixed point: the list scatter places photons with atomics, so a
+// list's order changes from run to run, and only an order-independent sum makes a frame
 // bit-identical for a fixed seed.
 #include "trace.glsl"
 #include "common.glsl"
@@ -40,8 +40,9 @@ layout(set = 0, binding = 3, std430) readonly buffer SortedKeys { uint keys[]; }
 layout(set = 0, binding = 4, std430) readonly buffer SortedSamples { uint pixels[]; } sorted_samples;
 layout(set = 0, binding = 5, std430) readonly buffer Levels { Level levels[]; } levels;
 layout(set = 0, binding = 6, std430) readonly buffer Photons { Photon photons[]; } photons;
-layout(set = 0, binding = 7, std430) readonly buffer NodeHeads { uint heads[]; } node_heads;
-layout(set = 0, binding = 8, std430) readonly buffer ListEntries { ListEntry entries[]; } list_entries;
+// Node n's photons are list_photons[ends[n − 1] .. ends[n]) (from 0 for n = 0; list_scatter.comp).
+layout(set = 0, binding = 7, std430) readonly buffer NodeEnds { uint ends[]; } node_ends;
+layout(set = 0, binding = 8, std430) readonly buffer ListPhotons { uint photons[]; } list_photons;
 layout(set = 0, binding = 9, std430) buffer GatherCounters {
     uint candidates_lo;   // photons examined (64-bit totals as lo/hi words)
     uint candidates_hi;
@@ -77,6 +78,8 @@ layout(set = 0, binding = 14, std430) readonly buffer Clearances { Clearance ite
 // Per pixel (visible_disk.comp): the kernel's mass over the part of the disk where the sample's
 // own surface exists and is seen; 1 when `visible_disk` is off.
 layout(set = 0, binding = 15, rgba32f) uniform readonly image2D disk_mass;
+// Per photon, its position alone (splat.comp copies it): what the distance test reads.
+layout(set = 0, binding = 12, std430) readonly buffer PhotonPositions { PhotonPosition positions[]; } photon_positions;
 
 // Visibility segments run from the lifted sample `from` to a point straight above the photon,
 // at half its lift: on the photon's side of its own surface (a segment arriving from behind a
@@ -112,6 +115,19 @@ bool segment_clear(vec3 from, Photon ph, Clearance photon_clearance, inout uvec2
 i64vec3 contribution_of(Photon ph, float d, float r) {
     return i64vec3(ph.flux * (biweight(d, r) * params.fixed_scale));
 }
+
+// The subgroup's walk (see main): a specialization constant the device tuning sets where the
+// device has subgroup arithmetic in compute shaders; without it every lane walks alone, and
+// these are the lane's own values. naga parses no subgroup operation (counters.glsl).
+#ifdef LEAKLESS_REFLECTION
+#define SHARED_WALK false
+#define subgroupMin(X) (X)
+#define subgroupMax(X) (X)
+#else
+layout(constant_id = 3) const bool SHARED_WALK = false;
+#endif
+#define WALK_MIN(X) (SHARED_WALK ? subgroupMin(X) : (X))
+#define WALK_ANY(X) (SHARED_WALK ? subgroupMax(uint(X)) != 0u : (X))
 
 // Segments the clearance cannot prove wait in a queue and are traced together once it is full
 // and after the walk. Traced where they arise, a SIMD group's lanes (the samples of one leaf,
@@ -188,28 +204,54 @@ void main() {
     uvec2 occluder = uvec2(NO_HIT);  // the surface that blocked this sample's last blocked segment
     uint queued = 0u;
     bool capped = false;
-    // The lists of the leaf and its ancestors, walked as one sequence of (level, entry) that
-    // stops whenever the queue is full, so the traversal has a single call site (inlined twice,
-    // it made the pass slower than tracing where segments arise).
+    // The lists of the leaf and its ancestors, walked as one sequence of (level, node, entry)
+    // that stops whenever a queue is full, so the traversal has a single call site (inlined
+    // twice, it made the pass slower than tracing where segments arise). A list is a run of
+    // photon indices: the next entry's address does not wait on this one's load.
+    //
+    // With SHARED_WALK the lanes of a subgroup walk together: each round takes the lowest node
+    // any lane still has to walk at this level, every lane reads its entries (the same address
+    // for all: one load, and on a CPU driver one scalar load instead of a gather), and the
+    // lanes of that node test them. The samples of a leaf are consecutive, so a subgroup
+    // no wider than the leaf walks one list a level; a wider one walks its leaves in turn.
+    // Without it each lane walks its own lists. Either way each lane tests the same photons
+    // in the same order.
     uint level = 0u;
-    uint e = END_OF_LIST;
+    uint e = 0u;
+    uint end = 0u;
+    uint my_node = 0u;
+    bool to_walk = false;  // this lane's node at this level is not walked yet
+    bool mine = false;     // the list walked is this lane's
     bool walked = false;
     while (true) {
-        while (queued < RAY_QUEUE) {
-            if (e == END_OF_LIST) {
-                if (level == params.level_count || capped) {
-                    walked = true;
-                    break;
+        while (true) {
+            if (e == end) {
+                if (!WALK_ANY(to_walk)) {
+                    if (level == params.level_count || !WALK_ANY(!capped)) {
+                        walked = true;
+                        break;
+                    }
+                    Level lv = levels.levels[level++];
+                    my_node = lv.offset + s / lv.span;
+                    to_walk = !capped;
                 }
-                Level lv = levels.levels[level++];
-                e = node_heads.heads[lv.offset + s / lv.span];
+                uint node = WALK_MIN(to_walk ? my_node : 0xffffffffu);
+                mine = to_walk && my_node == node;
+                to_walk = to_walk && !mine;
+                e = node == 0u ? 0u : node_ends.ends[node - 1u];
+                end = node_ends.ends[node];
                 continue;
             }
-            uint index = list_entries.entries[e].photon;
-            e = list_entries.entries[e].next;
+            if (WALK_ANY(queued == RAY_QUEUE)) {
+                break;
+            }
+            uint index = list_photons.photons[e++];
+            if (!mine || capped) {
+                continue;
+            }
             candidates += 1u;
             // Most candidates fail on distance alone: read the rest of the photon after it.
-            float d = distance(x, photons.photons[index].position);
+            float d = distance(x, photon_positions.positions[index].position);
             if (d >= r) {
                 continue;
             }
@@ -222,7 +264,6 @@ void main() {
             }
             if (params.cap != 0u && accepted == params.cap) {
                 capped = true;
-                e = END_OF_LIST;
                 continue;
             }
             accepted += 1u;

@@ -1,5 +1,5 @@
 // A stored photon and the node lists the splat builds. Rust twins: `Photon` in
-// src/passes/photons.rs, `ListEntry` in src/passes/splat.rs.
+// src/passes/photons.rs, `SplatRecord` in src/passes/splat.rs.
 #ifndef LEAKLESS_PHOTON_GLSL
 #define LEAKLESS_PHOTON_GLSL
 
@@ -22,12 +22,19 @@ struct Clearance {
     float radius;
 };
 
-const uint END_OF_LIST = 0xffffffffu;
+// A photon's position alone (the splat copies it from the photon): the gather's distance test,
+// which rejects most candidates, reads these 16 bytes and nothing else of a photon.
+struct PhotonPosition {
+    vec3 position;
+    uint pad0;
+};
 
-// One entry of a node's photon list: the photon, and the next entry of the same list.
-struct ListEntry {
+// What the splat records for each list that takes a photon: the list's node and the photon.
+// list_scatter.comp then writes every node's photons contiguously, in node order, so that the
+// gather reads a list as one run of words instead of chasing links.
+struct SplatRecord {
+    uint node;
     uint photon;
-    uint next;
 };
 
 // The biweight kernel normalised over the disk of radius r: ∫ K dA = 1.

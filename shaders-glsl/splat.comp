@@ -8,6 +8,13 @@
 // otherwise the walk descends and a leaf takes the photon onto its list. Each photon's
 // `photon_listed` flag says whether any list took it: only those reach the gather, so only
 // their clearance is needed (photon_clearance.comp).
+//
+// A list taking a photon is recorded (node, photon) and counted on its node; the counts'
+// prefix sum gives each node its range and list_scatter.comp fills the ranges, so a list is
+// contiguous for the gather. A record that does not fit the capacity is dropped before its
+// node counts it, so every range is filled. The photon's position is copied to a compact
+// array beside: the distance test that rejects most of the gather's candidates reads 16 bytes
+// of it, not a 64-byte photon.
 #include "common.glsl"
 #include "hierarchy.glsl"
 #include "photon.glsl"
@@ -19,20 +26,21 @@ layout(set = 0, binding = 0, std430) readonly buffer Photons { Photon photons[];
 layout(set = 0, binding = 1, std430) readonly buffer PhotonCounters { uint stored; uint overflowed; uint rays; uint next_path; } photon_counters;
 layout(set = 0, binding = 2, std430) readonly buffer Levels { Level levels[]; } levels;
 layout(set = 0, binding = 3, std430) readonly buffer Nodes { Node nodes[]; } nodes;
-layout(set = 0, binding = 4, std430) buffer NodeHeads { uint heads[]; } node_heads;
-layout(set = 0, binding = 5, std430) writeonly buffer ListEntries { ListEntry entries[]; } list_entries;
+layout(set = 0, binding = 4, std430) buffer NodeCounts { uint counts[]; } node_counts;
+layout(set = 0, binding = 5, std430) writeonly buffer SplatRecords { SplatRecord records[]; } splat_records;
 layout(set = 0, binding = 6, std430) buffer SplatCounters {
-    uint entries_used;      // list entries written (and attempted beyond capacity)
+    uint entries_used;      // list entries recorded (and attempted beyond capacity)
     uint entries_dropped;   // entries that did not fit: their contributions are lost
     uint nodes_visited;     // node tests made by all photons
     uint photons_listed;    // photons some list took
 } splat_counters;
 layout(set = 0, binding = 7, std430) writeonly buffer PhotonListed { uint listed[]; } photon_listed;
+layout(set = 0, binding = 8, std430) writeonly buffer PhotonPositions { PhotonPosition positions[]; } photon_positions;
 layout(push_constant) uniform SplatParams {
     float radius;           // the largest radius any sample gathers within
     uint trivial_accept;
     uint root;
-    uint capacity;          // entries the list buffer holds
+    uint capacity;          // entries the record and list buffers hold
     uint photon_capacity;   // photons the photon buffer holds
     uint node_radius;       // 1: samples' radii differ upward; test each node's radius_max
     uint pad1;
@@ -54,8 +62,8 @@ void append(uint node, uint photon) {
         atomicAdd(splat_counters.entries_dropped, 1u);
         return;
     }
-    list_entries.entries[slot].photon = photon;
-    list_entries.entries[slot].next = atomicExchange(node_heads.heads[node], slot);
+    splat_records.records[slot] = SplatRecord(node, photon);
+    atomicAdd(node_counts.counts[node], 1u);
 }
 
 const uint CULL = 0u;     // the photon reaches no sample of the node
@@ -101,6 +109,7 @@ void main() {
         return;
     }
     Photon ph = photons.photons[photon_index];
+    photon_positions.positions[photon_index] = PhotonPosition(ph.position, 0u);
     float r = params.radius;
     vec3 toward_light = -ph.direction;
     // The stack holds nodes already found to need descending: a node is tested before it is

@@ -9,7 +9,7 @@ use leakless_scene::Scene;
 use crate::error::{RenderError, Result};
 use crate::gpu_scene::MAX_TRIANGLES;
 use crate::passes::photons::Photon;
-use crate::passes::splat::ListEntry;
+use crate::passes::splat::{PhotonPosition, SplatRecord};
 use crate::settings::RenderSettings;
 use crate::splatting::default_list_capacity;
 use crate::trace::Backend;
@@ -29,9 +29,10 @@ fn gib(bytes: u64) -> String {
     format!("{:.2} GiB", bytes as f64 / (1u64 << 30) as f64)
 }
 
-/// The most node-list entries one buffer of the device can hold (and the splat address).
+/// The most node-list entries one buffer of the device can hold (and the splat address): the
+/// splat's records, the largest of the list buffers per entry.
 pub fn max_list_entries(limits: &DeviceLimits) -> u32 {
-    let per_entry = std::mem::size_of::<ListEntry>() as u64;
+    let per_entry = std::mem::size_of::<SplatRecord>() as u64;
     (limits.max_storage_buffer_range as u64 / per_entry).min(crate::splatting::MAX_LIST_CAPACITY as u64) as u32
 }
 
@@ -165,12 +166,14 @@ pub fn check(settings: &RenderSettings, scene: &Scene, backend: Backend, limits:
             None => default_list_capacity(photons.min(u32::MAX as u64) as u32, pixels.min(u32::MAX as u64) as u32)
                 .min(max_list_entries(limits)),
         };
-        list_bytes = entries as u64 * std::mem::size_of::<ListEntry>() as u64;
-        if list_bytes > range {
+        let record_bytes = entries as u64 * std::mem::size_of::<SplatRecord>() as u64;
+        if record_bytes > range {
             return Err(limit(format!(
-                "--list-capacity {entries}: {list_bytes} bytes, above the device's maxStorageBufferRange ({range})"
+                "--list-capacity {entries}: {record_bytes} bytes, above the device's maxStorageBufferRange ({range})"
             )));
         }
+        // The records, the lists' photon indices, and each photon's position for the gather.
+        list_bytes = record_bytes + 4 * entries as u64 + photons * std::mem::size_of::<PhotonPosition>() as u64;
     }
 
     // Everything large at once, with two frames in flight for the per-frame buffers.

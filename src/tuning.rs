@@ -84,6 +84,13 @@ pub struct DeviceTuning {
     /// subgroup instead of one per thread; `SUBGROUP_COUNTERS`). Needs subgroup ballot and
     /// arithmetic in compute shaders.
     pub subgroup_counters: bool,
+    /// The lanes of a subgroup walk the gather's node lists together (`SHARED_WALK`,
+    /// gather.comp): each entry read once for the subgroup, the lanes of its node testing it.
+    /// On where the device has subgroup arithmetic in compute shaders and a subgroup is no
+    /// wider than a leaf (lavapipe: 8 lanes, branching 8, where it measures the same as
+    /// per-lane walks); the GPU report's sweep measures it on a GPU. The same candidates in
+    /// the same order either way.
+    pub shared_walk: bool,
     /// How `bench` and `render --stats` time passes: each submitted alone and timed on the
     /// host (lavapipe runs dispatches asynchronously to its timestamp writes, so only the host
     /// sees their time), or GPU timestamps inside one submission (on a GPU, a submission per
@@ -121,6 +128,9 @@ impl DeviceTuning {
         };
         tuning.vendor = report.vendor();
         tuning.subgroup_size = report.subgroup_size;
+        // A subgroup no wider than a leaf walks one list a level; a wider one would walk its
+        // leaves one after the other, where its lanes walked them side by side.
+        tuning.shared_walk = report.subgroup_arithmetic && report.subgroup_size <= tuning.branching;
         tuning
     }
 
@@ -137,6 +147,7 @@ impl DeviceTuning {
             ray_queue: 64,
             gather_workgroup: 64,
             subgroup_counters: false,
+            shared_walk: false,
             timing: Timing::PerPassSubmit,
             view_size: (320, 240),
             view_render_scale: 0.5,
@@ -168,7 +179,7 @@ impl DeviceTuning {
     pub fn summary(&self) -> String {
         format!(
             "{} preset: branching {}, {} paths/thread, emission order {}, photon order {}, ray queue {}, \
-             gather workgroup {}, subgroup counters {}, timing {}",
+             gather workgroup {}, subgroup counters {}, shared walk {}, timing {}",
             match self.preset {
                 Preset::Cpu => "cpu",
                 Preset::Gpu => "gpu",
@@ -180,6 +191,7 @@ impl DeviceTuning {
             self.ray_queue,
             self.gather_workgroup,
             on(self.subgroup_counters),
+            on(self.shared_walk),
             match self.timing {
                 Timing::Timestamps => "GPU timestamps in one submission",
                 Timing::PerPassSubmit => "one submission per pass, host-timed",
@@ -193,6 +205,7 @@ impl DeviceTuning {
             .with("local_size_x", self.gather_workgroup)
             .with("RAY_QUEUE", self.ray_queue)
             .with("SUBGROUP_COUNTERS", self.subgroup_counters as u32)
+            .with("SHARED_WALK", self.shared_walk as u32)
     }
 
     /// The splat's and the photon pass's.
@@ -205,6 +218,9 @@ impl DeviceTuning {
         let bad = |what: &str| Err(RenderError::Settings(format!("tuning: {what}")));
         if self.subgroup_counters && !report.subgroup_arithmetic {
             return bad(&format!("subgroup counters need subgroup ballot and arithmetic, which {} lacks", report.name));
+        }
+        if self.shared_walk && !report.subgroup_arithmetic {
+            return bad(&format!("a shared walk needs subgroup arithmetic, which {} lacks", report.name));
         }
         if !(1..=1024).contains(&self.ray_queue) {
             return bad(&format!("ray queue {} must be within 1..=1024", self.ray_queue));

@@ -14,7 +14,7 @@ use crate::passes::hierarchy::{HierarchyHandles, Level, Shape};
 use crate::passes::names::group;
 use crate::passes::photon_clearance::Clearance;
 use crate::passes::photons::Photon;
-use crate::passes::splat::{ListEntry, NodeListHandles};
+use crate::passes::splat::{NodeListHandles, PhotonPosition};
 use crate::pipelines::ComputePassDef;
 use crate::shaders;
 use crate::trace::TraceHandles;
@@ -92,14 +92,15 @@ shader_bindings! {
         sorted_samples: read words,
         levels: read array(Level::LAYOUT),
         photons: read array(Photon::LAYOUT),
-        node_heads: read words,
-        list_entries: read array(ListEntry::LAYOUT),
+        node_ends: read words,
+        list_photons: read words,
         gather_counters: read_write block(GatherCounters::LAYOUT),
         indirect_sum: write image,
         leaked: write image,
         gather_counts: write image,
         clearance: read array(Clearance::LAYOUT),
         disk_mass: read image,
+        photon_positions: read array(PhotonPosition::LAYOUT),
     }
     pub struct GatherResources;
 }
@@ -203,14 +204,15 @@ pub fn add<'r>(
             sorted_samples: &hierarchy.samples,
             levels: &hierarchy.levels,
             photons: input.photons,
-            node_heads: &lists.heads,
-            list_entries: &lists.entries,
+            node_ends: &lists.ends,
+            list_photons: &lists.photons,
             gather_counters: out.counters,
             indirect_sum: out.indirect_sum,
             leaked: out.leaked,
             gather_counts: out.counts,
             clearance: input.clearance,
             disk_mass: input.disk_mass,
+            photon_positions: &lists.positions,
         },
     );
     let gbuffer = gbuffer.declare(&mut pass);

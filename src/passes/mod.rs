@@ -13,6 +13,7 @@ pub mod hang;
 pub mod hierarchy;
 pub mod instance_vertices;
 pub mod lighting_level;
+pub mod list_scatter;
 pub mod luminance;
 pub mod names;
 pub mod photon_clearance;
@@ -61,6 +62,7 @@ pub static FRAME_PASSES: &[&ComputePassDef] = &[
     &sort::SORT_COPY,
     &hierarchy::build::HIERARCHY_LEVEL,
     &splat::SPLAT,
+    &list_scatter::LIST_SCATTER,
     &photon_clearance::PHOTON_CLEARANCE,
     &gather::GATHER,
     &compose::COMPOSE,

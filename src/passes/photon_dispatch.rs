@@ -3,7 +3,8 @@
 //! (`photon_dispatch.comp`) and read by indirect dispatches. The photon buffer has room for
 //! `paths × max_bounces` photons, so a dispatch over that capacity ran about eight threads
 //! per photon in the atrium, seven of them only to return: 12% of an accumulating frame's
-//! time on lavapipe, where every workgroup costs its launch.
+//! time on lavapipe, where every workgroup costs its launch. The list scatter's dispatch is
+//! made the same way from the splat's counters ([`add_over`]).
 
 use ash::vk;
 use bytemuck::{Pod, Zeroable};
@@ -12,7 +13,6 @@ use leakless_graph::{shader_bindings, Access, Buf, BufferHandle, Graph, PassBuil
 
 use crate::error::Result;
 use crate::passes::names::group;
-use crate::passes::photons::PhotonCounters;
 use crate::pipelines::ComputePassDef;
 use crate::shaders;
 
@@ -26,7 +26,7 @@ gpu_struct! {
     pub struct PhotonDispatchParams {
         pub capacity: u32,
         pub group_size: u32,
-        pub pad0: u32,
+        pub max_groups: u32,
         pub pad1: u32,
     }
 }
@@ -43,7 +43,7 @@ gpu_struct! {
 
 shader_bindings! {
     pub struct PhotonDispatchBindings {
-        photon_counters: read block(PhotonCounters::LAYOUT),
+        counters: read words,
         photon_dispatch: write block(DispatchCommand::LAYOUT),
     }
     pub struct PhotonDispatchResources;
@@ -53,6 +53,8 @@ shader_bindings! {
 pub struct PhotonDispatch {
     pub args: BufferHandle,
     pub capacity: u32,
+    /// Workgroups the command asks for at most.
+    pub max_groups: u32,
 }
 
 impl PhotonDispatch {
@@ -62,9 +64,10 @@ impl PhotonDispatch {
         (pass.read(&self.args, Access::IndirectCommandRead), 0)
     }
 
-    /// The threads the command asks for at most: one per photon the buffer holds.
+    /// The threads the command asks for at most: one per item the buffer holds, within
+    /// `max_groups` workgroups.
     pub fn most_threads(&self) -> [u32; 3] {
-        [self.capacity, 1, 1]
+        [self.capacity.min(self.max_groups.saturating_mul(PHOTON_WORKGROUP)), 1, 1]
     }
 }
 
@@ -76,21 +79,30 @@ pub static PHOTON_DISPATCH: ComputePassDef = ComputePassDef::any(
 .push(PhotonDispatchParams::LAYOUT);
 
 /// Adds the pass that turns `photon_counters` (of a buffer of `capacity` photons) into the
-/// per-photon passes' dispatch.
+/// per-photon passes' dispatch. `limits::check` holds the photons within the workgroup limit.
 pub fn add<'r>(graph: &mut Graph<'r>, photon_counters: &BufferHandle, capacity: u32) -> Result<PhotonDispatch> {
+    add_over(graph, (PHOTON_DISPATCH.name, "photon dispatch"), photon_counters, capacity, u32::MAX)
+}
+
+/// Adds a pass named `name` that turns the first word of `counters`, at most `capacity` items,
+/// into a dispatch of one thread per item in groups of [`PHOTON_WORKGROUP`], at most
+/// `max_groups` groups (a pass over more items loops), written to a buffer named `args`.
+pub fn add_over<'r>(
+    graph: &mut Graph<'r>,
+    (name, args): (PassName, &'static str),
+    counters: &BufferHandle,
+    capacity: u32,
+    max_groups: u32,
+) -> Result<PhotonDispatch> {
     let mut args = graph.buffer(&BufferDesc {
-        name: "photon dispatch",
+        name: args,
         size: std::mem::size_of::<DispatchCommand>() as u64,
         usage: vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::INDIRECT_BUFFER,
         location: MemoryLocation::GpuOnly,
     })?;
-    let params = PhotonDispatchParams { capacity, group_size: PHOTON_WORKGROUP, ..Default::default() };
-    let mut pass = graph.pass(PHOTON_DISPATCH.name);
-    let own = PhotonDispatchBindings::declare(
-        &mut pass,
-        Stage::Compute,
-        PhotonDispatchResources { photon_counters, photon_dispatch: &mut args },
-    );
+    let params = PhotonDispatchParams { capacity, group_size: PHOTON_WORKGROUP, max_groups, ..Default::default() };
+    let mut pass = graph.pass(name);
+    let own = PhotonDispatchBindings::declare(&mut pass, Stage::Compute, PhotonDispatchResources { counters, photon_dispatch: &mut args });
     pass.dispatch(PHOTON_DISPATCH.name, own, params, [1, 1, 1]);
-    Ok(PhotonDispatch { args, capacity })
+    Ok(PhotonDispatch { args, capacity, max_groups })
 }

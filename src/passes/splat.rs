@@ -1,6 +1,7 @@
-//! Splat: every photon walks the view-sample hierarchy and is listed on the nodes whose
-//! samples it may reach (`splat.comp`). Lists are linked through one entry buffer of fixed
-//! capacity: entries beyond it are counted as dropped, never written.
+//! Splat: every photon walks the view-sample hierarchy and is recorded on the nodes whose
+//! samples it may reach, each node counting its records (`splat.comp`); the list scatter
+//! (`list_scatter.rs`) then lays every node's photons out contiguously. The record and list
+//! buffers have a fixed capacity: records beyond it are counted as dropped, never written.
 
 use ash::vk;
 use bytemuck::{Pod, Zeroable};
@@ -16,11 +17,20 @@ use crate::pipelines::ComputePassDef;
 use crate::shaders;
 
 gpu_struct! {
-    /// `struct ListEntry` of photon.glsl.
+    /// `struct SplatRecord` of photon.glsl: a node's list takes a photon.
     #[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
-    pub struct ListEntry {
+    pub struct SplatRecord {
+        pub node: u32,
         pub photon: u32,
-        pub next: u32,
+    }
+}
+
+gpu_struct! {
+    /// `struct PhotonPosition` of photon.glsl: a photon's position alone, 16 bytes.
+    #[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
+    pub struct PhotonPosition {
+        pub position: [f32; 3],
+        pub pad0: u32,
     }
 }
 
@@ -28,7 +38,7 @@ gpu_struct! {
     /// The `SplatCounters` block of splat.comp.
     #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Pod, Zeroable)]
     pub struct SplatCounters {
-        /// List entries written (and attempted beyond capacity).
+        /// List entries recorded (and attempted beyond capacity).
         pub entries_used: u32,
         /// Entries that did not fit: their contributions are lost.
         pub entries_dropped: u32,
@@ -47,7 +57,7 @@ gpu_struct! {
         pub radius: f32,
         pub trivial_accept: u32,
         pub root: u32,
-        /// Entries the list buffer holds.
+        /// Entries the record and list buffers hold.
         pub capacity: u32,
         /// Photons the photon buffer holds.
         pub photon_capacity: u32,
@@ -64,35 +74,65 @@ shader_bindings! {
         photon_counters: read block(PhotonCounters::LAYOUT),
         levels: read array(Level::LAYOUT),
         nodes: read array(Node::LAYOUT),
-        node_heads: read_write words,
-        list_entries: write array(ListEntry::LAYOUT),
+        node_counts: read_write words,
+        splat_records: write array(SplatRecord::LAYOUT),
         splat_counters: read_write block(SplatCounters::LAYOUT),
         photon_listed: write words,
+        photon_positions: write array(PhotonPosition::LAYOUT),
     }
     pub struct SplatResources;
 }
 
 /// The node lists of one frame (buffers of the graph's pool).
 pub struct NodeListHandles {
-    pub heads: BufferHandle,
-    pub entries: BufferHandle,
+    /// Per node: the splat's count of its records; the list scan makes it the first slot of
+    /// the node's range, and the list scatter the end of it (`list_scatter.comp`).
+    pub ends: BufferHandle,
+    /// Nodes the `ends` buffer has words for: the node count rounded up for the scan.
+    pub node_words: u32,
+    /// The splat's (node, photon) records, in the order the splat made them.
+    pub records: BufferHandle,
+    /// Every node's photons, node after node: the lists the gather reads.
+    pub photons: BufferHandle,
+    /// Per photon, its position (vec4, w unused): what the gather's distance test reads.
+    pub positions: BufferHandle,
     pub counters: BufferHandle,
     /// Per photon, 1 when some list took it (only those reach the gather), else 0.
     pub listed: BufferHandle,
     pub capacity: u32,
 }
 
+/// The name of the buffer of every node's photons (captures read it back).
+pub const LIST_PHOTONS: &str = "node list photons";
+/// The name of the buffer of the nodes' list ends.
+pub const LIST_ENDS: &str = "node list ends";
+
+/// The list buffers' usage: storage, filled and read back by transfers.
+pub const LIST_BUFFER_USAGE: vk::BufferUsageFlags = vk::BufferUsageFlags::from_raw(
+    vk::BufferUsageFlags::STORAGE_BUFFER.as_raw()
+        | vk::BufferUsageFlags::TRANSFER_DST.as_raw()
+        | vk::BufferUsageFlags::TRANSFER_SRC.as_raw(),
+);
+
+/// Words the `ends` buffer of `node_count` nodes has: a multiple of the scan's group of 16.
+pub fn node_words(node_count: u32) -> u32 {
+    node_count.div_ceil(crate::passes::sort::RADIX) * crate::passes::sort::RADIX
+}
+
 impl NodeListHandles {
     /// Lists for `node_count` nodes with room for `capacity` entries, of `photons` photons.
     pub fn new(graph: &mut Graph<'_>, node_count: u32, capacity: u32, photons: u32) -> Result<NodeListHandles> {
-        let usage = vk::BufferUsageFlags::STORAGE_BUFFER
-            | vk::BufferUsageFlags::TRANSFER_DST
-            | vk::BufferUsageFlags::TRANSFER_SRC;
-        let mut buffer =
-            |name, size| graph.buffer(&BufferDesc { name, size, usage, location: MemoryLocation::GpuOnly });
+        let mut buffer = |name, size| {
+            graph.buffer(&BufferDesc { name, size, usage: LIST_BUFFER_USAGE, location: MemoryLocation::GpuOnly })
+        };
+        let node_words = node_words(node_count);
+        let entries = capacity.max(1) as u64;
         Ok(NodeListHandles {
-            heads: buffer("node list heads", 4 * node_count as u64)?,
-            entries: buffer("node list entries", std::mem::size_of::<ListEntry>() as u64 * capacity as u64)?,
+            ends: buffer(LIST_ENDS, 4 * node_words as u64)?,
+            node_words,
+            records: buffer("splat records", std::mem::size_of::<SplatRecord>() as u64 * entries)?,
+            photons: buffer(LIST_PHOTONS, 4 * entries)?,
+            positions: buffer("photon positions", std::mem::size_of::<PhotonPosition>() as u64 * photons.max(1) as u64)?,
             counters: buffer("splat counters", std::mem::size_of::<SplatCounters>() as u64)?,
             listed: buffer("photon listed", 4 * photons.max(1) as u64)?,
             capacity,
@@ -139,8 +179,8 @@ pub fn add<'r>(
         photon_capacity: input.dispatch.capacity,
         ..Default::default()
     };
-    let empty = [Fill::whole(u32::MAX)];
-    graph.fill(SPLAT_CLEAR, &mut [(&mut lists.heads, &empty), (&mut lists.counters, &[Fill::whole(0)])]);
+    let zero = [Fill::whole(0)];
+    graph.fill(SPLAT_CLEAR, &mut [(&mut lists.ends, &zero), (&mut lists.counters, &zero)]);
     let mut pass = graph.pass(SPLAT.name);
     let own = SplatBindings::declare(
         &mut pass,
@@ -150,10 +190,11 @@ pub fn add<'r>(
             photon_counters: input.photon_counters,
             levels: &hierarchy.levels,
             nodes: &hierarchy.nodes,
-            node_heads: &mut lists.heads,
-            list_entries: &mut lists.entries,
+            node_counts: &mut lists.ends,
+            splat_records: &mut lists.records,
             splat_counters: &mut lists.counters,
             photon_listed: &mut lists.listed,
+            photon_positions: &mut lists.positions,
         },
     );
     let (args, threads) = (input.dispatch.declare(&mut pass), input.dispatch.most_threads());

@@ -7,11 +7,12 @@ use leakless_graph::{Access, Graph};
 use super::Renderer;
 use crate::error::Result;
 use crate::passes::gbuffer::GBufferHandles;
-use crate::passes::hierarchy::HierarchyHandles;
+use crate::passes::hierarchy::{HierarchyHandles, Shape};
 use crate::passes::names;
 use crate::passes::photon_order::ORDERED_PHOTONS;
 use crate::passes::photons::{photon_buffer_size, Photon, PHOTON_BUFFER_USAGE};
 use crate::passes::readback;
+use crate::passes::splat::{self, LIST_BUFFER_USAGE, LIST_ENDS, LIST_PHOTONS};
 
 /// The view samples and photons of the last frame, read back for tests and tools.
 pub struct Capture {
@@ -29,6 +30,12 @@ pub struct Capture {
     /// the rays down the visible-disk pass traced, and the gather's lift on curved meshes
     /// (`passes::visible_disk::image`).
     pub disk_mass: Vec<[f32; 4]>,
+    /// For methods that splat, the node lists the gather read (`passes::list_scatter`): per
+    /// node, the end of its range, so that node n's photons are `list_photons[ends[n − 1] ..
+    /// ends[n]]` (from 0 for node 0); and every node's photons, node after node (indices into
+    /// the photons the splat read: `ordered_photons` where that is not empty).
+    pub list_ends: Vec<u32>,
+    pub list_photons: Vec<u32>,
 }
 
 /// The float a `sample_bounds.comp` order key stands for (the inverse of its `order_key`).
@@ -64,6 +71,8 @@ const PHOTON_CAPTURE_BUFFER: &str = "photon capture readback";
 const ORDERED_PHOTON_CAPTURE_BUFFER: &str = "ordered photon capture readback";
 const BOUNDS_CAPTURE_BUFFER: &str = "sample bounds capture readback";
 const DISK_CAPTURE_BUFFER: &str = "disk mass capture readback";
+const LIST_ENDS_CAPTURE_BUFFER: &str = "list ends capture readback";
+const LIST_PHOTONS_CAPTURE_BUFFER: &str = "list photons capture readback";
 
 impl Renderer {
     /// Reads back the G-buffer and (for methods that splat) the photons of the last frame.
@@ -102,6 +111,19 @@ impl Renderer {
                 )?;
             }
         }
+        // The lists' buffers, asked for as the splat made them: its node count and capacity.
+        let lists = self.last.as_ref().and_then(|r| r.splat.as_ref()).and_then(|s| {
+            let nodes = Shape::new(self.settings.width * self.settings.height, s.branching).ok()?.node_count();
+            Some((splat::node_words(nodes), nodes, s.list_capacity, s.list_entries))
+        });
+        if let Some((words, nodes, capacity, entries)) = lists.filter(|_| splats) {
+            let list = |name, size| BufferDesc { name, size, usage: LIST_BUFFER_USAGE, location: MemoryLocation::GpuOnly };
+            copy_to_host(&mut g, &list(LIST_ENDS, 4 * words as u64), 4 * nodes as u64, LIST_ENDS_CAPTURE_BUFFER)?;
+            if entries > 0 {
+                let desc = list(LIST_PHOTONS, 4 * capacity.max(1) as u64);
+                copy_to_host(&mut g, &desc, 4 * entries as u64, LIST_PHOTONS_CAPTURE_BUFFER)?;
+            }
+        }
         if splats {
             let desc = HierarchyHandles::sample_bounds_desc();
             copy_to_host(&mut g, &desc, desc.size, BOUNDS_CAPTURE_BUFFER)?;
@@ -132,6 +154,16 @@ impl Renderer {
             Some(b) if splats => b.read_vec(n)?,
             _ => vec![],
         };
+        let (list_ends, list_photons) = match lists.filter(|_| splats) {
+            Some((_, nodes, _, entries)) => (
+                pool.frame_buffer(LIST_ENDS_CAPTURE_BUFFER, done.slot).expect("copied above").read_vec(nodes as usize)?,
+                match pool.frame_buffer(LIST_PHOTONS_CAPTURE_BUFFER, done.slot) {
+                    Some(b) if entries > 0 => b.read_vec(entries as usize)?,
+                    _ => vec![],
+                },
+            ),
+            None => (vec![], vec![]),
+        };
         Ok(Capture {
             position: texels[..n].to_vec(),
             normal: texels[n..2 * n].to_vec(),
@@ -140,6 +172,8 @@ impl Renderer {
             ordered_photons,
             sample_bounds,
             disk_mass,
+            list_ends,
+            list_photons,
         })
     }
 }

@@ -418,6 +418,7 @@ impl Renderer {
             batches: frame_batches,
             bounds: self.scene.bounds(),
             tuning,
+            max_workgroups: self.gpu.report().limits.max_compute_work_group_count[0],
         }))
     }
 

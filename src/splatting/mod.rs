@@ -35,6 +35,7 @@ use crate::passes::photon_order::{self, ORDERED_PHOTONS};
 use crate::passes::photons::{
     self, photon_buffer_size, PhotonCounters, PhotonParams, COUNTER_BUFFER_USAGE, PHOTON_BUFFER_USAGE,
 };
+use crate::passes::list_scatter;
 use crate::passes::splat::{self, NodeListHandles, SplatInputs};
 use crate::passes::visible_disk::{self, VisibleDiskParams};
 use crate::passes::ViewInputs;
@@ -65,6 +66,9 @@ pub struct SplatFrame {
     pub bounds: Aabb,
     /// The device tuning's choices (paths per thread, the two orders, the default branching).
     pub tuning: DeviceTuning,
+    /// Workgroups one dispatch may ask for (the device's maxComputeWorkGroupCount[0]): the
+    /// list scatter loops over records beyond them.
+    pub max_workgroups: u32,
 }
 
 impl SplatFrame {
@@ -185,6 +189,7 @@ pub fn add<'r>(
         trivial_accept: frame.settings.trivial_accept,
     };
     splat::add(graph, &shape, splat, &h, &mut lists);
+    list_scatter::add(graph, &mut lists, frame.max_workgroups)?;
 
     // The photons' clearance, for the gather to prove segments clear (visibility only). The
     // search stops a little beyond the largest radius: a segment is no longer than that plus

@@ -1,6 +1,6 @@
 //! The device tuning changes speed, never the image: every choice it makes (paths per thread,
-//! the ray queue's length, the gather's workgroup size, counters combined per subgroup, the two
-//! orders) renders the CPU preset's image bit for bit, on both backends. The GPU preset runs
+//! the ray queue's length, the gather's workgroup size, counters combined per subgroup, the
+//! subgroup's shared walk of the lists, the two orders) renders the CPU preset's image bit for bit, on both backends. The GPU preset runs
 //! here as it would on a GPU, subgroup operations included.
 
 use leakless::{DeviceTuning, Method, RenderSettings, Renderer, SplatSettings, TuningChoice};
@@ -39,6 +39,7 @@ fn every_tuning_renders_the_cpu_presets_image() {
         gather_workgroup: 32,
         paths_per_thread: 3,
         subgroup_counters: report.subgroup_arithmetic,
+        shared_walk: !cpu.shared_walk,
         ..cpu.clone()
     };
     for backend in common::choices() {
@@ -56,6 +57,14 @@ fn every_tuning_renders_the_cpu_presets_image() {
             for (name, tuning) in [("gpu preset", gpu_preset.clone()), ("odd sizes", odd.clone())] {
                 let other = frame("scenes/doorway.gltf", &settings, tuning).unwrap();
                 assert_same(&base, &other, &format!("{name}, {} on {}", method.name(), backend.name()));
+            }
+            // A shared walk over leaves narrower than the subgroup: its rounds walk one leaf after
+            // another, and test what each lane's own walk does.
+            if report.subgroup_arithmetic && report.subgroup_size > 2 {
+                let narrow = RenderSettings { splat: SplatSettings { branching: Some(2), ..settings.splat.clone() }, ..settings.clone() };
+                let alone = frame("scenes/doorway.gltf", &narrow, DeviceTuning { shared_walk: false, ..cpu.clone() }).unwrap();
+                let shared = frame("scenes/doorway.gltf", &narrow, DeviceTuning { shared_walk: true, ..cpu.clone() }).unwrap();
+                assert_same(&alone, &shared, &format!("shared walk, branching 2, {} on {}", method.name(), backend.name()));
             }
         }
     }
@@ -93,7 +102,7 @@ fn the_tuning_specializes_the_modules_it_names() {
         let names: Vec<(&str, u32, u32)> = module.spec_constants.iter().map(|c| (c.name, c.id, c.default)).collect();
         assert_eq!(
             names,
-            [("local_size_x", 0, 64), ("SUBGROUP_COUNTERS", 1, 0), ("RAY_QUEUE", 2, 64)],
+            [("local_size_x", 0, 64), ("SUBGROUP_COUNTERS", 1, 0), ("RAY_QUEUE", 2, 64), ("SHARED_WALK", 3, 0)],
             "{}",
             module.name
         );

@@ -182,7 +182,7 @@ impl Stage {
 ///     pub struct SplatBindings {
 ///         photons: read array(Photon::LAYOUT),
 ///         splat_counters: read_write block(SplatCounters::LAYOUT),
-///         node_heads: read_write words,
+///         node_counts: read_write words,
 ///     }
 ///     /// The graph's resources behind them.
 ///     pub struct SplatResources;

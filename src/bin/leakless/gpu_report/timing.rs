@@ -185,6 +185,8 @@ fn variants(device: &DeviceTuning, subgroup_arithmetic: bool) -> Vec<(String, De
     if subgroup_arithmetic {
         let counters = !device.subgroup_counters;
         v.push((format!("subgroup counters {}", on(counters)), with(&|t| t.subgroup_counters = counters)));
+        let walk = !device.shared_walk;
+        v.push((format!("shared walk {}", on(walk)), with(&|t| t.shared_walk = walk)));
     }
     v
 }
