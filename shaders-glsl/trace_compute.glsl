@@ -134,6 +134,19 @@ BvhRay bvh_part_ray(BvhInstance inst, BvhRay world, vec3 origin, vec3 dir) {
     return bvh_ray(local_origin, local_dir);
 }
 
+// The traversal's work, counted where TRACE_COUNT_WORK is on (bench rays' counting pass,
+// raycast.comp): the bottom-level nodes it processes and the triangles it tests, as
+// Bvh::traverse counts them on the CPU. Off, its default, in every other pipeline: the counts
+// compile away. naga parses no specialization constant outside an array size: the reflection
+// twin has it off.
+#ifdef LEAKLESS_REFLECTION
+#define TRACE_COUNT_WORK false
+#else
+layout(constant_id = 10) const bool TRACE_COUNT_WORK = false;
+#endif
+uint trace_nodes_visited = 0u;
+uint trace_triangles_tested = 0u;
+
 // The bottom level of one part (root node `root`), `ray` in its space: the closest hit with t in
 // (tmin, hit.t) replaces `hit`, and `slot` becomes its index in bvh_triangles. With any_hit,
 // returns true at the first accepted hit.
@@ -147,6 +160,9 @@ bool trace_bvh_part(BvhRay ray, uint root, float tmin, bool any_hit, inout Hit h
     uint sp = 0u;
     uint node = root;
     while (true) {
+        if (TRACE_COUNT_WORK) {
+            trace_nodes_visited++;
+        }
         BvhNode n = bvh_nodes.nodes[node];
         if (n.count == 0u) {
             uint left = n.left_or_first;
@@ -166,6 +182,9 @@ bool trace_bvh_part(BvhRay ray, uint root, float tmin, bool any_hit, inout Hit h
             }
         } else {
             for (uint i = n.left_or_first; i < n.left_or_first + n.count; i++) {
+                if (TRACE_COUNT_WORK) {
+                    trace_triangles_tested++;
+                }
                 BvhTriangle tri = bvh_triangles.triangles[i];
                 float t;
                 vec2 barycentrics;

@@ -11,13 +11,14 @@ use crate::error::Result;
 use crate::gpu_scene::GpuScene;
 use crate::gpu_types::{GpuRay, RayHit};
 use crate::passes::names;
-use crate::passes::raycast::{self, RAYCAST};
+use crate::passes::raycast::{self, RayWork, RAYCAST, RAYCAST_COUNTING};
 use crate::pipelines::{ComputePassDef, Pipelines};
 use crate::trace::{Backend, TraceScene};
 use crate::tuning::{DeviceTuning, TuningChoice};
 
-/// What a [`RayCaster`] runs.
+/// What a [`RayCaster`] runs: the timed pass, and in a set of its own the counting one.
 static PASSES: &[&ComputePassDef] = &[&RAYCAST];
+static COUNTING_PASSES: &[&ComputePassDef] = &[&RAYCAST_COUNTING];
 
 pub struct RayCaster<'g> {
     gpu: &'g Gpu,
@@ -26,6 +27,8 @@ pub struct RayCaster<'g> {
     /// The scene at t = 0 (these tools do not play animations).
     pose: crate::scene_pose::ScenePose,
     pipelines: Pipelines,
+    /// The compute backend's counting pass (`None` on ray queries, which count nothing).
+    counting: Option<Pipelines>,
     backend: Backend,
     runner: GraphRunner,
 }
@@ -59,6 +62,10 @@ impl<'g> RayCaster<'g> {
             trace,
             pose,
             pipelines: Pipelines::new(gpu, PASSES, backend, &tuning)?,
+            counting: match backend {
+                Backend::Compute => Some(Pipelines::new(gpu, COUNTING_PASSES, backend, &tuning)?),
+                Backend::RayQuery => None,
+            },
             backend,
             runner,
         })
@@ -70,45 +77,73 @@ impl<'g> RayCaster<'g> {
 
     /// Traces `rays`: closest hits, or occlusion (`occlusion`: triangle 0 = occluded).
     pub fn cast(&mut self, rays: &[GpuRay], occlusion: bool) -> Result<Cast> {
+        let (hits, _, trace_ms) = self.run(&RAYCAST, rays, occlusion)?;
+        Ok(Cast { hits, trace_ms, hits_written_to: HITS_LOCATION })
+    }
+
+    /// What the compute traversal does for each of `rays` (nodes processed, triangles tested),
+    /// traced again by the counting pass; `None` on ray queries.
+    pub fn count_work(&mut self, rays: &[GpuRay], occlusion: bool) -> Result<Option<Vec<RayWork>>> {
+        if self.counting.is_none() {
+            return Ok(None);
+        }
+        Ok(Some(self.run(&RAYCAST_COUNTING, rays, occlusion)?.1))
+    }
+
+    /// Traces `rays` with the pass `def`: the hits, each ray's work (zeros unless `def` counts)
+    /// and the pass's time.
+    fn run(&mut self, def: &ComputePassDef, rays: &[GpuRay], occlusion: bool) -> Result<(Vec<RayHit>, Vec<RayWork>, f64)> {
         let ray_buffer =
             Buffer::with_data(self.gpu, "rays", vk::BufferUsageFlags::STORAGE_BUFFER, bytemuck::cast_slice(rays))?;
         let hit_size = std::mem::size_of_val(rays) as u64 / 2;
-        let desc = BufferDesc {
-            name: "ray hits",
-            size: hit_size,
+        let work_size = (rays.len().max(1) * std::mem::size_of::<RayWork>()) as u64;
+        let device_local = |name, size| BufferDesc {
+            name,
+            size,
             usage: vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_SRC,
             location: HITS_LOCATION,
         };
-        let hit_buffer = Buffer::new(self.gpu, &desc)?;
-        let host_desc = BufferDesc {
-            name: "ray hits for the host",
+        let for_host = |name, size| BufferDesc {
+            name,
+            size,
             usage: vk::BufferUsageFlags::TRANSFER_DST,
             location: MemoryLocation::GpuToCpu,
-            ..desc
         };
-        let host_buffer = Buffer::new(self.gpu, &host_desc)?;
-        let mut graph = self.runner.graph(self.gpu)?.with_pipelines(self.pipelines.table(self.backend));
+        let hit_buffer = Buffer::new(self.gpu, &device_local("ray hits", hit_size))?;
+        let work_buffer = Buffer::new(self.gpu, &device_local("ray work", work_size))?;
+        let hits_for_host = Buffer::new(self.gpu, &for_host("ray hits for the host", hit_size))?;
+        let work_for_host = Buffer::new(self.gpu, &for_host("ray work for the host", work_size))?;
+        let pipelines = if def.name == RAYCAST_COUNTING.name { self.counting.as_ref() } else { Some(&self.pipelines) };
+        let pipelines = pipelines.expect("count_work checked the counting pipelines");
+        let mut graph = self.runner.graph(self.gpu)?.with_pipelines(pipelines.table(self.backend));
         let scene = self.scene.import(&mut graph);
         let trace = self.trace.import(&mut graph, &self.scene, &self.pose)?;
         let rays_h = graph.import_buffer(&ray_buffer);
         let mut hits_h = graph.import_buffer(&hit_buffer);
-        let mut host_h = graph.import_buffer(&host_buffer);
-        raycast::add(&mut graph, rays.len() as u32, occlusion, &scene, &trace, &rays_h, &mut hits_h);
-        // The copy for the host is a pass of its own, outside the timed one.
+        let mut work_h = graph.import_buffer(&work_buffer);
+        let mut hits_host = graph.import_buffer(&hits_for_host);
+        let mut work_host = graph.import_buffer(&work_for_host);
+        let cast = (rays.len() as u32, occlusion);
+        raycast::add(&mut graph, def, cast, &scene, &trace, &rays_h, &mut hits_h, &mut work_h);
+        // The copies for the host are a pass of their own, outside the timed one.
         let mut copy = graph.pass(names::READBACK);
-        let from = copy.read(&hits_h, leakless_graph::Access::TransferRead);
-        let into = copy.write(&mut host_h, leakless_graph::Access::TransferWrite);
+        let copies = [(&hits_h, &mut hits_host, hit_size), (&work_h, &mut work_host, work_size)].map(|(from, into, size)| {
+            (copy.read(from, leakless_graph::Access::TransferRead), copy.write(into, leakless_graph::Access::TransferWrite), size)
+        });
         copy.record(move |ctx| {
-            ctx.cmd.copy_buffer(ctx.buffer(from), ctx.buffer(into), hit_size);
+            for (from, into, size) in copies {
+                ctx.cmd.copy_buffer(ctx.buffer(from), ctx.buffer(into), size);
+            }
             Ok(())
         });
         let mut host = graph.pass(names::TO_HOST);
-        host.read(&host_h, leakless_graph::Access::HostRead);
+        host.read(&hits_host, leakless_graph::Access::HostRead);
+        host.read(&work_host, leakless_graph::Access::HostRead);
         host.record(|_| Ok(()));
         let submitted = graph.submit(&Default::default())?;
         let done = self.runner.wait_for(self.gpu, submitted)?;
-        let trace_ms = done.timings.iter().find(|t| t.name == "raycast").map_or(0.0, |t| t.wall_ms.unwrap_or(t.ms));
-        Ok(Cast { hits: host_buffer.read_vec(rays.len())?, trace_ms, hits_written_to: HITS_LOCATION })
+        let trace_ms = done.timings.iter().find(|t| t.name == def.name.label).map_or(0.0, |t| t.wall_ms.unwrap_or(t.ms));
+        Ok((hits_for_host.read_vec(rays.len())?, work_for_host.read_vec(rays.len())?, trace_ms))
     }
 }
 

@@ -1,7 +1,7 @@
 //! Raycast: traces a buffer of rays and writes one hit record per ray (`raycast.comp`).
 
 use bytemuck::{Pod, Zeroable};
-use leakless_device::{gpu_struct, GpuStruct};
+use leakless_device::{gpu_struct, GpuStruct, Specialization};
 use leakless_graph::{shader_bindings, BufferHandle, Graph, PassName, Stage};
 
 use crate::gpu_scene::{SceneBindings, SceneHandles};
@@ -23,10 +23,23 @@ gpu_struct! {
     }
 }
 
+gpu_struct! {
+    /// `struct RayWork` of raycast.comp: what the compute traversal did for one ray, counted
+    /// where the pipeline counts ([`RAYCAST_COUNTING`]).
+    #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Pod, Zeroable)]
+    pub struct RayWork {
+        /// Bottom-level nodes processed (interior or leaf), the root included.
+        pub nodes: u32,
+        /// Ray/triangle tests.
+        pub triangles: u32,
+    }
+}
+
 shader_bindings! {
     pub struct RaycastBindings {
         rays: read array(GpuRay::LAYOUT),
         ray_hits: write array(RayHit::LAYOUT),
+        ray_work: write array(RayWork::LAYOUT),
     }
     pub struct RaycastResources;
 }
@@ -38,20 +51,34 @@ pub static RAYCAST: ComputePassDef = ComputePassDef::traced(
 )
 .push(RaycastParams::LAYOUT);
 
+/// The same pass counting the compute traversal's work per ray (`TRACE_COUNT_WORK`), in a
+/// pipeline set of its own (one definition per module in a set): `bench rays` times
+/// [`RAYCAST`] and counts with this one. The compute backend's only: ray queries count nothing.
+pub static RAYCAST_COUNTING: ComputePassDef = ComputePassDef::traced(
+    PassName::new("raycast counting", group::TOOLS),
+    (&shaders::RAYCAST_COMP_RAYQUERY, &shaders::RAYCAST_COMP_COMPUTE),
+    &[RaycastBindings::DECLS, SceneBindings::DECLS],
+)
+.push(RaycastParams::LAYOUT)
+.specialize(|_| Specialization::new().with("TRACE_COUNT_WORK", 1));
+
+/// Traces `rays` with `def` ([`RAYCAST`], or [`RAYCAST_COUNTING`], which also writes `work`).
 #[allow(clippy::too_many_arguments)]
 pub fn add<'r>(
     graph: &mut Graph<'r>,
-    ray_count: u32,
-    occlusion: bool,
+    def: &ComputePassDef,
+    (ray_count, occlusion): (u32, bool),
     scene: &SceneHandles,
     trace: &TraceHandles,
     rays: &BufferHandle,
     hits: &mut BufferHandle,
+    work: &mut BufferHandle,
 ) {
     let params = RaycastParams { ray_count, occlusion: occlusion as u32, ..Default::default() };
-    let mut pass = graph.pass(RAYCAST.name);
-    let own = RaycastBindings::declare(&mut pass, Stage::Compute, RaycastResources { rays, ray_hits: hits });
+    let mut pass = graph.pass(def.name);
+    let own =
+        RaycastBindings::declare(&mut pass, Stage::Compute, RaycastResources { rays, ray_hits: hits, ray_work: work });
     let surfaces = scene.declare(&mut pass, Stage::Compute);
     let trace = trace.declare(&mut pass);
-    pass.dispatch(RAYCAST.name, (own, surfaces, trace), params, [ray_count, 1, 1]);
+    pass.dispatch(def.name, (own, surfaces, trace), params, [ray_count, 1, 1]);
 }

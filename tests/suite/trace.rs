@@ -43,6 +43,39 @@ fn bench_rays_times_no_host_visible_write() {
     gpu.check_validation().unwrap();
 }
 
+/// `bench rays` counts the compute traversal's work per ray with a pass of its own
+/// (`TRACE_COUNT_WORK`): the counts are what the CPU twin of the traversal (`Bvh::traverse`)
+/// counts on the same tree, ray for ray, for closest hits and occlusion. The static Cornell
+/// box is one part whose tree is `Bvh::build` of its triangles.
+#[test]
+fn the_counted_traversal_work_is_the_cpu_traversals() {
+    let Some(gpu) = common::gpu() else { return };
+    let scene = common::scene("scenes/cornell-box.gltf");
+    let rays = raygen::random_rays(&scene, 256, 3);
+    let bvh = leakless_accel::Bvh::build(&scene.vertices).unwrap();
+    let mut caster = RayCaster::new(&gpu, &scene, Backend::Compute).unwrap();
+    for occlusion in [false, true] {
+        let work = caster.count_work(&rays, occlusion).unwrap().expect("the compute backend counts");
+        let mut differ = Vec::new();
+        for (i, (ray, w)) in rays.iter().zip(&work).enumerate() {
+            let mut counts = leakless_accel::bvh::TraversalCounts::default();
+            bvh.traverse(ray.origin, ray.dir, ray.tmin, ray.tmax, occlusion, |_, _| true, &mut counts);
+            if (counts.nodes, counts.triangles) != (w.nodes as u64, w.triangles as u64) {
+                differ.push(format!("ray {i}: GPU {w:?}, CPU {counts:?}"));
+            }
+        }
+        assert!(differ.is_empty(), "occlusion {occlusion}: {} of {} rays differ: {:?}", differ.len(), rays.len(), &differ[..differ.len().min(5)]);
+        // A ray that misses the root's box (or starts beyond it) does no work, here as there.
+        let worked = work.iter().filter(|w| w.nodes > 0).count();
+        assert!(worked > rays.len() / 2, "occlusion {occlusion}: {worked} of {} rays entered the tree", rays.len());
+    }
+    if common::backends(&gpu).contains(&Backend::RayQuery) {
+        let mut rq = RayCaster::new(&gpu, &scene, Backend::RayQuery).unwrap();
+        assert!(rq.count_work(&rays, false).unwrap().is_none(), "ray queries count nothing");
+    }
+    gpu.check_validation().unwrap();
+}
+
 #[test]
 fn backends_agree_on_random_rays() {
     let Some(gpu) = common::gpu() else { return };

@@ -205,18 +205,25 @@ fn rays(path: PathBuf, size: (u32, u32), repeats: u32) -> anyhow::Result<()> {
         gpu.report().name
     );
     let rates = bench::rays(&gpu, &scene, size.0, size.1, repeats)?;
-    println!("{:<9} {:<11} {:<9} {:>9} {:>10} {:>9}", "backend", "rays", "query", "count", "ms", "Mrays/s");
+    println!(
+        "{:<9} {:<11} {:<9} {:>9} {:>10} {:>9} {:>11} {:>11}",
+        "backend", "rays", "query", "count", "ms", "Mrays/s", "nodes/ray", "tris/ray"
+    );
     for r in &rates {
+        let (nodes, tris) = r.work_per_ray.map_or(("-".into(), "-".into()), |(n, t)| (format!("{n:.1}"), format!("{t:.1}")));
         println!(
-            "{:<9} {:<11} {:<9} {:>9} {:>10.2} {:>9.2}",
+            "{:<9} {:<11} {:<9} {:>9} {:>10.2} {:>9.2} {:>11} {:>11}",
             r.backend.name(),
             r.set,
             r.query,
             r.rays,
             r.best_ms,
-            r.mrays_per_s()
+            r.mrays_per_s(),
+            nodes,
+            tris
         );
     }
+    println!("(nodes/ray, tris/ray: the compute traversal's bottom-level nodes processed and triangles tested, counted by a pass of its own outside the timed one; hits are written to device memory and copied after the timed pass)");
     let find = |b, set, q| rates.iter().find(|r| r.backend == b && r.set == set && r.query == q);
     let mut ratios = Vec::new();
     for set in ["coherent", "incoherent"] {

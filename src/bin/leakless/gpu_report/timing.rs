@@ -43,6 +43,10 @@ pub struct RayRow {
     pub query: String,
     pub rays: usize,
     pub mrays_per_s: f64,
+    /// The compute traversal's mean nodes processed and triangles tested per ray (None on ray
+    /// queries): the same on every device for the same tree, so a change of traversal shows.
+    pub nodes_per_ray: Option<f64>,
+    pub triangles_per_ray: Option<f64>,
 }
 
 /// The groups of a frame, in the order its passes first appear.
@@ -121,6 +125,8 @@ pub fn rays(report: &mut Report, root: &Path, matrix: &Matrix) -> anyhow::Result
                 query: r.query.to_string(),
                 rays: r.rays,
                 mrays_per_s: r.mrays_per_s(),
+                nodes_per_ray: r.work_per_ray.map(|w| w.0),
+                triangles_per_ray: r.work_per_ray.map(|w| w.1),
             });
         }
     }

@@ -44,12 +44,24 @@ fn markdown(r: &Report) -> anyhow::Result<String> {
     }
     if !r.rays.is_empty() {
         writeln!(md, "## Rays\n")?;
-        writeln!(md, "| scene | backend | rays | query | Mrays/s |\n|---|---|---|---|---|")?;
+        writeln!(
+            md,
+            "Hits are written to device memory and copied after the timed pass. Nodes and triangles per ray: the compute traversal's work, counted by a pass of its own.\n"
+        )?;
+        writeln!(md, "| scene | backend | rays | query | Mrays/s | nodes/ray | triangles/ray |\n|---|---|---|---|---|---|---|")?;
+        let per_ray = |v: Option<f64>| v.map_or("–".to_string(), |v| format!("{v:.1}"));
         for x in &r.rays {
             writeln!(
                 md,
-                "| {} | {} | {} ({}) | {} | {:.1} |",
-                x.scene, x.backend, x.set, x.rays, x.query, x.mrays_per_s
+                "| {} | {} | {} ({}) | {} | {:.1} | {} | {} |",
+                x.scene,
+                x.backend,
+                x.set,
+                x.rays,
+                x.query,
+                x.mrays_per_s,
+                per_ray(x.nodes_per_ray),
+                per_ray(x.triangles_per_ray)
             )?;
         }
         writeln!(md)?;

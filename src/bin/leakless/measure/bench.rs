@@ -22,6 +22,9 @@ pub struct RayRate {
     pub rays: usize,
     /// Best of the repeats, host wall time of the trace submission alone.
     pub best_ms: f64,
+    /// The compute traversal's mean work per ray (nodes processed, triangles tested), from its
+    /// counting pass (untimed); `None` on ray queries.
+    pub work_per_ray: Option<(f64, f64)>,
 }
 
 impl RayRate {
@@ -54,7 +57,14 @@ pub fn rays(gpu: &Gpu, scene: &Scene, width: u32, height: u32, repeats: u32) -> 
                 for _ in 0..repeats.max(1) {
                     best = best.min(caster.cast(rays, occlusion)?.trace_ms);
                 }
-                rates.push(RayRate { backend, set, query, rays: rays.len(), best_ms: best });
+                let work_per_ray = caster.count_work(rays, occlusion)?.map(|work| {
+                    let n = work.len().max(1) as f64;
+                    let sum = |f: fn(&leakless::passes::raycast::RayWork) -> u32| {
+                        work.iter().map(|w| f(w) as f64).sum::<f64>() / n
+                    };
+                    (sum(|w| w.nodes), sum(|w| w.triangles))
+                });
+                rates.push(RayRate { backend, set, query, rays: rays.len(), best_ms: best, work_per_ray });
             }
         }
     }
