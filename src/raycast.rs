@@ -92,7 +92,12 @@ impl<'g> RayCaster<'g> {
 
     /// Traces `rays` with the pass `def`: the hits, each ray's work (zeros unless `def` counts)
     /// and the pass's time.
-    fn run(&mut self, def: &ComputePassDef, rays: &[GpuRay], occlusion: bool) -> Result<(Vec<RayHit>, Vec<RayWork>, f64)> {
+    fn run(
+        &mut self,
+        def: &ComputePassDef,
+        rays: &[GpuRay],
+        occlusion: bool,
+    ) -> Result<(Vec<RayHit>, Vec<RayWork>, f64)> {
         let ray_buffer =
             Buffer::with_data(self.gpu, "rays", vk::BufferUsageFlags::STORAGE_BUFFER, bytemuck::cast_slice(rays))?;
         let hit_size = std::mem::size_of_val(rays) as u64 / 2;
@@ -127,9 +132,14 @@ impl<'g> RayCaster<'g> {
         raycast::add(&mut graph, def, cast, &scene, &trace, &rays_h, &mut hits_h, &mut work_h);
         // The copies for the host are a pass of their own, outside the timed one.
         let mut copy = graph.pass(names::READBACK);
-        let copies = [(&hits_h, &mut hits_host, hit_size), (&work_h, &mut work_host, work_size)].map(|(from, into, size)| {
-            (copy.read(from, leakless_graph::Access::TransferRead), copy.write(into, leakless_graph::Access::TransferWrite), size)
-        });
+        let copies =
+            [(&hits_h, &mut hits_host, hit_size), (&work_h, &mut work_host, work_size)].map(|(from, into, size)| {
+                (
+                    copy.read(from, leakless_graph::Access::TransferRead),
+                    copy.write(into, leakless_graph::Access::TransferWrite),
+                    size,
+                )
+            });
         copy.record(move |ctx| {
             for (from, into, size) in copies {
                 ctx.cmd.copy_buffer(ctx.buffer(from), ctx.buffer(into), size);
@@ -142,7 +152,8 @@ impl<'g> RayCaster<'g> {
         host.record(|_| Ok(()));
         let submitted = graph.submit(&Default::default())?;
         let done = self.runner.wait_for(self.gpu, submitted)?;
-        let trace_ms = done.timings.iter().find(|t| t.name == def.name.label).map_or(0.0, |t| t.wall_ms.unwrap_or(t.ms));
+        let trace_ms =
+            done.timings.iter().find(|t| t.name == def.name.label).map_or(0.0, |t| t.wall_ms.unwrap_or(t.ms));
         Ok((hits_for_host.read_vec(rays.len())?, work_for_host.read_vec(rays.len())?, trace_ms))
     }
 }

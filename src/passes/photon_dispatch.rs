@@ -102,7 +102,11 @@ pub fn add_over<'r>(
     })?;
     let params = PhotonDispatchParams { capacity, group_size: PHOTON_WORKGROUP, max_groups, ..Default::default() };
     let mut pass = graph.pass(name);
-    let own = PhotonDispatchBindings::declare(&mut pass, Stage::Compute, PhotonDispatchResources { counters, photon_dispatch: &mut args });
+    let own = PhotonDispatchBindings::declare(
+        &mut pass,
+        Stage::Compute,
+        PhotonDispatchResources { counters, photon_dispatch: &mut args },
+    );
     pass.dispatch(PHOTON_DISPATCH.name, own, params, [1, 1, 1]);
     Ok(PhotonDispatch { args, capacity, max_groups })
 }

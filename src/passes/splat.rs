@@ -132,7 +132,10 @@ impl NodeListHandles {
             node_words,
             records: buffer("splat records", std::mem::size_of::<SplatRecord>() as u64 * entries)?,
             photons: buffer(LIST_PHOTONS, 4 * entries)?,
-            positions: buffer("photon positions", std::mem::size_of::<PhotonPosition>() as u64 * photons.max(1) as u64)?,
+            positions: buffer(
+                "photon positions",
+                std::mem::size_of::<PhotonPosition>() as u64 * photons.max(1) as u64,
+            )?,
             counters: buffer("splat counters", std::mem::size_of::<SplatCounters>() as u64)?,
             listed: buffer("photon listed", 4 * photons.max(1) as u64)?,
             capacity,

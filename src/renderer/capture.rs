@@ -117,7 +117,8 @@ impl Renderer {
             Some((splat::node_words(nodes), nodes, s.list_capacity, s.list_entries))
         });
         if let Some((words, nodes, capacity, entries)) = lists.filter(|_| splats) {
-            let list = |name, size| BufferDesc { name, size, usage: LIST_BUFFER_USAGE, location: MemoryLocation::GpuOnly };
+            let list =
+                |name, size| BufferDesc { name, size, usage: LIST_BUFFER_USAGE, location: MemoryLocation::GpuOnly };
             copy_to_host(&mut g, &list(LIST_ENDS, 4 * words as u64), 4 * nodes as u64, LIST_ENDS_CAPTURE_BUFFER)?;
             if entries > 0 {
                 let desc = list(LIST_PHOTONS, 4 * capacity.max(1) as u64);
@@ -156,7 +157,9 @@ impl Renderer {
         };
         let (list_ends, list_photons) = match lists.filter(|_| splats) {
             Some((_, nodes, _, entries)) => (
-                pool.frame_buffer(LIST_ENDS_CAPTURE_BUFFER, done.slot).expect("copied above").read_vec(nodes as usize)?,
+                pool.frame_buffer(LIST_ENDS_CAPTURE_BUFFER, done.slot)
+                    .expect("copied above")
+                    .read_vec(nodes as usize)?,
                 match pool.frame_buffer(LIST_PHOTONS_CAPTURE_BUFFER, done.slot) {
                     Some(b) if entries > 0 => b.read_vec(entries as usize)?,
                     _ => vec![],

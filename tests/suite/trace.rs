@@ -64,7 +64,13 @@ fn the_counted_traversal_work_is_the_cpu_traversals() {
                 differ.push(format!("ray {i}: GPU {w:?}, CPU {counts:?}"));
             }
         }
-        assert!(differ.is_empty(), "occlusion {occlusion}: {} of {} rays differ: {:?}", differ.len(), rays.len(), &differ[..differ.len().min(5)]);
+        assert!(
+            differ.is_empty(),
+            "occlusion {occlusion}: {} of {} rays differ: {:?}",
+            differ.len(),
+            rays.len(),
+            &differ[..differ.len().min(5)]
+        );
         // A ray that misses the root's box (or starts beyond it) does no work, here as there.
         let worked = work.iter().filter(|w| w.nodes > 0).count();
         assert!(worked > rays.len() / 2, "occlusion {occlusion}: {worked} of {} rays entered the tree", rays.len());

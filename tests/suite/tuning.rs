@@ -61,10 +61,19 @@ fn every_tuning_renders_the_cpu_presets_image() {
             // A shared walk over leaves narrower than the subgroup: its rounds walk one leaf after
             // another, and test what each lane's own walk does.
             if report.subgroup_arithmetic && report.subgroup_size > 2 {
-                let narrow = RenderSettings { splat: SplatSettings { branching: Some(2), ..settings.splat.clone() }, ..settings.clone() };
-                let alone = frame("scenes/doorway.gltf", &narrow, DeviceTuning { shared_walk: false, ..cpu.clone() }).unwrap();
-                let shared = frame("scenes/doorway.gltf", &narrow, DeviceTuning { shared_walk: true, ..cpu.clone() }).unwrap();
-                assert_same(&alone, &shared, &format!("shared walk, branching 2, {} on {}", method.name(), backend.name()));
+                let narrow = RenderSettings {
+                    splat: SplatSettings { branching: Some(2), ..settings.splat.clone() },
+                    ..settings.clone()
+                };
+                let alone =
+                    frame("scenes/doorway.gltf", &narrow, DeviceTuning { shared_walk: false, ..cpu.clone() }).unwrap();
+                let shared =
+                    frame("scenes/doorway.gltf", &narrow, DeviceTuning { shared_walk: true, ..cpu.clone() }).unwrap();
+                assert_same(
+                    &alone,
+                    &shared,
+                    &format!("shared walk, branching 2, {} on {}", method.name(), backend.name()),
+                );
             }
         }
     }

@@ -210,7 +210,8 @@ fn rays(path: PathBuf, size: (u32, u32), repeats: u32) -> anyhow::Result<()> {
         "backend", "rays", "query", "count", "ms", "Mrays/s", "nodes/ray", "tris/ray"
     );
     for r in &rates {
-        let (nodes, tris) = r.work_per_ray.map_or(("-".into(), "-".into()), |(n, t)| (format!("{n:.1}"), format!("{t:.1}")));
+        let (nodes, tris) =
+            r.work_per_ray.map_or(("-".into(), "-".into()), |(n, t)| (format!("{n:.1}"), format!("{t:.1}")));
         println!(
             "{:<9} {:<11} {:<9} {:>9} {:>10.2} {:>9.2} {:>11} {:>11}",
             r.backend.name(),

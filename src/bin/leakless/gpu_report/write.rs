@@ -48,7 +48,10 @@ fn markdown(r: &Report) -> anyhow::Result<String> {
             md,
             "Hits are written to device memory and copied after the timed pass. Nodes and triangles per ray: the compute traversal's work, counted by a pass of its own.\n"
         )?;
-        writeln!(md, "| scene | backend | rays | query | Mrays/s | nodes/ray | triangles/ray |\n|---|---|---|---|---|---|---|")?;
+        writeln!(
+            md,
+            "| scene | backend | rays | query | Mrays/s | nodes/ray | triangles/ray |\n|---|---|---|---|---|---|---|"
+        )?;
         let per_ray = |v: Option<f64>| v.map_or("–".to_string(), |v| format!("{v:.1}"));
         for x in &r.rays {
             writeln!(
