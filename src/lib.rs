@@ -7,6 +7,7 @@ pub mod emitters;
 pub mod error;
 pub mod extras;
 pub mod flicker;
+pub mod frame_budget;
 pub mod gpu_scene;
 pub mod gpu_types;
 pub mod limits;

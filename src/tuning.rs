@@ -104,6 +104,11 @@ pub struct DeviceTuning {
     /// The app times a frame pass by pass (each submitted alone) every this many frames, for
     /// its bars, where timestamps in one submission do not bracket the work (0: never).
     pub view_profile_every: u32,
+    /// The app's frame-time budget without `--frame-ms` (`frame_budget.rs`): 60 frames a
+    /// second on a GPU; on a CPU the time lavapipe takes for a moving frame of the default
+    /// scene at the CPU view size with `--paths`' default, so that the budget keeps what the
+    /// app did before it on the machine it was measured on (docs/results.md, "Frame budget").
+    pub frame_ms: f64,
 }
 
 fn timing_name<S: serde::Serializer>(timing: &Timing, s: S) -> std::result::Result<S::Ok, S::Error> {
@@ -152,6 +157,7 @@ impl DeviceTuning {
             view_size: (320, 240),
             view_render_scale: 0.5,
             view_profile_every: 30,
+            frame_ms: 150.0,
         }
     }
 
@@ -171,6 +177,7 @@ impl DeviceTuning {
             view_size: (1280, 720),
             view_render_scale: 1.0,
             view_profile_every: 0,
+            frame_ms: 16.7,
             ..Self::cpu()
         }
     }

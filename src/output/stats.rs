@@ -50,6 +50,9 @@ pub struct Stats {
     #[serde(skip_serializing_if = "Option::is_none")]
     pub splat: Option<crate::splatting::SplatStats>,
     pub passes: Vec<PassTime>,
+    /// What the frame budget measured and chose for the last frame, where it chose its paths.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub frame_budget: Option<crate::renderer::BudgetReport>,
     /// The passes' GPU times summed.
     pub frame_gpu_ms: f64,
     /// The frames' GPU time from first pass start to last pass end (`tuning.timing` =
@@ -102,6 +105,7 @@ impl Stats {
                 detail: t.detail.clone(),
             },
             splat: frame.splat.clone(),
+            frame_budget: renderer.last_report().and_then(|r| r.budget),
             frame_gpu_ms: frame.timings.iter().map(|t| t.ms).sum(),
             frame_gpu_span_ms: frame.gpu_span_ms,
             frame_wall_ms: frame.wall_ms,

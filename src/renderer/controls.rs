@@ -51,6 +51,9 @@ impl Renderer {
         let capacity_inputs =
             |s: &RenderSettings| (s.splat.paths, s.max_bounces, s.width, s.height, s.splat.list_capacity);
         let regrow = capacity_inputs(&settings) != capacity_inputs(&self.settings);
+        if (settings.width, settings.height) != (self.settings.width, self.settings.height) {
+            self.forget_budget_estimates();
+        }
         if settings != self.settings {
             self.restart();
             // The frames before are another estimate: temporal reuse starts over.

@@ -86,7 +86,8 @@ impl Renderer {
             self.seed_offset = self.seed_offset.wrapping_add(1);
         }
         let seed = self.frame_seed();
-        let splat = if render { self.splat_frame(first_batch, frame_batches, seed)? } else { None };
+        let budget_paths = if render && method.splats() { self.budget_paths(first_batch, frame_batches) } else { None };
+        let splat = if render { self.splat_frame(first_batch, frame_batches, budget_paths, seed)? } else { None };
         let jitter = if progressive { pixel_jitter(index) } else { glam::Vec2::ZERO };
         let frame_constants = Frame {
             view_proj: self.jittered_view_proj(jitter).to_cols_array_2d(),
@@ -373,6 +374,8 @@ impl Renderer {
             accumulated,
             batches,
             frame_batches,
+            budget_paths,
+            size: (self.settings.width, self.settings.height),
             method,
             started,
         });
@@ -385,8 +388,15 @@ impl Renderer {
     }
 
     /// The photon frame's settings (radius, paths, seed, list capacity) for a frame of
-    /// `frame_batches` batches from `first_batch`; `None` for a method without photons.
-    fn splat_frame(&self, first_batch: u32, frame_batches: u32, seed: u32) -> Result<Option<SplatFrame>> {
+    /// `frame_batches` batches from `first_batch`, or of the budget's `budget_paths`; `None`
+    /// for a method without photons.
+    fn splat_frame(
+        &self,
+        first_batch: u32,
+        frame_batches: u32,
+        budget_paths: Option<u32>,
+        seed: u32,
+    ) -> Result<Option<SplatFrame>> {
         let Some(mut settings) = self.settings.photon_settings() else {
             return Ok(None);
         };
@@ -399,10 +409,12 @@ impl Renderer {
         let batch_paths = settings.paths;
         // Within limits::max_frame_paths: the batches are clamped to it, and check() holds
         // one batch to it.
-        settings.paths = batch_paths.saturating_mul(frame_batches);
+        settings.paths = budget_paths.unwrap_or(batch_paths.saturating_mul(frame_batches));
+        // The node lists hold a batch's entries per `batch_paths` paths.
+        let list_batches = settings.paths.div_ceil(batch_paths.max(1)).max(1);
         Ok(Some(SplatFrame {
             radius: splatting::progressive_radius(radius, first_batch),
-            path_offset: first_batch.wrapping_mul(batch_paths),
+            path_offset: self.path_offset(first_batch, batch_paths),
             first_batch,
             eye: self.camera.position().to_array(),
             settings,
@@ -411,11 +423,11 @@ impl Renderer {
             // The renderer's capacity is per batch, unless fixed by the user.
             list_capacity: match self.settings.splat.list_capacity {
                 Some(fixed) => fixed,
-                None => (self.list_capacity as u64 * frame_batches as u64)
+                None => (self.list_capacity as u64 * list_batches as u64)
                     .min(crate::limits::max_list_entries(&self.gpu.report().limits) as u64)
                     as u32,
             },
-            batches: frame_batches,
+            batches: list_batches,
             bounds: self.scene.bounds(),
             tuning,
             max_workgroups: self.gpu.report().limits.max_compute_work_group_count[0],
@@ -498,6 +510,7 @@ impl Renderer {
                 return Ok(());
             }
         }
+        let budget = self.observe_budget(&pending, &done);
         self.last = Some(FrameReport {
             index: done.index,
             slot: done.slot,
@@ -512,6 +525,7 @@ impl Renderer {
             batches: pending.batches,
             frame_batches: pending.frame_batches,
             wall_ms: pending.started.elapsed().as_secs_f64() * 1e3,
+            budget,
         });
         Ok(())
     }

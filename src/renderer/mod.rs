@@ -10,6 +10,7 @@
 //! * reading the layers back is an explicit request ([`Renderer::render`],
 //!   [`Renderer::read_layers`]).
 
+mod budget;
 mod capture;
 mod controls;
 mod frame;
@@ -29,6 +30,7 @@ use leakless_scene::{Camera, Light, Scene};
 
 use controls::check_tuning;
 
+pub use budget::{BudgetReport, MAX_FRAME_MS};
 pub use capture::Capture;
 pub use frame::{DisplayTarget, Overlay};
 pub use readback::RenderedFrame;
@@ -76,6 +78,10 @@ struct Pending {
     batches: u32,
     /// Batches the frame traced.
     frame_batches: u32,
+    /// The paths the frame budget chose for it (`None`: `--paths` a batch).
+    budget_paths: Option<u32>,
+    /// Its render size.
+    size: (u32, u32),
     method: Method,
     started: std::time::Instant,
 }
@@ -106,6 +112,8 @@ pub struct FrameReport {
     /// Host time from the start of the frame's declaration to the moment the host saw it
     /// complete (includes waiting for it).
     pub wall_ms: f64,
+    /// What the frame budget measured and chose, for a frame whose paths it chose.
+    pub budget: Option<BudgetReport>,
 }
 
 pub struct Renderer {
@@ -147,6 +155,8 @@ pub struct Renderer {
     progressive: bool,
     /// Frames only show the last image again (tonemap and overlay): the app's pause.
     paused: bool,
+    /// The frame-time budget, when one is set (`set_frame_budget`).
+    budget: Option<budget::BudgetState>,
     pending: VecDeque<Pending>,
     last: Option<FrameReport>,
     runner: GraphRunner,
@@ -203,6 +213,7 @@ impl Renderer {
             progressive: false,
             seed_offset: 0,
             paused: false,
+            budget: None,
             pending: VecDeque::new(),
             last: None,
             runner,

@@ -89,6 +89,39 @@ fn sealed_rooms_stay_black_in_every_frame_of_a_walk() {
     }
 }
 
+/// The same walk through the sealed two rooms with a frame budget of 1 ms, which no frame
+/// meets: the budget lowers each moving frame's paths from 20 000 to its fewest, the still
+/// frames after it continue from the budgeted first frame's paths, and every frame stays
+/// exactly black on both backends.
+#[test]
+fn sealed_rooms_stay_black_under_a_frame_budget() {
+    let scene = common::scene("scenes/two-rooms.gltf");
+    for backend in common::choices() {
+        let mut r = app(&scene, settings(backend, 20_000, 0.3, true));
+        r.set_frame_budget(Some(1.0)).expect("a budget");
+        let start = r.camera().clone();
+        let mut paths = Vec::new();
+        for k in 0..8 {
+            r.set_camera(turned(&start, 0.03 * k as f32, 0.02 * k as f32));
+            let frame = r.capture_frame().expect("a walking frame");
+            assert_eq!(lit(&frame), 0, "{backend:?}: frame {k} of the budgeted walk has light in the sealed room");
+            let report = r.last_report().expect("a report");
+            let budget = report.budget.expect("the budget chose the moving frame's paths");
+            assert_eq!(Some(budget.paths), frame.splat.as_ref().map(|s| s.paths), "{backend:?}: frame {k}");
+            assert_eq!(budget.target_ms, 1.0);
+            paths.push(budget.paths);
+        }
+        assert!(paths[0] > paths[7], "{backend:?}: the budget lowered the paths: {paths:?}");
+        assert_eq!(paths[7], leakless::frame_budget::MIN_BUDGET_PATHS, "{backend:?}: {paths:?}");
+        assert!(r.frame_budget().expect("set").over_budget(), "no frame meets 1 ms");
+        for k in 0..2 {
+            let frame = r.capture_frame().expect("a still frame");
+            assert_eq!(lit(&frame), 0, "{backend:?}: still frame {k} has light in the sealed room");
+        }
+        r.gpu().check_validation().expect("validation clean");
+    }
+}
+
 /// scenes/door.gltf played frame by frame with reuse, the camera in room B: the frames before
 /// the door shuts are lit through the closing gap, and the first frame at the closed time is
 /// exactly black on both backends, history notwithstanding.

@@ -185,8 +185,7 @@ fn a_mesh_beyond_the_device_limits_fails_before_allocating() {
         // would fail that without anything being wrong).
         let resolved = if backend == BackendChoice::RayQuery { Backend::RayQuery } else { Backend::Compute };
         let before_allocating = leakless::limits::check(&settings, &scene, resolved, &limits)
-            .err()
-            .expect("limits::check refuses the scene")
+            .expect_err("limits::check refuses the scene")
             .to_string();
         let e = Renderer::new(gpu, &scene, settings).err().expect("a scene beyond the limits is refused").to_string();
         assert_eq!(e, before_allocating, "refused by the check made before anything is allocated");

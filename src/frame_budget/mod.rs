@@ -1,0 +1,246 @@
+//! The frame-time budget: how many light paths a moving frame traces so that it takes T ms
+//! (`--frame-ms`). A pure function of the frame times measured before, so that it is tested
+//! without a device; the renderer feeds it ([`crate::Renderer::set_frame_budget`]).
+//!
+//! A frame's time is modelled as a fixed part (the G-buffer, direct light, reuse, display:
+//! what the pixels cost) and a part that follows the paths (tracing, ordering, splatting and
+//! gathering photons: the passes of [`PHOTON_GROUPS`]), t = f + c·p. Each measured frame gives
+//! one estimate of f and of c, from its passes' times where it has them and otherwise from the
+//! split of the last frame that had them (its f and c, as shares of this frame's time at this
+//! frame's paths); the mean of the last estimates (up to 16, less the highest and the lowest)
+//! sets the next frame's paths, p = (T − f) / c. A lasting change (two frames in a row a
+//! third or more off that mean, on the same side) drops the older estimates, so that the
+//! budget follows it within a few frames while a lone outlier (a profiled frame, a page fault)
+//! moves it little. The paths move on a ladder of steps 2^(1/8) apart and stay on their step
+//! while the estimate is within ¾ of a step of it, so that noise does not make them wander, and
+//! the buffers sized by the paths change only when the step does.
+
+use std::collections::VecDeque;
+
+use crate::passes::names::group;
+
+/// The pass groups whose time follows the number of light paths.
+pub const PHOTON_GROUPS: [&str; 5] =
+    [group::PHOTONS, group::PHOTON_ORDER, group::SPLAT, group::CLEARANCE, group::GATHER];
+
+/// The fewest paths a budgeted frame traces: below this a frame's indirect light is mostly
+/// noise, and the fixed part of the frame dominates its time anyway.
+pub const MIN_BUDGET_PATHS: u32 = 1024;
+
+/// Frames whose estimates are averaged.
+const WINDOW: usize = 16;
+
+/// Frames in a row that mark a lasting change when each is off the average by more than
+/// `SHIFT_FACTOR` on the same side.
+const SHIFT_FRAMES: usize = 2;
+const SHIFT_FACTOR: f64 = 1.3;
+
+/// Frames measured at a render size before the budget advises another (the caller feeds only
+/// frames of the current size).
+const RESOLUTION_FRAMES: usize = 3;
+
+/// The most steps of `RESOLUTION_STEP` the budget advises down at once (0.84^8 ≈ ¼ along
+/// each axis): a frame several times over its target gets there in one change.
+const MAX_RESOLUTION_STEPS: f64 = 8.0;
+
+/// Steps of the ladder per doubling of the paths (2^(1/8) ≈ 9% apart).
+const STEPS_PER_DOUBLING: f64 = 8.0;
+
+/// The most the paths change in one frame (a factor): with the median's delay, a larger jump
+/// on a mis-measured frame would overshoot.
+const MAX_STEP_FACTOR: f64 = 2.0;
+
+/// The share of a frame taken to follow the paths before any frame has measured its passes.
+const START_PHOTON_SHARE: f64 = 0.8;
+
+/// Each step of dynamic resolution scales the render size along each axis by this (about 30%
+/// fewer or more pixels a step).
+pub const RESOLUTION_STEP: f64 = 0.84;
+
+/// One measured frame: its time, and the share of it that followed the paths when its passes
+/// were timed.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FrameTime {
+    pub ms: f64,
+    pub paths: u32,
+    pub photon_share: Option<f64>,
+}
+
+#[derive(Clone, Debug)]
+pub struct FrameBudget {
+    target_ms: f64,
+    min_paths: u32,
+    max_paths: u32,
+    /// The paths of the next budgeted frame.
+    paths: u32,
+    /// The last timed frame's split of its time: (fixed ms, ms per path). A share measured at
+    /// one count of paths is not the share at another.
+    split: Option<(f64, f64)>,
+    /// (fixed ms, ms per path) of the last frames.
+    estimates: VecDeque<(f64, f64)>,
+    /// The fewest paths miss the target by the estimate: the fixed part alone exceeds it.
+    over: bool,
+    /// The estimates of the fixed part and of a path's cost (ms) after the last frame.
+    fixed_ms: f64,
+    per_path_ms: f64,
+    /// Frames measured since the last `forget` (a change of size).
+    measured: usize,
+}
+
+impl FrameBudget {
+    /// A budget of `target_ms` a frame, starting at `start_paths`, choosing within
+    /// [`min_paths`, `max_paths`].
+    pub fn new(target_ms: f64, start_paths: u32, min_paths: u32, max_paths: u32) -> FrameBudget {
+        let max_paths = max_paths.max(1);
+        let min_paths = min_paths.clamp(1, max_paths);
+        FrameBudget {
+            target_ms,
+            min_paths,
+            max_paths,
+            paths: on_ladder(start_paths as f64, min_paths, max_paths),
+            split: None,
+            estimates: VecDeque::with_capacity(WINDOW),
+            over: false,
+            fixed_ms: 0.0,
+            per_path_ms: 0.0,
+            measured: 0,
+        }
+    }
+
+    pub fn target_ms(&self) -> f64 {
+        self.target_ms
+    }
+
+    /// The paths the next budgeted frame traces.
+    pub fn paths(&self) -> u32 {
+        self.paths
+    }
+
+    /// Whether even the fewest paths miss the target: the frame's fixed part alone takes it.
+    pub fn over_budget(&self) -> bool {
+        self.over
+    }
+
+    /// Takes a budgeted frame's measured time; returns the paths of the next.
+    pub fn observe(&mut self, frame: FrameTime) -> u32 {
+        if !(frame.ms.is_finite() && frame.ms > 0.0 && frame.paths > 0) {
+            return self.paths;
+        }
+        self.measured += 1;
+        let p = frame.paths as f64;
+        let share = match (frame.photon_share.filter(|s| s.is_finite()), self.split) {
+            (Some(share), _) => {
+                let share = share.clamp(0.001, 1.0);
+                self.split = Some((frame.ms * (1.0 - share), frame.ms * share / p));
+                share
+            }
+            (None, Some((fixed, per_path))) => per_path * p / (fixed + per_path * p),
+            (None, None) => START_PHOTON_SHARE,
+        };
+        let per_path = frame.ms * share / p;
+        let fixed = frame.ms * (1.0 - share);
+        if self.estimates.len() == WINDOW {
+            self.estimates.pop_front();
+        }
+        self.estimates.push_back((fixed, per_path));
+        self.forget_before_a_shift();
+        let fixed = trimmed_mean(self.estimates.iter().map(|e| e.0));
+        let per_path = trimmed_mean(self.estimates.iter().map(|e| e.1));
+        (self.fixed_ms, self.per_path_ms) = (fixed, per_path);
+        let room = self.target_ms - fixed;
+        self.over = room < per_path * self.min_paths as f64;
+        let wanted =
+            (room.max(0.0) / per_path).clamp(self.paths as f64 / MAX_STEP_FACTOR, self.paths as f64 * MAX_STEP_FACTOR);
+        // Stay on the current step while the estimate is within ¾ of a step either side of it.
+        let steps = (wanted / self.paths as f64).log2() * STEPS_PER_DOUBLING;
+        if steps.abs() > 0.75 {
+            self.paths = on_ladder(wanted, self.min_paths, self.max_paths);
+        }
+        self.paths
+    }
+}
+
+impl FrameBudget {
+    /// Forgets what the frames before measured: the render size changed, and with it the
+    /// fixed part and the cost of a path's gather. The paths stay.
+    pub fn forget(&mut self) {
+        self.estimates.clear();
+        self.split = None;
+        self.over = false;
+        self.measured = 0;
+    }
+
+    /// The factor (along each axis) by which the estimates advise scaling the render size,
+    /// dynamic resolution's (1: keep it), once `RESOLUTION_FRAMES` frames have been measured
+    /// since the last change of size. Where the fewest paths miss the target: down by as many
+    /// `RESOLUTION_STEP`s as bring the fixed part, taken to follow the pixels, within 90% of
+    /// the room they leave (at most `MAX_RESOLUTION_STEPS` at once). Where the frame, its fixed part grown by a
+    /// step's pixels, would take at most 80% of the target at twice the fewest paths: up one
+    /// step. The two cannot alternate: a step down leaves a fixed part that a step up would
+    /// grow back past the target.
+    pub fn resolution_factor(&self) -> f64 {
+        if self.measured < RESOLUTION_FRAMES {
+            return 1.0;
+        }
+        let least = self.per_path_ms * self.min_paths as f64;
+        let pixels_step = RESOLUTION_STEP * RESOLUTION_STEP;
+        if self.over {
+            let room = 0.9 * self.target_ms - least;
+            let steps =
+                if room > 0.0 { ((room / self.fixed_ms).ln() / pixels_step.ln()).ceil() } else { MAX_RESOLUTION_STEPS };
+            RESOLUTION_STEP.powf(steps.clamp(1.0, MAX_RESOLUTION_STEPS))
+        } else if self.fixed_ms / pixels_step + 2.0 * least < 0.8 * self.target_ms {
+            1.0 / RESOLUTION_STEP
+        } else {
+            1.0
+        }
+    }
+
+    /// Keeps only the last `SHIFT_FRAMES` estimates when each of them is off the earlier ones'
+    /// average by more than `SHIFT_FACTOR`, all on the same side: the frame's cost changed.
+    fn forget_before_a_shift(&mut self) {
+        let n = self.estimates.len();
+        if n < 2 * SHIFT_FRAMES {
+            return;
+        }
+        let before = trimmed_mean(self.estimates.iter().take(n - SHIFT_FRAMES).map(|e| e.1));
+        let recent: Vec<f64> = self.estimates.iter().skip(n - SHIFT_FRAMES).map(|e| e.1).collect();
+        let above = recent.iter().all(|c| *c > before * SHIFT_FACTOR);
+        let below = recent.iter().all(|c| *c * SHIFT_FACTOR < before);
+        if above || below {
+            self.estimates.drain(..n - SHIFT_FRAMES);
+        }
+    }
+}
+
+/// The ladder's step nearest `paths` (1024·2^(k/8), rounded to 64 paths), within the bounds.
+fn on_ladder(paths: f64, min_paths: u32, max_paths: u32) -> u32 {
+    let k = (paths.max(1.0) / 1024.0).log2() * STEPS_PER_DOUBLING;
+    let stepped = 1024.0 * (k.round() / STEPS_PER_DOUBLING).exp2();
+    let rounded = ((stepped / 64.0).round() * 64.0).max(64.0);
+    (rounded.min(u32::MAX as f64) as u32).clamp(min_paths, max_paths)
+}
+
+/// The mean without the highest and the lowest value (from five values on).
+fn trimmed_mean(values: impl Iterator<Item = f64>) -> f64 {
+    let mut v: Vec<f64> = values.collect();
+    v.sort_by(f64::total_cmp);
+    let kept = if v.len() >= 5 { &v[1..v.len() - 1] } else { &v[..] };
+    kept.iter().sum::<f64>() / kept.len().max(1) as f64
+}
+
+/// The share of a frame's time spent in [`PHOTON_GROUPS`]'s passes, from per-pass times
+/// (host times where the passes were submitted alone, else GPU timestamps); `None` without
+/// them.
+pub fn photon_share(timings: &[leakless_graph::PassTiming]) -> Option<f64> {
+    let time = |t: &leakless_graph::PassTiming| t.wall_ms.unwrap_or(t.ms);
+    let total: f64 = timings.iter().map(time).sum();
+    if total.is_nan() || total <= 0.0 {
+        return None;
+    }
+    let photons: f64 = timings.iter().filter(|t| PHOTON_GROUPS.contains(&t.group)).map(time).sum();
+    Some(photons / total)
+}
+
+#[cfg(test)]
+mod tests;

@@ -1,0 +1,230 @@
+use super::*;
+use crate::raygen::SplitMix;
+
+/// A device whose frames take `fixed + per_path·p` ms, times (1 ± `jitter`) uniformly, and
+/// report their photon share only every `timed_every` frames (lavapipe's app times its passes
+/// one frame in 30).
+struct Device {
+    fixed: f64,
+    per_path: f64,
+    jitter: f64,
+    timed_every: u32,
+    rng: SplitMix,
+    frame: u32,
+}
+
+impl Device {
+    fn new(fixed: f64, per_path: f64, jitter: f64) -> Device {
+        Device { fixed, per_path, jitter, timed_every: 1, rng: SplitMix::new(7), frame: 0 }
+    }
+
+    fn frame(&mut self, paths: u32) -> FrameTime {
+        let noise = 1.0 + self.jitter * (2.0 * self.rng.next_f32() as f64 - 1.0);
+        let photons = self.per_path * paths as f64;
+        let ms = (self.fixed + photons) * noise;
+        self.frame += 1;
+        let timed = self.frame % self.timed_every == 0;
+        FrameTime { ms, paths, photon_share: timed.then(|| photons / (self.fixed + photons)) }
+    }
+
+    /// The paths at which a frame takes `target` ms without noise.
+    fn ideal(&self, target: f64) -> f64 {
+        (target - self.fixed) / self.per_path
+    }
+}
+
+/// Runs `frames` budgeted frames; returns each frame's paths and time.
+fn run(budget: &mut FrameBudget, device: &mut Device, frames: usize) -> Vec<(u32, f64)> {
+    (0..frames)
+        .map(|_| {
+            let paths = budget.paths();
+            let t = device.frame(paths);
+            budget.observe(t);
+            (paths, t.ms)
+        })
+        .collect()
+}
+
+fn median_of(v: impl Iterator<Item = f64>) -> f64 {
+    let mut v: Vec<f64> = v.collect();
+    v.sort_by(f64::total_cmp);
+    v[v.len() / 2]
+}
+
+#[test]
+fn it_converges_to_the_target_from_above_and_from_below() {
+    // 150 ms: 40 fixed, 11 µs a path, so 10 000 paths fit.
+    for start in [1024, 2_000, 40_000, 200_000] {
+        let mut device = Device::new(40.0, 0.011, 0.0);
+        let mut budget = FrameBudget::new(150.0, start, MIN_BUDGET_PATHS, 1 << 20);
+        let frames = run(&mut budget, &mut device, 30);
+        let (paths, ms) = frames[frames.len() - 1];
+        let ideal = device.ideal(150.0);
+        assert!((paths as f64 / ideal - 1.0).abs() < 0.05, "from {start}: {paths} paths, ideal {ideal:.0}");
+        assert!((ms / 150.0 - 1.0).abs() < 0.05, "from {start}: {ms:.1} ms");
+        // Within ten frames, even from 100× off.
+        assert!((frames[10].1 / 150.0 - 1.0).abs() < 0.1, "from {start}: frame 10 took {:.1} ms", frames[10].1);
+        assert!(!budget.over_budget());
+    }
+}
+
+#[test]
+fn noisy_times_neither_move_the_paths_much_nor_make_them_oscillate() {
+    // ±20% uniform jitter on every frame, the photon share known one frame in 30.
+    let mut device = Device { timed_every: 30, ..Device::new(30.0, 0.012, 0.2) };
+    let mut budget = FrameBudget::new(150.0, 10_000, MIN_BUDGET_PATHS, 1 << 20);
+    let frames = run(&mut budget, &mut device, 330);
+    let settled = &frames[30..];
+    let paths: Vec<f64> = settled.iter().map(|f| f.0 as f64).collect();
+    let mean = paths.iter().sum::<f64>() / paths.len() as f64;
+    let spread = (paths.iter().map(|p| (p - mean).powi(2)).sum::<f64>() / paths.len() as f64).sqrt() / mean;
+    assert!(spread < 0.06, "paths vary by {:.1}% (mean {mean:.0})", spread * 100.0);
+    // Oscillation: a change undone by the next frame's. Most frames change nothing.
+    let changes = settled.windows(2).filter(|w| w[0].0 != w[1].0).count();
+    let undone = settled
+        .windows(3)
+        .filter(|w| (w[1].0 as i64 - w[0].0 as i64).signum() * (w[2].0 as i64 - w[1].0 as i64).signum() < 0)
+        .count();
+    assert!(changes < settled.len() / 10, "{changes} changes in {} frames", settled.len());
+    assert_eq!(undone, 0, "changes undone at once");
+    let median_ms = median_of(settled.iter().map(|f| f.1));
+    assert!((median_ms / 150.0 - 1.0).abs() < 0.1, "median {median_ms:.1} ms against 150");
+    let ideal = device.ideal(150.0);
+    assert!((mean / ideal - 1.0).abs() < 0.1, "mean {mean:.0} paths, ideal {ideal:.0}");
+}
+
+#[test]
+fn it_recovers_within_a_few_frames_of_a_sudden_change() {
+    let mut device = Device::new(20.0, 0.013, 0.0);
+    let mut budget = FrameBudget::new(150.0, 10_000, MIN_BUDGET_PATHS, 1 << 20);
+    run(&mut budget, &mut device, 20);
+    // The scene becomes twice as costly (a wider view of it, a heavier part)...
+    device.fixed *= 2.0;
+    device.per_path *= 2.0;
+    let frames = run(&mut budget, &mut device, 20);
+    let back = frames.iter().position(|f| (f.1 / 150.0 - 1.0).abs() < 0.1).expect("it recovers");
+    assert!(back <= 5, "back within 10% of the target after {back} frames: {frames:?}");
+    // ... and cheap again.
+    device.fixed /= 2.0;
+    device.per_path /= 2.0;
+    let frames = run(&mut budget, &mut device, 20);
+    let back = frames.iter().position(|f| (f.1 / 150.0 - 1.0).abs() < 0.1).expect("it recovers");
+    assert!(back <= 5, "back within 10% of the target after {back} frames: {frames:?}");
+}
+
+#[test]
+fn a_fixed_part_beyond_the_target_is_reported_and_the_fewest_paths_are_traced() {
+    let mut device = Device::new(200.0, 0.01, 0.0);
+    let mut budget = FrameBudget::new(150.0, 10_000, MIN_BUDGET_PATHS, 1 << 20);
+    run(&mut budget, &mut device, 20);
+    assert_eq!(budget.paths(), MIN_BUDGET_PATHS);
+    assert!(budget.over_budget());
+    // Within reach again: no longer over.
+    device.fixed = 50.0;
+    run(&mut budget, &mut device, 20);
+    assert!(!budget.over_budget());
+    assert!(budget.paths() > MIN_BUDGET_PATHS);
+}
+
+#[test]
+fn the_paths_stay_within_their_bounds_and_on_the_ladder() {
+    let mut device = Device::new(1.0, 1e-6, 0.0);
+    let mut budget = FrameBudget::new(16.7, 10_000, MIN_BUDGET_PATHS, 300_000);
+    run(&mut budget, &mut device, 40);
+    assert_eq!(budget.paths(), 300_000, "capped at the most");
+    assert_eq!(FrameBudget::new(16.7, 5, MIN_BUDGET_PATHS, 300_000).paths(), MIN_BUDGET_PATHS);
+    // Steps 2^(1/8) apart from 1024, rounded to 64 paths: 10 000 sits between 9741 and 10 623.
+    assert_eq!(on_ladder(10_000.0, 1, u32::MAX), 9728);
+    assert_eq!(on_ladder(2048.0, 1, u32::MAX), 2048);
+    // Nonsense times change nothing.
+    let mut budget = FrameBudget::new(150.0, 10_000, MIN_BUDGET_PATHS, 1 << 20);
+    for ms in [f64::NAN, 0.0, -3.0, f64::INFINITY] {
+        assert_eq!(budget.observe(FrameTime { ms, paths: 10_000, photon_share: None }), 9728);
+    }
+}
+
+#[test]
+fn the_photon_share_counts_the_passes_that_follow_the_paths() {
+    let timing = |group: &'static str, ms: f64, wall: Option<f64>| leakless_graph::PassTiming {
+        name: group.into(),
+        group,
+        ms,
+        wall_ms: wall,
+    };
+    let timings = [
+        timing(group::VIEW, 10.0, None),
+        timing(group::PHOTONS, 20.0, None),
+        timing(group::GATHER, 50.0, None),
+        timing(group::REUSE, 20.0, None),
+    ];
+    assert_eq!(photon_share(&timings), Some(0.7));
+    // Host times, where passes were submitted alone, count over the timestamps.
+    let host = [timing(group::SPLAT, 0.0, Some(3.0)), timing(group::DISPLAY, 0.0, Some(1.0))];
+    assert_eq!(photon_share(&host), Some(0.75));
+    assert_eq!(photon_share(&[]), None);
+}
+
+#[test]
+fn a_frame_mostly_fixed_settles_when_its_passes_are_timed_rarely() {
+    // lavapipe's atrium in the app: about 105 ms whatever the paths, 0.75 µs a path, the
+    // passes timed one frame in 30. The share measured at one count of paths must not be
+    // taken for the share at another.
+    // Its first 33 frames take twice as long (as the app's first view of the atrium does).
+    let mut device = Device { timed_every: 30, ..Device::new(225.0, 0.00075, 0.1) };
+    let mut budget = FrameBudget::new(150.0, 10_000, MIN_BUDGET_PATHS, 1 << 20);
+    let mut frames = run(&mut budget, &mut device, 33);
+    device.fixed = 105.0;
+    frames.extend(run(&mut budget, &mut device, 167));
+    let settled = &frames[60..];
+    let ideal = device.ideal(150.0);
+    let undone = settled
+        .windows(3)
+        .filter(|w| (w[1].0 as i64 - w[0].0 as i64).signum() * (w[2].0 as i64 - w[1].0 as i64).signum() < 0)
+        .count();
+    assert!(undone <= 2, "{undone} changes undone at once: {:?}", &frames[..80]);
+    let median_ms = median_of(settled.iter().map(|f| f.1));
+    assert!((median_ms / 150.0 - 1.0).abs() < 0.1, "median {median_ms:.1} ms: {:?}", &frames[..80]);
+    let mean = settled.iter().map(|f| f.0 as f64).sum::<f64>() / settled.len() as f64;
+    assert!((mean / ideal - 1.0).abs() < 0.15, "mean {mean:.0} paths, ideal {ideal:.0}");
+}
+
+#[test]
+fn the_render_size_steps_down_where_the_fewest_paths_miss_and_back_up_with_room() {
+    // The fixed part (the pixels' cost) alone takes 300 ms of a 150 ms budget.
+    let mut device = Device::new(300.0, 0.01, 0.0);
+    let mut budget = FrameBudget::new(150.0, 10_000, MIN_BUDGET_PATHS, 1 << 20);
+    let mut changes = Vec::new();
+    for _ in 0..100 {
+        run(&mut budget, &mut device, 1);
+        let factor = budget.resolution_factor();
+        assert!(factor <= 1.0, "up while over budget");
+        if factor < 1.0 {
+            // The caller renders smaller: the fixed part falls with the pixels.
+            device.fixed *= factor * factor;
+            budget.forget();
+            changes.push(factor);
+        }
+    }
+    assert!(!budget.over_budget());
+    // 300 ms × 0.84^6 = 106 ms, and 10 ms at the fewest paths: three steps, taken at once.
+    assert_eq!(changes.len(), 1, "{changes:?}");
+    assert!((changes[0] - RESOLUTION_STEP.powi(3)).abs() < 1e-12, "{changes:?}");
+    // Cheaper again (a smaller part of the scene in view): back up, step by step, and no
+    // further than fits.
+    device.fixed /= 4.0;
+    let mut ups = 0;
+    for _ in 0..100 {
+        run(&mut budget, &mut device, 1);
+        let factor = budget.resolution_factor();
+        assert!(factor >= 1.0, "no step down after a step up");
+        if factor > 1.0 {
+            assert_eq!(factor, 1.0 / RESOLUTION_STEP, "one step at a time");
+            device.fixed *= factor * factor;
+            budget.forget();
+            ups += 1;
+        }
+    }
+    assert!(ups >= 2, "{ups} steps up");
+    let frames = run(&mut budget, &mut device, 10);
+    assert!(frames.iter().all(|f| (f.1 / 150.0 - 1.0).abs() < 0.1), "{frames:?}");
+}

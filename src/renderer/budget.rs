@@ -1,0 +1,175 @@
+//! The frame-time budget in the renderer (`--frame-ms`): the frames that start an
+//! accumulation (every frame while anything moves) trace the paths [`FrameBudget`] chooses
+//! from the times of the frames before; the batches of a still view's accumulation keep
+//! `--paths`. Off unless the caller sets it (the app does; `render --sequence` with
+//! `--frame-ms`), so a render's images are those of its settings.
+
+use std::time::Instant;
+
+use leakless_graph::{CompletedFrame, Timing};
+
+use super::{Pending, Renderer};
+use crate::error::{RenderError, Result};
+use crate::frame_budget::{photon_share, FrameBudget, FrameTime, MIN_BUDGET_PATHS};
+
+/// The longest budget `--frame-ms` takes: ten seconds a frame is no longer real time.
+pub const MAX_FRAME_MS: f64 = 10_000.0;
+
+/// What the budget did for one frame, in its report (and `--stats`, `sequence.json`).
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+pub struct BudgetReport {
+    /// The target, ms.
+    pub target_ms: f64,
+    /// The frame's time as the budget measured it: GPU timestamps where the device tuning
+    /// trusts them, else host time (see [`Renderer::budget_measure`]).
+    pub measured_ms: f64,
+    /// The paths the frame traced, and those the next budgeted frame will.
+    pub paths: u32,
+    pub next_paths: u32,
+    /// Even the fewest paths miss the target: the frame's fixed part alone takes it.
+    pub over_budget: bool,
+    /// The factor along each axis by which the budget advises scaling the render size (1:
+    /// keep it; [`FrameBudget::resolution_factor`]).
+    pub resolution_factor: f64,
+}
+
+/// Who picks the paths of an accumulation's first frame.
+enum FirstPaths {
+    /// The frame budget, from the frames before.
+    Budget(FrameBudget),
+    /// A fixed count (`render --first-frame-paths`: what a capture of the app records).
+    Fixed(u32),
+}
+
+pub(super) struct BudgetState {
+    choice: FirstPaths,
+    /// The paths of the frame that started the current accumulation: its later batches'
+    /// paths follow them, so no path index is traced twice.
+    pub first_paths: u32,
+    /// When the host last saw a frame complete.
+    last_completion: Option<Instant>,
+}
+
+impl Renderer {
+    /// Holds moving frames to `target_ms` each by the light paths they trace (`None`: every
+    /// frame traces `--paths`). Starts from `--paths`.
+    pub fn set_frame_budget(&mut self, target_ms: Option<f64>) -> Result<()> {
+        self.budget = match target_ms {
+            None => None,
+            Some(t) if !(t.is_finite() && t > 0.0 && t <= MAX_FRAME_MS) => {
+                return Err(RenderError::Settings(format!("--frame-ms {t} must be within (0, {MAX_FRAME_MS}]")));
+            }
+            Some(t) => {
+                let most = crate::limits::max_frame_paths(&self.gpu.report().limits, self.settings.max_bounces);
+                let most = most.min(u32::MAX as u64) as u32;
+                let controller = FrameBudget::new(t, self.settings.splat.paths, MIN_BUDGET_PATHS, most);
+                let choice = FirstPaths::Budget(controller);
+                Some(BudgetState { choice, first_paths: self.settings.splat.paths, last_completion: None })
+            }
+        };
+        Ok(())
+    }
+
+    /// Every accumulation's first frame traces `paths` light paths, its later batches
+    /// `--paths` each: the frames of an app whose budget chose `paths` (its captures record
+    /// it). Replaces a budget.
+    pub fn set_first_frame_paths(&mut self, paths: u32) -> Result<()> {
+        let most = crate::limits::max_frame_paths(&self.gpu.report().limits, self.settings.max_bounces);
+        if paths == 0 || paths as u64 > most {
+            return Err(RenderError::Settings(format!(
+                "--first-frame-paths {paths} must be within [1, {most}] on this device"
+            )));
+        }
+        self.budget = Some(BudgetState { choice: FirstPaths::Fixed(paths), first_paths: paths, last_completion: None });
+        Ok(())
+    }
+
+    /// The render size changed: the budget's estimates no longer hold.
+    pub(super) fn forget_budget_estimates(&mut self) {
+        if let Some(BudgetState { choice: FirstPaths::Budget(b), .. }) = &mut self.budget {
+            b.forget();
+        }
+    }
+
+    /// The budget, when one is set.
+    pub fn frame_budget(&self) -> Option<&FrameBudget> {
+        match &self.budget.as_ref()?.choice {
+            FirstPaths::Budget(b) => Some(b),
+            FirstPaths::Fixed(_) => None,
+        }
+    }
+
+    /// The paths of the current accumulation's first frame, where a budget (or
+    /// `set_first_frame_paths`) chose them.
+    pub fn first_frame_paths(&self) -> Option<u32> {
+        self.budget.as_ref().map(|b| b.first_paths)
+    }
+
+    /// The paths of a frame whose first batch is `first_batch`, of `frame_batches`: the
+    /// budget's for a frame that starts an accumulation, else `None` (`--paths` a batch).
+    pub(super) fn budget_paths(&mut self, first_batch: u32, frame_batches: u32) -> Option<u32> {
+        let budget = self.budget.as_mut()?;
+        if first_batch == 0 && frame_batches == 1 {
+            budget.first_paths = match &budget.choice {
+                FirstPaths::Budget(b) => b.paths(),
+                FirstPaths::Fixed(p) => *p,
+            };
+            Some(budget.first_paths)
+        } else {
+            None
+        }
+    }
+
+    /// The first path index of batch `first_batch` (of `batch_paths` paths) of the current
+    /// accumulation: after the first batch's paths, which the budget may have chosen.
+    pub(super) fn path_offset(&self, first_batch: u32, batch_paths: u32) -> u32 {
+        match (&self.budget, first_batch) {
+            (_, 0) => 0,
+            (Some(b), i) => b.first_paths.wrapping_add((i - 1).wrapping_mul(batch_paths)),
+            (None, i) => i.wrapping_mul(batch_paths),
+        }
+    }
+
+    /// A budgeted frame completed: its time goes to the budget, which picks the next frame's
+    /// paths. `None` for a frame the budget did not choose.
+    pub(super) fn observe_budget(&mut self, pending: &Pending, done: &CompletedFrame) -> Option<BudgetReport> {
+        let now = Instant::now();
+        let measured_ms = self.budget_measure(pending, done, now);
+        let budget = self.budget.as_mut()?;
+        budget.last_completion = Some(now);
+        let paths = pending.budget_paths?;
+        // A frame of another render size (in flight when it changed) says nothing of this one.
+        if pending.size != (self.settings.width, self.settings.height) {
+            return None;
+        }
+        let FirstPaths::Budget(controller) = &mut budget.choice else { return None };
+        // Timestamps measure passes only where the tuning trusts them; host times always.
+        let timed =
+            self.pipelines.tuning().timing == Timing::Timestamps || done.timings.iter().any(|t| t.wall_ms.is_some());
+        let share = if timed { photon_share(&done.timings) } else { None };
+        let frame = FrameTime { ms: measured_ms, paths, photon_share: share };
+        let next_paths = controller.observe(frame);
+        Some(BudgetReport {
+            target_ms: controller.target_ms(),
+            measured_ms,
+            paths,
+            next_paths,
+            over_budget: controller.over_budget(),
+            resolution_factor: controller.resolution_factor(),
+        })
+    }
+
+    /// A frame's time: its GPU span where the device tuning times passes by timestamps (a
+    /// GPU); on a device whose timestamps do not bracket the work (lavapipe), host time: the
+    /// shorter of its submission-to-completion time (which includes waiting for the frame
+    /// before it, when two are in flight) and the time since the host last saw a frame
+    /// complete (which includes the host's own gaps, when frames run one at a time).
+    fn budget_measure(&self, pending: &Pending, done: &CompletedFrame, now: Instant) -> f64 {
+        if self.tuning().timing == Timing::Timestamps {
+            return done.span_ms;
+        }
+        let since_submit = (now - pending.started).as_secs_f64() * 1e3;
+        let since_last = self.budget.as_ref().and_then(|b| b.last_completion).map(|t| (now - t).as_secs_f64() * 1e3);
+        since_last.map_or(since_submit, |l| l.min(since_submit))
+    }
+}
