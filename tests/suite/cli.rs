@@ -228,8 +228,9 @@ fn info_reports_the_device() {
 }
 
 /// `render --sequence` writes every frame's EXR and PNG, and sequence.json with each frame's
-/// index, time, camera and frame_ms, the door shutting in its last frame; a range that runs
-/// backwards, and `--frames` with a sequence, are refused.
+/// index, time, camera and frame_ms, the door shutting in its last frame; with `--frame-ms`,
+/// each frame's paths, time and target; a range that runs backwards, `--frames` with a
+/// sequence, and `--frame-ms` without one or out of range, are refused.
 #[test]
 fn a_sequence_writes_its_frames_and_their_times() {
     if common::gpu().is_none() {
@@ -263,6 +264,29 @@ fn a_sequence_writes_its_frames_and_their_times() {
     assert_eq!(json["reuse"].as_bool(), Some(true));
     let shut = leakless::output::exr::read(&dir.join("0002.exr")).expect("the last frame");
     assert!(shut.channel("R").unwrap().iter().all(|&v| v == 0.0), "the shut door's frame is not black");
+
+    // With a frame budget, each frame that starts an accumulation records the paths the budget
+    // chose, its time and its target.
+    let budgeted = common::tmp_path("cli-sequence-budget");
+    let mut args = base.to_vec();
+    args[7] = budgeted.to_str().unwrap();
+    let out = leakless(&[&args[..], &["--sequence", "1.9:2:20", "--frame-ms", "40"]].concat(), &[]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(budgeted.join("sequence.json")).expect("sequence.json")).unwrap();
+    let frames = json["frames"].as_array().expect("frames");
+    assert!(frames[0].get("budget").is_some(), "the first frame starts an accumulation: {}", frames[0]);
+    for f in frames.iter().filter(|f| f.get("budget").is_some()) {
+        let b = &f["budget"];
+        assert_eq!(b["target_ms"].as_f64(), Some(40.0), "{f}");
+        assert!(b["measured_ms"].as_f64().unwrap() > 0.0, "{f}");
+        assert_eq!(b["paths"], f["paths"], "{f}");
+        assert!(f["radius"].as_f64().unwrap() > 0.0, "{f}");
+    }
+    let out = leakless(&[&base[..], &["--frame-ms", "40"]].concat(), &[]);
+    assert_one_line_error(&out, "--frame-ms budgets the frames of a --sequence");
+    let out = leakless(&[&base[..], &["--sequence", "1.9:2:20", "--frame-ms", "0"]].concat(), &[]);
+    assert_one_line_error(&out, "--frame-ms 0 must be within");
 
     let out = leakless(&[&base[..], &["--sequence", "2:1:30"]].concat(), &[]);
     assert!(!out.status.success() && String::from_utf8_lossy(&out.stderr).contains("before the start"));

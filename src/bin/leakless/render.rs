@@ -35,6 +35,16 @@ pub struct RenderArgs {
     /// bracket compute work; timestamps on GPUs).
     #[arg(long, default_value = "auto", value_parser = ["auto", "timestamps", "per-pass"])]
     timing: String,
+    /// With `--sequence`: a frame-time budget of T ms. Each frame that starts an accumulation
+    /// (every frame while anything moves) traces the light paths that keep it within T, chosen
+    /// from the frames before, as the app does; `sequence.json` records them per frame.
+    /// Without it every frame traces `--paths`.
+    #[arg(long, value_name = "T")]
+    frame_ms: Option<f64>,
+    /// The light paths of an accumulation's first frame, its later batches tracing `--paths`
+    /// each: what a capture of the app records when its frame budget chose them.
+    #[arg(long, value_name = "N")]
+    first_frame_paths: Option<u32>,
 }
 
 /// The size `render` renders at without `--size`.
@@ -52,6 +62,13 @@ pub fn run(args: RenderArgs) -> anyhow::Result<()> {
         "timestamps" => Timing::Timestamps,
         _ => renderer.tuning().timing,
     });
+    if let Some(paths) = args.first_frame_paths {
+        renderer.set_first_frame_paths(paths)?;
+    }
+    if args.frame_ms.is_some() && args.sequence.is_none() {
+        anyhow::bail!("--frame-ms budgets the frames of a --sequence (or of the app, `leakless view`)");
+    }
+    renderer.set_frame_budget(args.frame_ms)?;
     if let Some(sequence) = args.sequence {
         let dir = args.out.unwrap_or_else(|| PathBuf::from(&scene.name));
         if matches!(args.png, Some(Some(_))) {

@@ -64,6 +64,15 @@ struct FrameEntry {
     time: f32,
     camera: CameraEntry,
     frame_ms: f64,
+    /// The photon methods: the frame's light paths and gather radius.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    paths: Option<u32>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    radius: Option<f32>,
+    /// With `--frame-ms`, for a frame whose paths the budget chose: its target, its time as
+    /// the budget measured it, and the next frame's paths.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    budget: Option<leakless::renderer::BudgetReport>,
 }
 
 #[derive(Serialize)]
@@ -123,6 +132,9 @@ pub fn run(
                 yfov_degrees: c.yfov.to_degrees(),
             },
             frame_ms: frame.wall_ms,
+            paths: frame.splat.as_ref().map(|s| s.paths),
+            radius: frame.splat.as_ref().map(|s| s.radius),
+            budget: renderer.last_report().and_then(|r| r.budget),
         });
         // The stats are the last frame's, with the times of the whole run.
         whole_run = Some(match whole_run {

@@ -5,8 +5,9 @@ use leakless::Method;
 
 use super::Running;
 
-/// A still view's frames grow only while they stay within this (fit_batches): 10 frames a
-/// second keeps keys and the mouse answered at once.
+/// A still view's frames grow only while they stay within this (fit_batches) when no frame
+/// budget is set (`--frame-ms off`): 10 frames a second keeps keys and the mouse answered at
+/// once. With a budget, its target.
 const STILL_FRAME_BUDGET_MS: f64 = 100.0;
 /// Frames before one is taken to measure the time of a batch.
 const WARM_UP_FRAMES: u64 = 4;
@@ -23,7 +24,8 @@ fn interval_is_typical(tick: u64, profile_every: u64) -> bool {
 
 impl Running {
     /// How many batches (of photon paths, or of reference samples) a still view's frames may
-    /// grow to, so that a frame stays within `STILL_FRAME_BUDGET_MS` and the app answers a key
+    /// grow to, so that a frame stays within the frame budget (`STILL_FRAME_BUDGET_MS` without
+    /// one) and the app answers a key
     /// at once. A frame of B batches is taken to cost B times the last frame's time per batch
     /// (an upper bound: the view samples' work is shared), with that time grown as the
     /// photon–sample pairs grow up to the accumulation's largest radius
@@ -46,7 +48,14 @@ impl Running {
         let fit = match measured {
             Some(last) => {
                 self.batches_fitted = true;
-                batches_within_budget(self.frame_ms, last.frame_batches, self.radius_growth(last), self.batch_limit)
+                let budget = self.renderer.frame_budget().map_or(STILL_FRAME_BUDGET_MS, |b| b.target_ms());
+                // A moving frame's paths are the budget's: a still batch's cost scales to --paths.
+                let paths = last
+                    .splat
+                    .as_ref()
+                    .map_or(1.0, |sp| s.splat.paths as f64 * last.frame_batches as f64 / sp.paths.max(1) as f64);
+                let growth = self.radius_growth(last) * paths;
+                batches_within_budget(budget, self.frame_ms, last.frame_batches, growth, self.batch_limit)
             }
             None if fresh => {
                 // Refit once a frame of this method has been measured (after a switch, none has).
@@ -88,16 +97,16 @@ fn pair_growth(measured: f32, single: f32) -> f64 {
     (largest / measured as f64).powi(2).max(1.0)
 }
 
-/// Batches a still frame may hold: as many as fit `STILL_FRAME_BUDGET_MS` at `frame_ms` for
-/// a frame of `frame_batches`, each batch grown by `growth`; from 1 to `limit`.
-fn batches_within_budget(frame_ms: f64, frame_batches: u32, growth: f64, limit: u32) -> u32 {
+/// Batches a still frame may hold: as many as fit `budget_ms` at `frame_ms` for a frame of
+/// `frame_batches`, each batch grown by `growth`; from 1 to `limit`.
+fn batches_within_budget(budget_ms: f64, frame_ms: f64, frame_batches: u32, growth: f64, limit: u32) -> u32 {
     let per_batch = frame_ms / frame_batches.max(1) as f64 * growth;
-    (STILL_FRAME_BUDGET_MS / per_batch).floor().clamp(1.0, limit as f64) as u32
+    (budget_ms / per_batch).floor().clamp(1.0, limit as f64) as u32
 }
 
 #[cfg(test)]
 mod tests {
-    use super::{batches_within_budget, interval_is_typical, pair_growth};
+    use super::{batches_within_budget, interval_is_typical, pair_growth, STILL_FRAME_BUDGET_MS};
     use leakless::splatting::{progressive_radius, ACCUMULATION_RADIUS_SCALE, PPM_ALPHA};
 
     #[test]
@@ -113,11 +122,11 @@ mod tests {
         assert_eq!(pair_growth(0.0, 0.5), 1.0, "no radius measured");
         // 9 ms a batch at the single frame's radius: 30 ms at the largest, 3 in 100 ms, where
         // the unscaled time would have allowed 11.
-        assert_eq!(batches_within_budget(18.0, 2, moving, 64), 3);
-        assert_eq!(batches_within_budget(18.0, 2, 1.0, 64), 11);
+        assert_eq!(batches_within_budget(STILL_FRAME_BUDGET_MS, 18.0, 2, moving, 64), 3);
+        assert_eq!(batches_within_budget(STILL_FRAME_BUDGET_MS, 18.0, 2, 1.0, 64), 11);
         // At least one batch, at most the limit.
-        assert_eq!(batches_within_budget(500.0, 1, moving, 64), 1);
-        assert_eq!(batches_within_budget(0.5, 1, 1.0, 8), 8);
+        assert_eq!(batches_within_budget(STILL_FRAME_BUDGET_MS, 500.0, 1, moving, 64), 1);
+        assert_eq!(batches_within_budget(STILL_FRAME_BUDGET_MS, 0.5, 1, 1.0, 8), 8);
     }
 
     #[test]

@@ -38,7 +38,8 @@ pub fn capture(r: &mut Running, scene: &Scene, exr: &Path) -> anyhow::Result<Opt
     let frame = r.renderer.capture_frame().context("capturing")?;
     let light = r.light_moved.then(|| r.renderer.lights()[0].position);
     let view = View { camera: r.camera.spec(), light, time: r.renderer.time(), progressive: r.renderer.accumulating() };
-    let command = command(r.renderer.settings(), r.renderer.backend(), scene, &frame, view, exr);
+    let first_paths = r.renderer.first_frame_paths();
+    let command = command(r.renderer.settings(), r.renderer.backend(), scene, &frame, view, first_paths, exr);
     let paths = OutputPaths {
         exr: exr.to_path_buf(),
         png: Some(exr.with_extension("png")),
@@ -80,6 +81,7 @@ fn command(
     scene: &Scene,
     frame: &leakless::RenderedFrame,
     view: View,
+    first_paths: Option<u32>,
     exr: &Path,
 ) -> String {
     let View { camera, light, time, progressive } = view;
@@ -94,7 +96,14 @@ fn command(
         format!("--seed {}", frame.seed),
     ];
     if s.method.splats() {
-        c.push(format!("--paths {}", s.splat.paths));
+        // The frame budget chose the paths of the accumulation's first frame.
+        match first_paths.filter(|p| *p != s.splat.paths) {
+            Some(first) if progressive && frame.accumulated > 1 => {
+                c.push(format!("--paths {} --first-frame-paths {first}", s.splat.paths));
+            }
+            Some(first) => c.push(format!("--paths {first}")),
+            None => c.push(format!("--paths {}", s.splat.paths)),
+        }
         if let Some(r) = s.splat.radius {
             c.push(format!("--radius {r}"));
         }

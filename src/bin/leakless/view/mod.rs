@@ -53,6 +53,37 @@ pub struct ViewArgs {
     /// GPUs). `--size` is the rendered size; the window is `--size` / this.
     #[arg(long)]
     render_scale: Option<f32>,
+    /// Frame-time budget in ms, or `off`: while anything moves, each frame traces the light
+    /// paths that keep it within T (a still view's frames grow their batches within T).
+    /// Default: the device tuning's (16.7 on GPUs, 150 on CPU devices; `leakless info`).
+    #[arg(long, value_name = "T|off", value_parser = parse_frame_ms)]
+    frame_ms: Option<FrameMs>,
+    /// With a frame budget: where even the fewest light paths miss it, render fewer pixels
+    /// (each step about 30% fewer, down to a sixteenth), and more again once there is room.
+    #[arg(long, default_value = "on", value_parser = ["on", "off"])]
+    dynamic_resolution: String,
+}
+
+/// The smallest share of the render scale dynamic resolution goes down to, along each axis.
+const MIN_DYNAMIC_SCALE: f32 = 0.25;
+
+/// `--frame-ms`: a budget, or none.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum FrameMs {
+    Off,
+    Target(f64),
+}
+
+pub fn parse_frame_ms(s: &str) -> Result<FrameMs, String> {
+    if s == "off" {
+        return Ok(FrameMs::Off);
+    }
+    let t: f64 = s.trim().parse().map_err(|_| format!("{s:?} is neither a time in ms nor `off`"))?;
+    let most = leakless::renderer::MAX_FRAME_MS;
+    if !(t.is_finite() && t > 0.0 && t <= most) {
+        return Err(format!("{s}: the frame budget must be within (0, {most}] ms"));
+    }
+    Ok(FrameMs::Target(t))
 }
 
 /// The window size showing a `size` render at `scale`.
@@ -122,6 +153,10 @@ struct Running {
     /// The window's size (the swapchain's), and rendered pixels per window pixel.
     size: (u32, u32),
     render_scale: f32,
+    /// Dynamic resolution's share of `render_scale` along each axis (1: none), and whether it
+    /// may change (`--dynamic-resolution`).
+    dynamic_scale: f32,
+    dynamic_resolution: bool,
     minimized: bool,
     recreate: bool,
     /// Loop iterations so far (script frame numbers).
@@ -149,6 +184,8 @@ struct Running {
     refusal: Option<String>,
     /// Per-pass times of the newest frame that measured them (see `profile_every`).
     timings: Option<Vec<leakless_graph::PassTiming>>,
+    /// What the frame budget did for the newest frame whose paths it chose.
+    budget: Option<leakless::renderer::BudgetReport>,
     quit: bool,
 }
 
@@ -195,6 +232,11 @@ impl App {
         let settings = RenderSettings { spp: 1, ..options.settings(render_size) };
         let mut renderer = Renderer::new(gpu, &self.scene, settings).context("setting up the renderer")?;
         options.apply_view(&mut renderer, &self.scene)?;
+        renderer.set_frame_budget(match self.args.frame_ms {
+            Some(FrameMs::Off) => None,
+            Some(FrameMs::Target(t)) => Some(t),
+            None => Some(tuning.frame_ms),
+        })?;
         // Frames accumulate while nothing changes (P freezes the photons instead).
         renderer.set_advance_seed(true);
         renderer.set_progressive(true);
@@ -222,6 +264,8 @@ impl App {
             drag: (0.0, 0.0),
             size,
             render_scale,
+            dynamic_scale: 1.0,
+            dynamic_resolution: self.args.dynamic_resolution == "on",
             minimized: false,
             recreate: true,
             frame: 0,
@@ -238,6 +282,7 @@ impl App {
             profile_every: tuning.view_profile_every as u64,
             refusal: None,
             timings: None,
+            budget: None,
             quit: false,
         })
     }

@@ -39,6 +39,10 @@ pub struct PanelInfo<'a> {
     pub playing: bool,
     /// Host time of the last instance update (transforms, vertices, top level).
     pub pose_update_ms: f64,
+    /// What the frame budget did for the newest frame whose paths it chose.
+    pub budget: Option<&'a leakless::renderer::BudgetReport>,
+    /// Dynamic resolution's share of the render scale along each axis (1: none).
+    pub dynamic_scale: f32,
 }
 
 /// The sliders' values; the app applies what changed.
@@ -113,6 +117,25 @@ fn contents(ui: &mut egui::Ui, info: &PanelInfo<'_>, sliders: &mut Sliders) {
         flags.push("playing");
     }
     ui.label(format!("{:.1} ms/frame, {:.1} fps   {}", info.frame_ms, fps, flags.join(", ")));
+    if let Some(b) = info.budget {
+        let radius =
+            info.report.and_then(|r| r.splat.as_ref()).map_or(String::new(), |s| format!(", radius {:.4}", s.radius));
+        ui.label(format!(
+            "budget {:.1} ms: moving frame {:.1} ms with {} paths{radius}; next {} paths",
+            b.target_ms, b.measured_ms, b.paths, b.next_paths
+        ));
+        if info.dynamic_scale < 1.0 {
+            ui.label(format!("dynamic resolution: {:.0}% of the render scale", 100.0 * info.dynamic_scale));
+        }
+        if b.over_budget {
+            let text = format!(
+                "over budget: even {} paths miss {:.1} ms",
+                leakless::frame_budget::MIN_BUDGET_PATHS,
+                b.target_ms
+            );
+            ui.label(RichText::new(text).color(Color32::from_rgb(255, 170, 60)));
+        }
+    }
     if let Some(why) = info.refusal {
         ui.label(RichText::new(format!("not applied: {why}")).color(Color32::from_rgb(255, 170, 60)));
     }

@@ -1,5 +1,7 @@
 //! The line the app prints on exit: frames, frame times, and resident memory (peak, at frame
-//! 100, at the last frame), which the soak test reads to catch leaks.
+//! 100, at the last frame), which the soak test reads to catch leaks; and, while anything
+//! moved, the moving frames' times (the interval between them, and the frame budget's own
+//! measure), median and 95th percentile.
 
 use std::time::Instant;
 
@@ -24,16 +26,24 @@ pub struct Summary {
     rss_at_100: Option<u64>,
     /// At the last frame shown (before the window and device are torn down).
     rss_last: Option<u64>,
+    /// Host intervals ending at a frame that started an accumulation (a moving frame).
+    moving_ms: Vec<f64>,
+    /// The frame budget's measure of the frames whose paths it chose.
+    budgeted_ms: Vec<f64>,
 }
 
 impl Summary {
-    /// Counts a frame that was shown (the time since the previous one).
-    pub fn frame(&mut self) {
+    /// Counts a frame that was shown (the time since the previous one); `moving`: it started
+    /// an accumulation.
+    pub fn frame(&mut self, moving: bool) {
         let now = Instant::now();
         if let Some(last) = self.last {
             let ms = (now - last).as_secs_f64() * 1e3;
             self.total_ms += ms;
             self.max_ms = self.max_ms.max(ms);
+            if moving {
+                self.moving_ms.push(ms);
+            }
         }
         self.last = Some(now);
         self.frames += 1;
@@ -41,6 +51,11 @@ impl Summary {
         if self.frames == 100 {
             self.rss_at_100 = self.rss_last;
         }
+    }
+
+    /// A budgeted frame completed, taking `ms` by the budget's measure.
+    pub fn budgeted(&mut self, ms: f64) {
+        self.budgeted_ms.push(ms);
     }
 
     pub fn frames(&self) -> u64 {
@@ -67,6 +82,18 @@ impl Summary {
             mib(peak),
             mib(self.rss_at_100),
             mib(self.rss_last)
-        )
+        ) + &moving_line("moving frames", &self.moving_ms)
+            + &moving_line("budgeted frames (the budget's measure)", &self.budgeted_ms)
     }
+}
+
+/// "; NAME N: median X ms, p95 Y ms" (the 95th percentile by the nearest rank), or nothing.
+fn moving_line(name: &str, ms: &[f64]) -> String {
+    if ms.is_empty() {
+        return String::new();
+    }
+    let mut v = ms.to_vec();
+    v.sort_by(f64::total_cmp);
+    let p95 = v[((0.95 * v.len() as f64).ceil() as usize).clamp(1, v.len()) - 1];
+    format!("; {name} {}: median {:.1} ms, p95 {:.1} ms", v.len(), v[v.len() / 2], p95)
 }

@@ -136,7 +136,42 @@ impl Running {
             self.renderer.set_reuse_history_frames(frames.max(2));
         }
         self.last_shown = Some(now);
-        summary.frame();
+        // A frame that started an accumulation (every frame while anything moves) is what the
+        // budget holds to its target.
+        let moving = self.renderer.accumulated() == 1;
+        summary.frame(moving);
+        if let Some(report) = self.renderer.last_report() {
+            if let Some(budget) = report.budget {
+                let new = self.budget.is_none_or(|b| b != budget);
+                self.budget = Some(budget);
+                if new {
+                    summary.budgeted(budget.measured_ms);
+                    self.follow_resolution(budget.resolution_factor as f32)?;
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// Rendered pixels per window pixel: the render scale, times dynamic resolution's share.
+    pub(super) fn scale(&self) -> f32 {
+        self.render_scale * self.dynamic_scale
+    }
+
+    /// Dynamic resolution: the render size scaled by `factor` as the frame budget advises,
+    /// within [`MIN_DYNAMIC_SCALE`](super::MIN_DYNAMIC_SCALE), 1] of the render scale (never
+    /// below 1 with `--dynamic-resolution off`).
+    fn follow_resolution(&mut self, factor: f32) -> anyhow::Result<()> {
+        if factor == 1.0 || (factor < 1.0 && !self.dynamic_resolution) {
+            return Ok(());
+        }
+        let wanted = (self.dynamic_scale * factor).clamp(super::MIN_DYNAMIC_SCALE, 1.0);
+        if wanted == self.dynamic_scale || self.swapchain.is_none() {
+            return Ok(());
+        }
+        self.dynamic_scale = wanted;
+        let renderer = &mut self.renderer;
+        refusal::fit_render_size(self.size, self.render_scale * wanted, |w, h| renderer.set_size(w, h))?;
         Ok(())
     }
 
@@ -165,9 +200,9 @@ impl Running {
             self.minimized = true;
             return Ok(());
         }
+        let scale = self.scale();
         let renderer = &mut self.renderer;
-        let (size, why) =
-            refusal::fit_render_size((e.width, e.height), self.render_scale, |w, h| renderer.set_size(w, h))?;
+        let (size, why) = refusal::fit_render_size((e.width, e.height), scale, |w, h| renderer.set_size(w, h))?;
         // A window size applied is a change made: it clears an earlier refusal, as keys do.
         let why = why.map(|why| format!("render size held to {}×{} ({why})", size.0, size.1));
         if why.is_some() && why != self.refusal {
@@ -237,6 +272,8 @@ impl Running {
             light_moved: self.light_moved,
             playing: self.playing && scene.is_animated(),
             pose_update_ms: r.pose_update_ms(),
+            budget: self.budget.as_ref(),
+            dynamic_scale: self.dynamic_scale,
         };
         let mut help = self.show_help;
         self.overlay.run(&self.window, self.frame, |ctx| panel::show(ctx, &info, &mut sliders, &mut help))?;
