@@ -121,6 +121,12 @@ impl FrameBudget {
         self.over
     }
 
+    /// What a frame of the fewest paths takes by the estimates (the mean of the last frames,
+    /// not any one of them): what `over_budget` compares with the target.
+    pub fn fewest_paths_ms(&self) -> f64 {
+        self.fixed_ms + self.per_path_ms * self.min_paths as f64
+    }
+
     /// Takes a budgeted frame's measured time; returns the paths of the next.
     pub fn observe(&mut self, frame: FrameTime) -> u32 {
         if !(frame.ms.is_finite() && frame.ms > 0.0 && frame.paths > 0) {
@@ -162,10 +168,12 @@ impl FrameBudget {
 
 impl FrameBudget {
     /// Forgets what the frames before measured: the render size changed, and with it the
-    /// fixed part and the cost of a path's gather. The paths stay.
+    /// fixed part and the cost of a path's gather. The paths stay, and so does the last timed
+    /// split's share of the frame, which follows the pixels in both parts: without it the next
+    /// frames would be split by the starting guess, and a fixed part taken as a fifth of the
+    /// frame would call for a larger size at once.
     pub fn forget(&mut self) {
         self.estimates.clear();
-        self.split = None;
         self.over = false;
         self.measured = 0;
     }

@@ -119,6 +119,8 @@ fn a_fixed_part_beyond_the_target_is_reported_and_the_fewest_paths_are_traced() 
     run(&mut budget, &mut device, 20);
     assert_eq!(budget.paths(), MIN_BUDGET_PATHS);
     assert!(budget.over_budget());
+    let fewest = 200.0 + 0.01 * MIN_BUDGET_PATHS as f64;
+    assert!((budget.fewest_paths_ms() / fewest - 1.0).abs() < 0.01, "{} ms", budget.fewest_paths_ms());
     // Within reach again: no longer over.
     device.fixed = 50.0;
     run(&mut budget, &mut device, 20);

@@ -28,6 +28,8 @@ pub struct BudgetReport {
     pub next_paths: u32,
     /// Even the fewest paths miss the target: the frame's fixed part alone takes it.
     pub over_budget: bool,
+    /// What a frame of the fewest paths takes by the budget's estimate (the last frames' mean).
+    pub fewest_paths_ms: f64,
     /// The factor along each axis by which the budget advises scaling the render size (1:
     /// keep it; [`FrameBudget::resolution_factor`]).
     pub resolution_factor: f64,
@@ -155,6 +157,7 @@ impl Renderer {
             paths,
             next_paths,
             over_budget: controller.over_budget(),
+            fewest_paths_ms: controller.fewest_paths_ms(),
             resolution_factor: controller.resolution_factor(),
         })
     }

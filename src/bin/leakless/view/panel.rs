@@ -125,12 +125,17 @@ fn contents(ui: &mut egui::Ui, info: &PanelInfo<'_>, sliders: &mut Sliders) {
             b.target_ms, b.measured_ms, b.paths, b.next_paths
         ));
         if info.dynamic_scale < 1.0 {
-            ui.label(format!("dynamic resolution: {:.0}% of the render scale", 100.0 * info.dynamic_scale));
+            ui.label(format!(
+                "dynamic resolution: {:.0}% of the render scale along each axis",
+                100.0 * info.dynamic_scale
+            ));
         }
         if b.over_budget {
+            // The estimate, not the last frame: one frame may come in under the target.
             let text = format!(
-                "over budget: even {} paths miss {:.1} ms",
+                "over budget: {} paths take {:.1} ms by the last frames' mean, against {:.1} ms",
                 leakless::frame_budget::MIN_BUDGET_PATHS,
+                b.fewest_paths_ms,
                 b.target_ms
             );
             ui.label(RichText::new(text).color(Color32::from_rgb(255, 170, 60)));
