@@ -104,10 +104,10 @@ pub struct DeviceTuning {
     /// The app times a frame pass by pass (each submitted alone) every this many frames, for
     /// its bars, where timestamps in one submission do not bracket the work (0: never).
     pub view_profile_every: u32,
-    /// The app's frame-time budget without `--frame-ms` (`frame_budget.rs`): 60 frames a
-    /// second on a GPU; on a CPU the time lavapipe takes for a moving frame of the default
-    /// scene at the CPU view size with `--paths`' default, so that the budget keeps what the
-    /// app did before it on the machine it was measured on (docs/results.md, "Frame budget").
+    /// The app's frame-time budget without `--frame-ms` (`frame_budget/`): 60 frames a
+    /// second on a GPU; on a CPU about what lavapipe takes for a moving frame of the default
+    /// scene (the Cornell box) at the CPU view size with `--paths`' default and `--frame-ms
+    /// off` (docs/results.md, "Frame budget").
     pub frame_ms: f64,
 }
 
