@@ -129,6 +129,10 @@ pub const MAX_BATCHES: u32 = 64;
 /// length, so the view still answers input while it converges.
 pub const DEFAULT_MAX_BATCHES: u32 = 8;
 
+/// Most photons a kernel may be asked to hold (`--kernel-photons`): the gather's work per
+/// sample grows with it.
+pub const MAX_KERNEL_PHOTONS: f32 = 4096.0;
+
 /// Largest image side accepted: bounds memory (a 16k² frame of this renderer's layers would
 /// need tens of GiB).
 pub const MAX_SIDE: u32 = 8192;
@@ -154,6 +158,10 @@ impl RenderSettings {
         if self.splat.paths == 0 {
             // Each photon carries the light's power over the paths traced: none would divide by 0.
             return bad("--paths 0: a photon frame must trace at least one light path".into());
+        }
+        let k = self.splat.kernel_photons;
+        if !(k.is_finite() && (1.0..=MAX_KERNEL_PHOTONS).contains(&k)) {
+            return bad(format!("--kernel-photons {k} must be within 1..={MAX_KERNEL_PHOTONS}"));
         }
         if self.splat.cap == Some(0) {
             return bad("--cap 0: a cap must let at least one photon through (omit --cap for the thesis' 25)".into());
@@ -208,7 +216,7 @@ impl RenderSettings {
             }
             Method::Splat | Method::LeakLessCapped | Method::LeakLess => {
                 let p = self.photon_settings().expect("a photon method");
-                let radius = p.radius.map_or("auto".to_string(), |r| r.to_string());
+                let radius = p.radius.map_or(format!("auto kernel_photons={}", p.kernel_photons), |r| r.to_string());
                 let branching = p.branching.map_or("auto".to_string(), |b| b.to_string());
                 s += &format!(
                     " paths={} radius={radius} branching={branching} trivial_accept={} visibility={} max_bounces={} seed={}",

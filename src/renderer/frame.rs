@@ -87,16 +87,20 @@ impl Renderer {
         }
         let seed = self.frame_seed();
         let budget_paths = if render && method.splats() { self.budget_paths(first_batch, frame_batches) } else { None };
-        let splat = if render { self.splat_frame(first_batch, frame_batches, budget_paths, seed)? } else { None };
+        if render && first_batch == 0 {
+            self.start_accumulation_radius();
+        }
+        let mut splat = if render { self.splat_frame(first_batch, frame_batches, budget_paths, seed)? } else { None };
+        if let Some(frame) = splat.as_ref().filter(|f| f.first_batch == 0 && self.needs_kernel_probe()) {
+            self.probe_kernel(&frame.clone())?;
+            self.start_accumulation_radius();
+            splat = self.splat_frame(first_batch, frame_batches, budget_paths, seed)?;
+        }
+        if let Some(frame) = splat.as_ref().filter(|f| f.first_batch == 0) {
+            self.record_first_radius(frame.radius);
+        }
         let jitter = if progressive { pixel_jitter(index) } else { glam::Vec2::ZERO };
-        let frame_constants = Frame {
-            view_proj: self.jittered_view_proj(jitter).to_cols_array_2d(),
-            camera_position: self.camera.position().extend(1.0).to_array(),
-            width: self.settings.width,
-            height: self.settings.height,
-            light_count: self.lights.len() as u32,
-            emitter_count: self.gpu_scene.emitter_table.len() as u32,
-        };
+        let frame_constants = self.frame_constants(jitter);
         let extent = self.extent();
         // Instances moved since the vertex buffer was last written: this frame copies them.
         let place_instances = render && self.gpu_scene.placed_version != self.pose.version;
@@ -123,10 +127,7 @@ impl Renderer {
         if render {
             passes.gbuffer.add(&mut g, &frame, &scene, self.gpu_scene.vertex_count, &mut gbuffer);
         }
-        let layer = |g: &mut Graph<'_>, name| {
-            let usage = ash::vk::ImageUsageFlags::STORAGE | ash::vk::ImageUsageFlags::TRANSFER_SRC;
-            g.image(&leakless_device::ImageDesc { name, extent, format: gbuffer::FORMAT, usage })
-        };
+        let layer = |g: &mut Graph<'_>, name| layer(g, extent, name);
         let mut direct = layer(&mut g, "direct")?;
         let view =
             ViewInputs { frame: &frame, lights: &lights.lights, scene: &scene, trace: &trace, gbuffer: &gbuffer };
@@ -400,8 +401,7 @@ impl Renderer {
         let Some(mut settings) = self.settings.photon_settings() else {
             return Ok(None);
         };
-        let radius = settings.radius.unwrap_or_else(|| splatting::auto_radius(&self.scene));
-        if !(radius.is_finite() && radius > 0.0) {
+        if let Some(radius) = settings.radius.filter(|r| !(r.is_finite() && *r > 0.0)) {
             return Err(crate::RenderError::Settings(format!("--radius {radius} must be a positive number")));
         }
         let tuning = self.pipelines.tuning().clone();
@@ -413,7 +413,7 @@ impl Renderer {
         // The node lists hold a batch's entries per `batch_paths` paths.
         let list_batches = settings.paths.div_ceil(batch_paths.max(1)).max(1);
         Ok(Some(SplatFrame {
-            radius: splatting::progressive_radius(radius, first_batch),
+            radius: self.batch_radius(first_batch, settings.paths),
             path_offset: self.path_offset(first_batch, batch_paths),
             first_batch,
             eye: self.camera.position().to_array(),
@@ -485,6 +485,7 @@ impl Renderer {
             stats
         });
         if let Some(frame) = &pending.splat {
+            self.observe_kernel(frame, &counters.gather);
             if self.settings.splat.list_capacity.is_none() {
                 let max_entries = crate::limits::max_list_entries(&self.gpu.report().limits);
                 if let Some(grown) =
@@ -528,6 +529,26 @@ impl Renderer {
             budget,
         });
         Ok(())
+    }
+}
+
+/// A layer of the frame: one of the storage images the passes write and the readback copies.
+pub(super) fn layer(g: &mut Graph<'_>, extent: ash::vk::Extent2D, name: &'static str) -> Result<ImageHandle> {
+    let usage = ash::vk::ImageUsageFlags::STORAGE | ash::vk::ImageUsageFlags::TRANSFER_SRC;
+    Ok(g.image(&leakless_device::ImageDesc { name, extent, format: gbuffer::FORMAT, usage })?)
+}
+
+impl Renderer {
+    /// The frame's constants: the camera (moved by `jitter` pixels), the size, the lights.
+    pub(super) fn frame_constants(&self, jitter: glam::Vec2) -> Frame {
+        Frame {
+            view_proj: self.jittered_view_proj(jitter).to_cols_array_2d(),
+            camera_position: self.camera.position().extend(1.0).to_array(),
+            width: self.settings.width,
+            height: self.settings.height,
+            light_count: self.lights.len() as u32,
+            emitter_count: self.gpu_scene.emitter_table.len() as u32,
+        }
     }
 }
 

@@ -14,6 +14,7 @@ mod budget;
 mod capture;
 mod controls;
 mod frame;
+mod kernel_radius;
 mod motion;
 mod plan;
 mod readback;
@@ -157,6 +158,8 @@ pub struct Renderer {
     paused: bool,
     /// The frame-time budget, when one is set (`set_frame_budget`).
     budget: Option<budget::BudgetState>,
+    /// The view's photon density, for the radius that follows the photon count.
+    kernel: kernel_radius::KernelState,
     pending: VecDeque<Pending>,
     last: Option<FrameReport>,
     runner: GraphRunner,
@@ -214,6 +217,7 @@ impl Renderer {
             seed_offset: 0,
             paused: false,
             budget: None,
+            kernel: Default::default(),
             pending: VecDeque::new(),
             last: None,
             runner,

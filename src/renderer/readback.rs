@@ -81,6 +81,8 @@ impl Renderer {
         self.wait_idle()?;
         self.restart();
         self.forget_history();
+        // Nor frames to measure the photon density: the first frame's own photons do.
+        self.forget_kernel_density();
         // A reference of several frames renders `spp` samples per frame (`accumulating`).
         let frames = self.settings.frames.max(1);
         let total = if self.settings.method == Method::Reference && frames == 1 { self.settings.spp } else { frames };

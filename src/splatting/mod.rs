@@ -4,15 +4,17 @@
 //! and its counters are copied out with the frame for the stats.
 //!
 //! Its parts: the method's settings (`settings.rs`), the radius schedule (`radius.rs`), the
-//! node lists' capacity (`capacity.rs`) and the stats (`stats.rs`); this file wires a frame's
-//! passes.
+//! radius that follows the photon count (`kernel_radius.rs`), the node lists' capacity
+//! (`capacity.rs`) and the stats (`stats.rs`); this file wires a frame's passes.
 
 mod capacity;
+mod kernel_radius;
 mod radius;
 mod settings;
 mod stats;
 
 pub use capacity::{batches_the_lists_hold, default_list_capacity, grown_batch_capacity, MAX_LIST_CAPACITY};
+pub use kernel_radius::{KernelDensity, DEFAULT_KERNEL_PHOTONS, KERNEL_RADIUS_RANGE};
 pub use radius::{
     auto_radius, frame_batches, largest_gather_radius, partial_radius_exponent, progressive_radius,
     ACCUMULATION_RADIUS_SCALE, MAX_RADIUS_SHARE, MIN_RADIUS_SHARE, PARTIAL_RADIUS_RAMP_BATCHES, PPM_ALPHA,

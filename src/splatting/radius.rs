@@ -2,7 +2,8 @@
 //! accumulation (progressive photon mapping), the partial disks' growth and shrink, and how
 //! many batches each frame of an accumulation traces.
 
-/// The gather radius when `--radius` is not given: 5% of the scene's bounding radius.
+/// The scene's fixed radius, 5% of its bounding radius: the first guess of the count-following
+/// radius ([`super::KernelDensity`]) and the unit of its range.
 pub fn auto_radius(scene: &crate::Scene) -> f32 {
     0.05 * scene.bounds().bounding_radius()
 }

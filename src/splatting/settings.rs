@@ -5,8 +5,11 @@
 pub struct SplatSettings {
     /// Light paths traced per frame.
     pub paths: u32,
-    /// Gather radius in scene units; `None` = 5% of the scene's bounding-sphere radius.
+    /// Gather radius in scene units; `None`: the radius at which a kernel holds about
+    /// `kernel_photons` photons ([`KernelDensity`](super::KernelDensity)).
     pub radius: Option<f32>,
+    /// K, photons a kernel holds where `radius` is `None` (`--kernel-photons`).
+    pub kernel_photons: f32,
     /// Branching factor B of the hierarchy; `None`: the device tuning's
     /// ([`DeviceTuning::branching`](crate::tuning::DeviceTuning::branching)).
     pub branching: Option<u32>,
@@ -50,6 +53,7 @@ impl Default for SplatSettings {
         SplatSettings {
             paths: 10_000,
             radius: None,
+            kernel_photons: super::DEFAULT_KERNEL_PHOTONS,
             branching: None,
             trivial_accept: true,
             list_capacity: None,

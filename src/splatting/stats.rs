@@ -29,6 +29,11 @@ pub struct SplatStats {
     pub candidate_tests: u64,
     /// Of those, within the radius and facing the sample (gathered).
     pub accepted: u64,
+    /// View samples the gather estimated (those on a surface).
+    pub valid_samples: u32,
+    /// Photons a kernel took on average: `accepted` over `valid_samples` (the K that the
+    /// count-following radius aims at).
+    pub photons_per_kernel: f64,
     /// Visibility tests (the gathered photons, when the method traces): rays traced plus those
     /// proven clear without a ray.
     pub visibility_tests: u64,
@@ -71,6 +76,8 @@ impl SplatStats {
             photons_listed: lists.photons_listed,
             candidate_tests: gather.candidates(),
             accepted: gather.accepted(),
+            valid_samples: gather.valid_samples,
+            photons_per_kernel: gather.accepted() as f64 / gather.valid_samples.max(1) as f64,
             visibility_tests: if frame.settings.visibility { gather.accepted() } else { 0 },
             visibility_rays: if frame.settings.visibility { gather.accepted() - gather.proven() } else { 0 },
             proven_clear: gather.proven(),

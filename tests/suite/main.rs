@@ -17,6 +17,7 @@ mod docs;
 mod game_scale;
 mod gpu_report;
 mod identity;
+mod kernel_radius;
 mod leak;
 mod leak_scenes;
 mod motion;

@@ -43,14 +43,17 @@ fn proving_pairs_clear_changes_no_pixel() {
     for backend in common::choices() {
         for path in scenes {
             let scene = common::scene(path);
+            // The scene's fixed radius: the share proven below was measured there (a larger
+            // radius, as few photons ask for, makes longer segments that fewer proofs cover).
+            let radius = Some(leakless::splatting::auto_radius(&scene));
             let mut renderer = Renderer::new(
                 common::gpu_with(backend.wants_ray_queries()).expect("device"),
                 &scene,
-                leakless_settings(backend, None, true),
+                leakless_settings(backend, radius, true),
             )
             .expect("renderer");
             let proven = renderer.render().expect("render with proofs");
-            renderer.set_settings(leakless_settings(backend, None, false)).expect("settings");
+            renderer.set_settings(leakless_settings(backend, radius, false)).expect("settings");
             let traced = renderer.render().expect("render tracing every pair");
             renderer.gpu().check_validation().expect("validation clean");
             let layers =

@@ -34,11 +34,15 @@ pub struct ChartArgs {
     /// Gather radii in scene units, comma-separated [default: 0.5, 1 and 2 × the automatic
     /// radius, 5% of the scene's bounding radius; see --radius-scale]. Series: one radius, the
     /// first frame's [default: the automatic radius].
-    #[arg(long, value_delimiter = ',', conflicts_with = "radius_scale")]
+    #[arg(long, value_delimiter = ',', conflicts_with_all = ["radius_scale", "kernel_photons"])]
     pub(crate) radius: Option<Vec<f32>>,
     /// Gather radii as multiples of the automatic radius, comma-separated [default: 0.5,1,2].
-    #[arg(long, value_delimiter = ',')]
+    #[arg(long, value_delimiter = ',', conflicts_with = "kernel_photons")]
     radius_scale: Option<Vec<f32>>,
+    /// Instead of fixed radii, the radius at which a kernel holds each of these many photons
+    /// (the renderer's default radius), comma-separated: how the default K was chosen.
+    #[arg(long, value_delimiter = ',')]
+    kernel_photons: Option<Vec<f32>>,
     /// Trace backends, comma-separated: rayquery, compute [default: every one the device has].
     /// Series: one backend [default: the device's choice].
     #[arg(long, value_delimiter = ',', value_parser = parse_backend)]
@@ -84,6 +88,7 @@ impl ChartArgs {
             given("--methods", self.methods.is_some())
                 .or(given("--paths", self.paths.is_some()))
                 .or(given("--radius-scale", self.radius_scale.is_some()))
+                .or(given("--kernel-photons", self.kernel_photons.is_some()))
                 .or(given("--dark-fraction", self.dark_fraction.is_some()))
         } else {
             given("--budget", self.budget.is_some())
@@ -138,7 +143,11 @@ pub fn run(args: ChartArgs) -> anyhow::Result<()> {
         methods: args.methods.unwrap_or_else(chart::default_methods),
         radii: match args.radius {
             Some(r) => Radii::Absolute(r),
-            None => args.radius_scale.map_or(defaults.radii, Radii::Auto),
+            None => match (args.radius_scale, args.kernel_photons) {
+                (Some(scales), _) => Radii::Auto(scales),
+                (None, Some(ks)) => Radii::KernelPhotons(ks),
+                (None, None) => defaults.radii,
+            },
         },
         paths: args.paths.unwrap_or(defaults.paths),
         backends: args.backends.unwrap_or_default(),
@@ -234,17 +243,18 @@ fn print_table(c: &chart::SceneChart) {
         println!("frame ms: per-pass wall times of the second frame, summed");
     }
     println!(
-        "{:<16} {:<9} {:>7} {:>8} {:>9} {:>10} {:>10} {:>10} {:>10}",
-        "method", "backend", "paths", "radius", "frame ms", "relMSE", "RMSE", "relMSE dk", "RMSE dk"
+        "{:<16} {:<9} {:>7} {:>8} {:>6} {:>9} {:>10} {:>10} {:>10} {:>10}",
+        "method", "backend", "paths", "radius", "K", "frame ms", "relMSE", "RMSE", "relMSE dk", "RMSE dk"
     );
     let opt = |v: Option<f64>| v.map_or("-".to_string(), |v| format!("{v:.3e}"));
     for p in &c.points {
         println!(
-            "{:<16} {:<9} {:>7} {:>8} {:>9.1} {:>10} {:>10} {:>10} {:>10}",
+            "{:<16} {:<9} {:>7} {:>8} {:>6} {:>9.1} {:>10} {:>10} {:>10} {:>10}",
             p.method.name(),
             p.backend.name(),
             p.paths.map_or("-".into(), |v| v.to_string()),
             p.radius.map_or("-".into(), |v| format!("{v:.4}")),
+            p.photons_per_kernel.map_or("-".into(), |v| format!("{v:.1}")),
             p.frame_ms,
             opt(p.errors.relmse),
             opt(p.errors.rmse),

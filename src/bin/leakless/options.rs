@@ -25,9 +25,14 @@ pub struct RenderOptions {
     /// Light paths traced per frame by the photon methods.
     #[arg(long, default_value_t = 10_000)]
     pub paths: u32,
-    /// Photon gather radius in scene units (default: 5% of the scene's bounding radius).
+    /// Photon gather radius in scene units (default: the radius at which a kernel holds
+    /// --kernel-photons photons, from the view's photon density).
     #[arg(long)]
     pub radius: Option<f32>,
+    /// Photons a gather kernel holds on average where --radius is not given: the radius
+    /// follows the photon count (more paths, a smaller radius).
+    #[arg(long, default_value_t = leakless::splatting::DEFAULT_KERNEL_PHOTONS)]
+    pub kernel_photons: f32,
     /// Branching factor of the view-sample hierarchy (default: the device tuning's; `leakless
     /// info` prints it).
     #[arg(long)]
@@ -211,6 +216,7 @@ impl RenderOptions {
             splat: SplatSettings {
                 paths: self.paths,
                 radius: self.radius,
+                kernel_photons: self.kernel_photons,
                 branching: self.branching,
                 trivial_accept: !self.no_trivial_accept,
                 list_capacity: self.list_capacity,

@@ -45,6 +45,10 @@ pub struct RenderArgs {
     /// each: what a capture of the app records when its frame budget chose them.
     #[arg(long, value_name = "N")]
     first_frame_paths: Option<u32>,
+    /// The gather radius of an accumulation's first frame, its later batches shrinking from
+    /// `--radius`: what a capture of the app records when the two differ.
+    #[arg(long, value_name = "R")]
+    first_frame_radius: Option<f32>,
 }
 
 /// The size `render` renders at without `--size`.
@@ -65,6 +69,7 @@ pub fn run(args: RenderArgs) -> anyhow::Result<()> {
     if let Some(paths) = args.first_frame_paths {
         renderer.set_first_frame_paths(paths)?;
     }
+    renderer.set_first_frame_radius(args.first_frame_radius)?;
     if args.frame_ms.is_some() && args.sequence.is_none() {
         anyhow::bail!("--frame-ms budgets the frames of a --sequence (or of the app, `leakless view`)");
     }

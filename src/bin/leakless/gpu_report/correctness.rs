@@ -52,14 +52,20 @@ pub struct Check {
     pub verdict: String,
 }
 
-fn settings(backend: BackendChoice, seed: u32) -> RenderSettings {
+/// At the scene's fixed radius: the fixtures compare devices, not the probe that chooses the
+/// count's radius (which a device's rounding may move by a hair).
+fn settings(scene: &Scene, backend: BackendChoice, seed: u32) -> RenderSettings {
     RenderSettings {
         width: SIZE.0,
         height: SIZE.1,
         backend,
         method: Method::LeakLess,
         seed,
-        splat: SplatSettings { paths: PATHS, ..Default::default() },
+        splat: SplatSettings {
+            paths: PATHS,
+            radius: Some(leakless::splatting::auto_radius(scene)),
+            ..Default::default()
+        },
         ..Default::default()
     }
 }
@@ -88,14 +94,14 @@ pub fn make_fixtures(root: &Path) -> anyhow::Result<()> {
     std::fs::create_dir_all(root.join(FIXTURES))?;
     for path in scenes(root)? {
         let scene = Scene::load(&path).with_context(|| format!("loading {}", path.display()))?;
-        let (_, image) = render(super::open(true)?, &scene, settings(BackendChoice::Compute, 0))?;
-        let (_, other) = render(super::open(true)?, &scene, settings(BackendChoice::Compute, 1))?;
+        let (_, image) = render(super::open(true)?, &scene, settings(&scene, BackendChoice::Compute, 0))?;
+        let (_, other) = render(super::open(true)?, &scene, settings(&scene, BackendChoice::Compute, 1))?;
         let noise = metrics::rel_mse(&other, &image, None, metrics::epsilon(&image)).unwrap_or(f64::NAN);
         let gpu = super::open(false)?;
         let attributes = [
             ("leakless.device", gpu.report().name.clone()),
             ("leakless.driver", gpu.report().driver.clone()),
-            ("leakless.parameters", settings(BackendChoice::Compute, 0).describe()),
+            ("leakless.parameters", settings(&scene, BackendChoice::Compute, 0).describe()),
             (NOISE_ATTRIBUTE, format!("{noise:e}")),
         ];
         let out = fixture_path(root, &scene);
@@ -117,7 +123,7 @@ pub fn run(report: &mut Report, root: &Path) -> anyhow::Result<()> {
         let noise: f64 = fixture.attribute(NOISE_ATTRIBUTE).and_then(|s| s.parse().ok()).unwrap_or(f64::NAN);
         let gpu = open_validated()?;
         report.validation |= gpu.capabilities().validation;
-        let (backend, image) = render(gpu, &scene, settings(BackendChoice::Auto, 0))?;
+        let (backend, image) = render(gpu, &scene, settings(&scene, BackendChoice::Auto, 0))?;
         let check = compare(&scene.name, backend, &image, &reference, noise);
         println!("  {}: relMSE {:.2e} (another seed: {:.2e}), {}", check.scene, check.rel_mse, noise, check.verdict);
         report.correctness.push(check);

@@ -81,8 +81,7 @@ impl Running {
         let Some(measured) = last.splat.as_ref().map(|s| s.radius) else {
             return 1.0; // the reference: its batches cost the same
         };
-        let scene = self.renderer.scene();
-        let single = self.renderer.settings().splat.radius.unwrap_or_else(|| leakless::splatting::auto_radius(scene));
+        let single = self.renderer.single_frame_radius(self.renderer.settings().splat.paths);
         pair_growth(measured, single)
     }
 }

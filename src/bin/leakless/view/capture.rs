@@ -38,8 +38,8 @@ pub fn capture(r: &mut Running, scene: &Scene, exr: &Path) -> anyhow::Result<Opt
     let frame = r.renderer.capture_frame().context("capturing")?;
     let light = r.light_moved.then(|| r.renderer.lights()[0].position);
     let view = View { camera: r.camera.spec(), light, time: r.renderer.time(), progressive: r.renderer.accumulating() };
-    let first_paths = r.renderer.first_frame_paths();
-    let command = command(r.renderer.settings(), r.renderer.backend(), scene, &frame, view, first_paths, exr);
+    let start = Start { first_paths: r.renderer.first_frame_paths(), radii: r.renderer.accumulation_radii() };
+    let command = command(r.renderer.settings(), r.renderer.backend(), scene, &frame, view, start, exr);
     let paths = OutputPaths {
         exr: exr.to_path_buf(),
         png: Some(exr.with_extension("png")),
@@ -73,6 +73,13 @@ struct View {
     progressive: bool,
 }
 
+/// How the captured accumulation started: its first frame's paths (the budget's), and its
+/// first frame's radius and the one its later batches shrink from.
+struct Start {
+    first_paths: Option<u32>,
+    radii: Option<(f32, f32)>,
+}
+
 /// The `leakless render` command that renders `frame` again: every setting explicit, the
 /// frame's own seed, the view, the animation time and (if moved) the light.
 fn command(
@@ -81,10 +88,11 @@ fn command(
     scene: &Scene,
     frame: &leakless::RenderedFrame,
     view: View,
-    first_paths: Option<u32>,
+    start: Start,
     exr: &Path,
 ) -> String {
     let View { camera, light, time, progressive } = view;
+    let Start { first_paths, radii } = start;
     let mut c = vec![
         "leakless".to_string(),
         "render".into(),
@@ -104,8 +112,14 @@ fn command(
             Some(first) => c.push(format!("--paths {first}")),
             None => c.push(format!("--paths {}", s.splat.paths)),
         }
-        if let Some(r) = s.splat.radius {
-            c.push(format!("--radius {r}"));
+        // The radii the frame used: the count-following radius comes from the frames before
+        // it, which the command does not render.
+        match radii {
+            Some((first, batches)) if progressive && frame.accumulated > 1 && first != batches => {
+                c.push(format!("--radius {batches} --first-frame-radius {first}"));
+            }
+            Some((first, _)) => c.push(format!("--radius {first}")),
+            None => {}
         }
         if s.tuning != leakless::TuningChoice::Auto {
             c.push(format!("--tuning {}", s.tuning.name()));

@@ -162,7 +162,10 @@ fn contents(ui: &mut egui::Ui, info: &PanelInfo<'_>, sliders: &mut Sliders) {
         }
         if let Some(s) = &report.splat {
             ui.separator();
-            ui.label(format!("photons stored {}   paths {}   radius {:.4}", s.photons_stored, s.paths, s.radius));
+            ui.label(format!(
+                "photons stored {}   paths {}   radius {:.4} ({:.1} photons a kernel)",
+                s.photons_stored, s.paths, s.radius, s.photons_per_kernel
+            ));
             let proven = 100.0 * s.proven_clear as f64 / s.visibility_tests.max(1) as f64;
             ui.label(format!(
                 "visibility tests {} ({proven:.0}% proven clear)   rays {}   leaks culled {}",

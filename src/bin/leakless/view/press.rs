@@ -21,7 +21,7 @@ impl Running {
                 Ok(())
             }
             Action::RadiusDown | Action::RadiusUp => {
-                let radius = r.settings().splat.radius.unwrap_or_else(|| leakless::splatting::auto_radius(scene));
+                let radius = r.single_frame_radius(r.settings().splat.paths);
                 let radius = if action == Action::RadiusUp { radius * 1.25 } else { radius / 1.25 };
                 r.update(|s| s.splat.radius = Some(radius))
             }

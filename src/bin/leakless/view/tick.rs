@@ -225,7 +225,7 @@ impl Running {
         let s = r.settings();
         let auto_radius = leakless::splatting::auto_radius(scene);
         let mut sliders = Sliders {
-            radius: s.splat.radius.unwrap_or(auto_radius),
+            radius: s.splat.radius.unwrap_or_else(|| r.single_frame_radius(s.splat.paths)),
             radius_range: (auto_radius / 50.0, auto_radius * 50.0),
             paths: s.splat.paths,
             max_batches: self.batch_limit,

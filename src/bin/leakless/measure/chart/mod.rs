@@ -33,6 +33,9 @@ pub fn default_methods() -> Vec<Method> {
     ["splat", "leakless-capped", "leakless"].into_iter().filter_map(Method::parse).collect()
 }
 
+/// A radius as the renderer takes it: fixed (scene units), or `None` and photons a kernel.
+pub type RadiusChoice = (Option<f32>, f32);
+
 /// The gather radii to chart.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Radii {
@@ -40,14 +43,27 @@ pub enum Radii {
     Auto(Vec<f32>),
     /// Radii in scene units.
     Absolute(Vec<f32>),
+    /// The radius at which a kernel holds this many photons (`--kernel-photons`): the
+    /// renderer's own, following the photon count.
+    KernelPhotons(Vec<f32>),
 }
 
 impl Radii {
-    /// The radii in scene units, given the scene's automatic radius.
-    pub fn resolve(&self, auto: f32) -> Vec<f32> {
+    /// The values given, radii or photon counts.
+    fn values(&self) -> &[f32] {
         match self {
-            Radii::Auto(scales) => scales.iter().map(|s| s * auto).collect(),
-            Radii::Absolute(r) => r.clone(),
+            Radii::Auto(v) | Radii::Absolute(v) | Radii::KernelPhotons(v) => v,
+        }
+    }
+
+    /// Each setting as the renderer takes it, given the scene's automatic radius: a fixed
+    /// radius in scene units, or `None` and photons a kernel.
+    pub fn resolve(&self, auto: f32) -> Vec<RadiusChoice> {
+        let k = leakless::splatting::DEFAULT_KERNEL_PHOTONS;
+        match self {
+            Radii::Auto(scales) => scales.iter().map(|s| (Some(s * auto), k)).collect(),
+            Radii::Absolute(r) => r.iter().map(|&r| (Some(r), k)).collect(),
+            Radii::KernelPhotons(ks) => ks.iter().map(|&k| (None, k)).collect(),
         }
     }
 }
@@ -118,11 +134,12 @@ impl ChartConfig {
         if self.paths.is_empty() || self.paths.contains(&0) {
             return bad("--paths needs at least one count, each at least 1");
         }
-        let radii = match &self.radii {
-            Radii::Auto(r) | Radii::Absolute(r) => r,
-        };
+        let radii = self.radii.values();
         if radii.is_empty() || radii.iter().any(|r| !(r.is_finite() && *r > 0.0)) {
-            return bad("--radius needs at least one radius, each a positive number");
+            return match self.radii {
+                Radii::KernelPhotons(_) => bad("--kernel-photons needs at least one count, each a positive number"),
+                _ => bad("--radius needs at least one radius, each a positive number"),
+            };
         }
         // The reference's and the methods' own limits.
         RenderSettings {
@@ -137,10 +154,7 @@ impl ChartConfig {
 
     /// Renders per scene on `backends`: the reference, then each method at each setting.
     pub fn renders_per_scene(&self, backends: usize) -> usize {
-        let settings = self.paths.len()
-            * match &self.radii {
-                Radii::Auto(r) | Radii::Absolute(r) => r.len(),
-            };
+        let settings = self.paths.len() * self.radii.values().len();
         1 + backends * self.methods.iter().map(|m| if m.splats() { settings } else { 1 }).sum::<usize>()
     }
 }
@@ -163,6 +177,10 @@ pub struct Point {
     /// Light paths and gather radius (scene units); `None` for methods that do not splat.
     pub paths: Option<u32>,
     pub radius: Option<f32>,
+    /// Photons a kernel was asked to hold, where the radius followed the photon count.
+    pub kernel_photons: Option<f32>,
+    /// Photons a kernel took on average (the gather's count).
+    pub photons_per_kernel: Option<f64>,
     /// Sum of the per-pass wall times of the second frame (the fastest of frames 2 to
     /// `repeats + 1`), each pass submitted and waited for alone (on a CPU device such as
     /// lavapipe: CPU time).
@@ -267,16 +285,20 @@ pub fn measure_with_progress(
     let mut points = Vec::new();
     for &backend in &backends {
         for &method in &config.methods {
-            let settings: Vec<(Option<u32>, Option<f32>)> = if method.splats() {
+            let settings: Vec<(Option<u32>, Option<RadiusChoice>)> = if method.splats() {
                 config.paths.iter().flat_map(|&p| radii.iter().map(move |&r| (Some(p), Some(r)))).collect()
             } else {
                 vec![(None, None)]
             };
-            for (paths, radius) in settings {
+            for (paths, radius_choice) in settings {
                 let mut what = format!("{} {}", method.name(), backend.name());
-                if let (Some(p), Some(r)) = (paths, radius) {
-                    what += &format!(" {p} paths r={r:.4}");
+                match (paths, radius_choice) {
+                    (Some(p), Some((Some(r), _))) => what += &format!(" {p} paths r={r:.4}"),
+                    (Some(p), Some((None, k))) => what += &format!(" {p} paths K={k}"),
+                    _ => {}
                 }
+                let (radius, kernel_photons) =
+                    radius_choice.map_or((None, None), |(r, k)| (r, r.is_none().then_some(k)));
                 report(done, what);
                 let render = RenderSettings {
                     width: config.width,
@@ -288,6 +310,7 @@ pub fn measure_with_progress(
                     splat: SplatSettings {
                         paths: paths.unwrap_or(SplatSettings::default().paths),
                         radius,
+                        kernel_photons: kernel_photons.unwrap_or(leakless::splatting::DEFAULT_KERNEL_PHOTONS),
                         ..Default::default()
                     },
                     ..Default::default()
@@ -303,6 +326,8 @@ pub fn measure_with_progress(
                     backend,
                     paths,
                     radius: stats.map(|s| s.radius).or(radius),
+                    kernel_photons,
+                    photons_per_kernel: stats.map(|s| s.photons_per_kernel),
                     frame_ms,
                     errors: metrics::errors(&frame.radiance, &reference.radiance, &dark),
                     photons: stats.map(|s| s.photons_stored),
@@ -346,7 +371,7 @@ pub fn leaked_fraction(stats: &SplatStats) -> Option<f64> {
 }
 
 /// The columns of [`write_csv`], in order.
-pub const CSV_COLUMNS: [&str; 13] = [
+pub const CSV_COLUMNS: [&str; 15] = [
     "scene",
     "method",
     "backend",
@@ -360,6 +385,8 @@ pub const CSV_COLUMNS: [&str; 13] = [
     "photons",
     "candidate_tests",
     "leaked_fraction",
+    "kernel_photons",
+    "photons_per_kernel",
 ];
 
 /// One row per point, columns [`CSV_COLUMNS`]; what a point lacks is left empty.
@@ -383,6 +410,8 @@ pub fn write_csv(points: &[Point], path: &Path) -> Result<()> {
             opt(p.photons.map(|v| v.to_string())),
             opt(p.candidate_tests.map(|v| v.to_string())),
             opt(p.leaked_fraction.map(float)),
+            opt(p.kernel_photons.map(|v| format!("{v}"))),
+            opt(p.photons_per_kernel.map(|v| format!("{v:.2}"))),
         ];
         out += &fields.join(",");
         out.push('\n');
