@@ -34,7 +34,7 @@ pub enum BenchCommand {
         size: (u32, u32),
         #[arg(long, default_value_t = 10_000)]
         paths: u32,
-        /// Gather radius (default: 5% of each scene's bounding radius).
+        /// Gather radius (default: the photon count's, --kernel-photons a kernel).
         #[arg(long)]
         radius: Option<f32>,
         /// Trace backend.
@@ -43,6 +43,8 @@ pub enum BenchCommand {
         /// Timed frames per configuration after a warm-up frame (the fastest counts).
         #[arg(long, default_value_t = 3, value_parser = clap::value_parser!(u32).range(1..=100))]
         repeats: u32,
+        #[command(flatten)]
+        fixed: crate::options::FixedRadius,
     },
     /// Temporal stability, per scene: flicker of splat, leakless-capped and leakless (a still
     /// view, fresh photons every frame, no accumulation), how much each frame of a leakless
@@ -62,6 +64,8 @@ pub enum BenchCommand {
         /// Frames of the accumulation whose changes are printed (from frame 2, the first change).
         #[arg(long, default_value_t = 32, value_parser = clap::value_parser!(u32).range(2..=MAX_FRAMES as i64))]
         frames: u32,
+        #[command(flatten)]
+        fixed: crate::options::FixedRadius,
     },
     /// Scenes that move: a leakless frame whose animation advances every frame against the
     /// same frame of the scene frozen, per backend, with the instance update's own costs.
@@ -75,6 +79,8 @@ pub enum BenchCommand {
         /// Timed frames per configuration, at frames/3 times through the animation.
         #[arg(long, default_value_t = 15, value_parser = clap::value_parser!(u32).range(1..=MAX_FRAMES as i64))]
         frames: u32,
+        #[command(flatten)]
+        fixed: crate::options::FixedRadius,
     },
     /// Temporal reuse in motion, per scene: its animation (or an orbit of its camera) rendered
     /// frame by frame with reuse on, on without its spatial filter, and off, against the path
@@ -111,6 +117,8 @@ pub enum BenchCommand {
         /// Also chart each frame's errors against its index: an SVG, and a PNG beside it.
         #[arg(long)]
         chart: Option<PathBuf>,
+        #[command(flatten)]
+        fixed: crate::options::FixedRadius,
     },
     /// Scene size, per scene (the same scene tessellated finer: `tools/gen-scenes --basilica
     /// DETAIL`): triangles, the load, each backend's setup and trace-structure build, the
@@ -135,6 +143,8 @@ pub enum BenchCommand {
         /// Also chart them: this SVG and a PNG beside it.
         #[arg(long)]
         chart: Option<PathBuf>,
+        #[command(flatten)]
+        fixed: crate::options::FixedRadius,
     },
     /// Photon splatting: per-pass times, hierarchy tests against brute force, growth with
     /// paths and resolution, and the branching factor B.
@@ -154,13 +164,13 @@ pub fn run(cmd: BenchCommand) -> anyhow::Result<()> {
     match cmd {
         BenchCommand::Rays { scene, size, repeats } => rays(scene, size, repeats),
         BenchCommand::Splat { scene, size, paths } => splat(scene, size, paths),
-        BenchCommand::Flicker { scenes, size, paths, backend, frames } => {
-            crate::bench_flicker::run(&scenes, size, paths, backend, frames)
+        BenchCommand::Flicker { scenes, size, paths, backend, frames, fixed } => {
+            crate::bench_flicker::run(&scenes, size, paths, backend, frames, fixed)
         }
-        BenchCommand::Animation { scene, size, paths, frames } => {
-            crate::bench_animation::run(&scene, size, paths, frames)
+        BenchCommand::Animation { scene, size, paths, frames, fixed } => {
+            crate::bench_animation::run(&scene, size, paths, frames, fixed)
         }
-        BenchCommand::Motion { scenes, size, paths, frames, fps, spp, truth_spp, backend, csv, chart } => {
+        BenchCommand::Motion { scenes, size, paths, frames, fps, spp, truth_spp, backend, csv, chart, fixed } => {
             if !(fps > 0.0 && fps <= 1000.0) {
                 anyhow::bail!("--fps {fps} must be within (0, 1000]");
             }
@@ -175,10 +185,11 @@ pub fn run(cmd: BenchCommand) -> anyhow::Result<()> {
                 backend,
                 csv,
                 chart,
+                fixed,
             };
             crate::bench_motion::run(&bench)
         }
-        BenchCommand::Scale { scenes, size, paths, repeats, backend, csv, chart } => {
+        BenchCommand::Scale { scenes, size, paths, repeats, backend, csv, chart, fixed } => {
             crate::bench_scale::run(&crate::bench_scale::ScaleBench {
                 scenes,
                 size,
@@ -187,10 +198,11 @@ pub fn run(cmd: BenchCommand) -> anyhow::Result<()> {
                 backend,
                 csv,
                 chart,
+                fixed,
             })
         }
-        BenchCommand::Leak { scenes, size, paths, radius, backend, repeats } => {
-            crate::bench_leak::run(&scenes, size, paths, radius, backend, repeats)
+        BenchCommand::Leak { scenes, size, paths, radius, backend, repeats, fixed } => {
+            crate::bench_leak::run(&scenes, size, paths, (radius, fixed), backend, repeats)
         }
     }
 }

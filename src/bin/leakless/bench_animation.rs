@@ -11,7 +11,13 @@ use std::time::Instant;
 use anyhow::{bail, Context};
 use leakless::{Backend, BackendChoice, Method, RenderSettings, Renderer, Scene, SplatSettings};
 
-pub fn run(path: &Path, (w, h): (u32, u32), paths: u32, frames: u32) -> anyhow::Result<()> {
+pub fn run(
+    path: &Path,
+    (w, h): (u32, u32),
+    paths: u32,
+    frames: u32,
+    fixed: crate::options::FixedRadius,
+) -> anyhow::Result<()> {
     let scene = Scene::load(path).with_context(|| format!("loading {}", path.display()))?;
     if !scene.is_animated() || scene.instances.is_empty() {
         bail!("{}: no animated mesh node: nothing moves, so there is nothing to measure", path.display());
@@ -46,7 +52,7 @@ pub fn run(path: &Path, (w, h): (u32, u32), paths: u32, frames: u32) -> anyhow::
             height: h,
             backend: choice,
             method: Method::LeakLess,
-            splat: SplatSettings { paths, ..Default::default() },
+            splat: SplatSettings { paths, radius: fixed.radius(&scene), ..Default::default() },
             ..Default::default()
         };
         let mut animated = Renderer::new(crate::open_gpu(choice)?, &scene, settings.clone())?;

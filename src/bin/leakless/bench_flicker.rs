@@ -13,6 +13,7 @@ pub fn run(
     paths: u32,
     backend: BackendChoice,
     frames: u32,
+    fixed: crate::options::FixedRadius,
 ) -> anyhow::Result<()> {
     let open = || {
         leakless::Gpu::new(&leakless::GpuOptions {
@@ -37,7 +38,7 @@ pub fn run(
             height: h,
             backend,
             method,
-            splat: SplatSettings { paths, visible_disk, ..Default::default() },
+            splat: SplatSettings { paths, visible_disk, radius: fixed.radius(&scene), ..Default::default() },
             ..Default::default()
         };
         let mut renderer = Renderer::new(open()?, &scene, settings(Method::Splat, true))?;

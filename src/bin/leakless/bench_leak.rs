@@ -30,7 +30,7 @@ pub fn run(
     scenes: &[PathBuf],
     (w, h): (u32, u32),
     paths: u32,
-    radius: Option<f32>,
+    radius: (Option<f32>, crate::options::FixedRadius),
     backend: BackendChoice,
     repeats: u32,
 ) -> anyhow::Result<()> {
@@ -99,11 +99,12 @@ fn one_scene(
     scene: &Scene,
     (w, h): (u32, u32),
     paths: u32,
-    radius: Option<f32>,
+    (radius, fixed): (Option<f32>, crate::options::FixedRadius),
     backend: BackendChoice,
     resolved: Backend,
     repeats: u32,
 ) -> anyhow::Result<Row> {
+    let radius = radius.or(fixed.radius(scene));
     let settings = |method, trivial_accept, prove_clear| RenderSettings {
         width: w,
         height: h,

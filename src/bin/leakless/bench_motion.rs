@@ -33,6 +33,7 @@ pub struct MotionBench {
     pub csv: Option<PathBuf>,
     /// The chart of each frame's errors (an SVG; a PNG beside it).
     pub chart: Option<PathBuf>,
+    pub fixed: crate::options::FixedRadius,
 }
 
 /// One run's figures: means over the displayed frames.
@@ -106,7 +107,7 @@ pub fn run(bench: &MotionBench) -> anyhow::Result<()> {
             spp: half_spp,
             reuse,
             seed,
-            splat: SplatSettings { paths: bench.paths, ..Default::default() },
+            splat: SplatSettings { paths: bench.paths, radius: bench.fixed.radius(&scene), ..Default::default() },
             ..Default::default()
         };
         let open = || crate::open_gpu(bench.backend);

@@ -18,6 +18,7 @@ pub struct ScaleBench {
     pub backend: BackendChoice,
     pub csv: Option<PathBuf>,
     pub chart: Option<PathBuf>,
+    pub fixed: crate::options::FixedRadius,
 }
 
 pub fn run(bench: &ScaleBench) -> anyhow::Result<()> {
@@ -53,7 +54,7 @@ pub fn run(bench: &ScaleBench) -> anyhow::Result<()> {
                 height: h,
                 backend: choice,
                 method: Method::LeakLess,
-                splat: SplatSettings { paths: bench.paths, ..Default::default() },
+                splat: SplatSettings { paths: bench.paths, radius: bench.fixed.radius(&scene), ..Default::default() },
                 ..Default::default()
             };
             let start = Instant::now();

@@ -25,15 +25,15 @@ pub struct ChartArgs {
     #[arg(long, default_value_t = 8)]
     pub(crate) max_bounces: u32,
     /// Methods to chart, comma-separated [default: splat, leakless-capped, leakless — those
-    /// this build has].
+    /// this build has]. Series: of splat, leakless and reference [default: all three].
     #[arg(long, value_delimiter = ',', value_parser = parse_method)]
-    methods: Option<Vec<Method>>,
+    pub(crate) methods: Option<Vec<Method>>,
     /// Light paths per frame, comma-separated (`k` = thousand) [default: 5k,20k,80k].
     #[arg(long, value_delimiter = ',', value_parser = parse_count)]
     paths: Option<Vec<u32>>,
     /// Gather radii in scene units, comma-separated [default: 0.5, 1 and 2 × the automatic
     /// radius, 5% of the scene's bounding radius; see --radius-scale]. Series: one radius, the
-    /// first frame's [default: the automatic radius].
+    /// first frame's [default: the photon count's, as `render`'s].
     #[arg(long, value_delimiter = ',', conflicts_with_all = ["radius_scale", "kernel_photons"])]
     pub(crate) radius: Option<Vec<f32>>,
     /// Gather radii as multiples of the automatic radius, comma-separated [default: 0.5,1,2].
@@ -41,8 +41,9 @@ pub struct ChartArgs {
     radius_scale: Option<Vec<f32>>,
     /// Instead of fixed radii, the radius at which a kernel holds each of these many photons
     /// (the renderer's default radius), comma-separated: how the default K was chosen.
+    /// Series: one count [default: the renderer's].
     #[arg(long, value_delimiter = ',')]
-    kernel_photons: Option<Vec<f32>>,
+    pub(crate) kernel_photons: Option<Vec<f32>>,
     /// Trace backends, comma-separated: rayquery, compute [default: every one the device has].
     /// Series: one backend [default: the device's choice].
     #[arg(long, value_delimiter = ',', value_parser = parse_backend)]
@@ -85,10 +86,8 @@ impl ChartArgs {
     fn flag_of_the_other_mode(&self) -> Option<&'static str> {
         let given = |flag: &'static str, is: bool| is.then_some(flag);
         if self.series {
-            given("--methods", self.methods.is_some())
-                .or(given("--paths", self.paths.is_some()))
+            given("--paths", self.paths.is_some())
                 .or(given("--radius-scale", self.radius_scale.is_some()))
-                .or(given("--kernel-photons", self.kernel_photons.is_some()))
                 .or(given("--dark-fraction", self.dark_fraction.is_some()))
         } else {
             given("--budget", self.budget.is_some())

@@ -3,7 +3,9 @@
 
 use std::time::Duration;
 
-use crate::measure::chart::series::{measure_series, write_series_csv, SceneSeries, SeriesConfig, SHADED_FRACTION};
+use crate::measure::chart::series::{
+    measure_series, write_series_csv, SceneSeries, SeriesConfig, SERIES_METHODS, SHADED_FRACTION,
+};
 use crate::measure::chart::series_plot::{plot_series, SeriesMetric};
 use crate::measure::chart::{drawing, file_stem};
 use anyhow::Context;
@@ -44,12 +46,23 @@ pub fn run(args: &ChartArgs) -> anyhow::Result<()> {
     if let Some(dir) = args.out.parent().filter(|d| !d.as_os_str().is_empty()) {
         std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
     }
+    let kernel_photons = match args.kernel_photons.as_deref() {
+        None => leakless::splatting::DEFAULT_KERNEL_PHOTONS,
+        Some(&[k]) => k,
+        Some(_) => anyhow::bail!("--kernel-photons: a series starts from one count, not several"),
+    };
+    let methods = args.methods.clone().unwrap_or_else(|| SERIES_METHODS.to_vec());
+    if let Some(m) = methods.iter().find(|m| !SERIES_METHODS.contains(m)) {
+        anyhow::bail!("--methods: a series runs splat, leakless and reference, not {}", m.name());
+    }
     let config = SeriesConfig {
         width: args.size.0,
         height: args.size.1,
         backend,
         paths: frame_paths,
         radius,
+        kernel_photons,
+        methods,
         max_bounces: args.max_bounces,
         seed: args.seed,
         budget: Duration::from_secs_f64(budget),
@@ -81,14 +94,14 @@ pub fn run(args: &ChartArgs) -> anyhow::Result<()> {
 
 fn print_table(s: &SceneSeries, budget_ms: f64) {
     println!(
-        "{} ({}x{}, photon batches of {} paths from radius {:.4}, ground truth {} frames x {} spp in {:.1} s; \
+        "{} ({}x{}, photon batches of {} paths from {}, ground truth {} frames x {} spp in {:.1} s; \
          errors at exactly each time, interpolated on log-log axes between the checkpoints around it; \
          shaded: the relMSE over the pixels at most {:.0}% of the ground truth's mean):",
         s.scene,
         s.width,
         s.height,
         s.paths,
-        s.radius,
+        s.radius_label(),
         s.truth_frames,
         s.truth_spp,
         s.truth_ms / 1e3,
@@ -102,7 +115,7 @@ fn print_table(s: &SceneSeries, budget_ms: f64) {
     let times = if budget_ms == 1000.0 { vec![1000.0] } else { vec![1000.0, budget_ms] };
     for t in times {
         let time = seconds_label(t / 1e3);
-        for m in [Method::Splat, Method::LeakLess, Method::Reference] {
+        for m in SERIES_METHODS.into_iter().filter(|m| s.points.iter().any(|p| p.method == *m)) {
             let Some(e) = s.at(m, t) else {
                 println!("{time:>8} {:<10} (the series does not bracket this time)", m.name());
                 continue;

@@ -26,6 +26,8 @@ pub struct StabilityArgs {
     spp: u32,
     #[arg(long, default_value_t = 8)]
     max_bounces: u32,
+    #[command(flatten)]
+    fixed: crate::options::FixedRadius,
 }
 
 pub fn run(args: StabilityArgs) -> anyhow::Result<()> {
@@ -54,6 +56,7 @@ pub fn run(args: StabilityArgs) -> anyhow::Result<()> {
         spp: args.spp,
         max_bounces: args.max_bounces,
         backends,
+        fixed_radius: args.fixed.fixed_radius,
     };
     let mut measured = Vec::new();
     for scene in &scenes {

@@ -55,6 +55,8 @@ pub struct StabilityConfig {
     pub spp: u32,
     pub max_bounces: u32,
     pub backends: Vec<Backend>,
+    /// Each scene's fixed radius (5% of its bounding radius), not the photon count's.
+    pub fixed_radius: bool,
 }
 
 fn luminance(p: &[f32; 3]) -> f64 {
@@ -86,7 +88,11 @@ pub fn measure(
         height: config.height,
         max_bounces: config.max_bounces,
         seed: 1,
-        splat: SplatSettings { paths: config.paths, ..Default::default() },
+        splat: SplatSettings {
+            paths: config.paths,
+            radius: config.fixed_radius.then(|| leakless::splatting::auto_radius(scene)),
+            ..Default::default()
+        },
         ..Default::default()
     };
     progress("reference");

@@ -28,8 +28,12 @@ pub struct SeriesConfig {
     pub backend: BackendChoice,
     /// Light paths per photon frame.
     pub paths: u32,
-    /// First frame's gather radius (`None`: 5% of the scene's bounding radius).
+    /// First frame's gather radius (`None`: the photon count's, `SplatSettings::radius`).
     pub radius: Option<f32>,
+    /// Photons a kernel where `radius` is `None`.
+    pub kernel_photons: f32,
+    /// The methods to run, of [`SERIES_METHODS`].
+    pub methods: Vec<Method>,
     pub max_bounces: u32,
     pub seed: u32,
     /// Each series stops at the first checkpoint past this much wall time.
@@ -51,6 +55,8 @@ impl Default for SeriesConfig {
             backend: BackendChoice::Auto,
             paths: 10_000,
             radius: None,
+            kernel_photons: leakless::splatting::DEFAULT_KERNEL_PHOTONS,
+            methods: SERIES_METHODS.to_vec(),
             max_bounces: 8,
             seed: 0,
             budget: Duration::from_secs(10),
@@ -89,9 +95,10 @@ pub struct SceneSeries {
     pub width: u32,
     pub height: u32,
     /// Light paths per photon batch, and the radius the photon methods' first frame gathers
-    /// with (the automatic one unless given): a chart at other settings says so.
+    /// with (`None`: the one at which a kernel holds `kernel_photons`): a chart says which.
     pub paths: u32,
-    pub radius: f32,
+    pub radius: Option<f32>,
+    pub kernel_photons: f32,
     pub truth_frames: u32,
     pub truth_spp: u32,
     pub truth_ms: f64,
@@ -109,6 +116,14 @@ pub struct ErrorAt {
 }
 
 impl SceneSeries {
+    /// The first frame's radius as a chart says it.
+    pub fn radius_label(&self) -> String {
+        match self.radius {
+            Some(r) => format!("radius {r:.4}"),
+            None => format!("the radius of {} photons a kernel", self.kernel_photons),
+        }
+    }
+
     /// `method`'s errors at exactly `ms` of wall time: interpolated linearly in log error
     /// against log time between the last checkpoint within `ms` and the first after it.
     ///
@@ -163,7 +178,12 @@ pub fn measure_series(
         backend: config.backend,
         max_bounces: config.max_bounces,
         seed: config.seed,
-        splat: SplatSettings { paths: config.paths, radius: config.radius, ..Default::default() },
+        splat: SplatSettings {
+            paths: config.paths,
+            radius: config.radius,
+            kernel_photons: config.kernel_photons,
+            ..Default::default()
+        },
         ..Default::default()
     };
     progress(&format!("ground truth: {} frames × {} spp", config.truth_frames, config.truth_spp));
@@ -190,7 +210,7 @@ pub fn measure_series(
 
     let mut points: Vec<SeriesPoint> = Vec::new();
     for repeat in 0..config.repeats.max(1) {
-        for method in SERIES_METHODS {
+        for &method in &config.methods {
             progress(&format!("{} (run {} of {})", method.name(), repeat + 1, config.repeats.max(1)));
             let run = measure_method(open, scene, &base, method, config, &truth)?;
             merge_run(&mut points, run);
@@ -202,7 +222,8 @@ pub fn measure_series(
         width: config.width,
         height: config.height,
         paths: config.paths,
-        radius: config.radius.unwrap_or_else(|| leakless::splatting::auto_radius(scene)),
+        radius: config.radius,
+        kernel_photons: config.kernel_photons,
         truth_frames: config.truth_frames,
         truth_spp: config.truth_spp,
         truth_ms,
@@ -358,7 +379,8 @@ mod tests {
             width: 1,
             height: 1,
             paths: 1,
-            radius: 1.0,
+            radius: Some(1.0),
+            kernel_photons: 32.0,
             truth_frames: 1,
             truth_spp: 1,
             truth_ms: 0.0,

@@ -125,11 +125,11 @@ fn draw<DB: DrawingBackend>(
     }
     draw_legend(&mut cc, SeriesLabelPosition::UpperRight, 13.0)?;
     let settings = format!(
-        "{}×{}; batches of {} paths; radius {:.4}, shrinking from {}× it after frame 1",
+        "{}×{}; batches of {} paths; {}, shrinking from {}× it after frame 1",
         series.width,
         series.height,
         series.paths,
-        series.radius,
+        series.radius_label(),
         leakless::splatting::ACCUMULATION_RADIUS_SCALE,
     );
     let partial = format!(
