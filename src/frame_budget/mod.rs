@@ -4,7 +4,9 @@
 //!
 //! A frame's time is modelled as a fixed part (the G-buffer, direct light, reuse, display:
 //! what the pixels cost) and a part that follows the paths (tracing, ordering, splatting and
-//! gathering photons: the passes of [`PHOTON_GROUPS`]), t = f + c·p. Each measured frame gives
+//! gathering photons: the passes of [`PHOTON_GROUPS`]; where the radius follows the photon
+//! count, a sample's gather takes about K photons whatever the paths, and the gather joins the
+//! fixed part), t = f + c·p. Each measured frame gives
 //! one estimate of f and of c, from its passes' times where it has them and otherwise from the
 //! split of the last frame that had them (its f and c, as shares of this frame's time at this
 //! frame's paths); the mean of the last estimates (up to 16, less the highest and the lowest)
@@ -19,7 +21,9 @@ use std::collections::VecDeque;
 
 use crate::passes::names::group;
 
-/// The pass groups whose time follows the number of light paths.
+/// The pass groups whose time follows the number of light paths at a fixed radius. Where the
+/// radius follows the photon count, the gather's work is about K photons a sample at any
+/// paths, and it is not among them ([`photon_share`]).
 pub const PHOTON_GROUPS: [&str; 5] =
     [group::PHOTONS, group::PHOTON_ORDER, group::SPLAT, group::CLEARANCE, group::GATHER];
 
@@ -237,16 +241,17 @@ fn trimmed_mean(values: impl Iterator<Item = f64>) -> f64 {
     kept.iter().sum::<f64>() / kept.len().max(1) as f64
 }
 
-/// The share of a frame's time spent in [`PHOTON_GROUPS`]'s passes, from per-pass times
-/// (host times where the passes were submitted alone, else GPU timestamps); `None` without
-/// them.
-pub fn photon_share(timings: &[leakless_graph::PassTiming]) -> Option<f64> {
+/// The share of a frame's time spent in the passes that follow the paths ([`PHOTON_GROUPS`],
+/// less the gather where `radius_follows_count`), from per-pass times (host times where the
+/// passes were submitted alone, else GPU timestamps); `None` without them.
+pub fn photon_share(timings: &[leakless_graph::PassTiming], radius_follows_count: bool) -> Option<f64> {
     let time = |t: &leakless_graph::PassTiming| t.wall_ms.unwrap_or(t.ms);
     let total: f64 = timings.iter().map(time).sum();
     if total.is_nan() || total <= 0.0 {
         return None;
     }
-    let photons: f64 = timings.iter().filter(|t| PHOTON_GROUPS.contains(&t.group)).map(time).sum();
+    let follows = |g: &str| PHOTON_GROUPS.contains(&g) && !(radius_follows_count && g == group::GATHER);
+    let photons: f64 = timings.iter().filter(|t| follows(t.group)).map(time).sum();
     Some(photons / total)
 }
 

@@ -159,11 +159,13 @@ fn the_photon_share_counts_the_passes_that_follow_the_paths() {
         timing(group::GATHER, 50.0, None),
         timing(group::REUSE, 20.0, None),
     ];
-    assert_eq!(photon_share(&timings), Some(0.7));
+    assert_eq!(photon_share(&timings, false), Some(0.7));
+    // At the count's radius the gather's work is K photons a sample, whatever the paths.
+    assert_eq!(photon_share(&timings, true), Some(0.2));
     // Host times, where passes were submitted alone, count over the timestamps.
     let host = [timing(group::SPLAT, 0.0, Some(3.0)), timing(group::DISPLAY, 0.0, Some(1.0))];
-    assert_eq!(photon_share(&host), Some(0.75));
-    assert_eq!(photon_share(&[]), None);
+    assert_eq!(photon_share(&host, true), Some(0.75));
+    assert_eq!(photon_share(&[], false), None);
 }
 
 #[test]

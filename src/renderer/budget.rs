@@ -148,7 +148,9 @@ impl Renderer {
         // Timestamps measure passes only where the tuning trusts them; host times always.
         let timed =
             self.pipelines.tuning().timing == Timing::Timestamps || done.timings.iter().any(|t| t.wall_ms.is_some());
-        let share = if timed { photon_share(&done.timings) } else { None };
+        // Below `--paths` the radius stays (kernel_radius.rs), and the gather follows the paths.
+        let follows_count = self.settings.splat.radius.is_none() && paths >= self.settings.splat.paths;
+        let share = if timed { photon_share(&done.timings, follows_count) } else { None };
         let frame = FrameTime { ms: measured_ms, paths, photon_share: share };
         let next_paths = controller.observe(frame);
         Some(BudgetReport {
