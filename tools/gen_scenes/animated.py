@@ -1,4 +1,4 @@
-"""Animated scenes (scenes/door.gltf, scenes/moving-light.gltf, scenes/doorway-walk.gltf) and the
+"""Animated scenes (scenes/door.gltf, scenes/moving-light.gltf, scenes/motion/*.gltf) and the
 camera animations of the motion benchmark."""
 
 from .vecmath import normalize, quat_axis_angle, sub
@@ -130,3 +130,29 @@ def doorway_walk():
         expected={"direct": EXPECT_LIT, "reference": EXPECT_LIT, "splat": EXPECT_LEAKS,
                   "leakless": EXPECT_MATCH, "leakless-capped": EXPECT_LIT})
     return finish_scene(g, "doorway walk", nodes, room_b_not_dark(extras, room_a_lit=True))
+
+
+# light-drift: doorway.gltf with the camera still in room B and the light drifting slowly in
+# room A, 0.25 m/s along -z (1 m over 4 s, LINEAR): what room B sees through the door changes
+# slowly, which shows temporal reuse's lag. At t = 0 the scene is doorway.gltf.
+DRIFT_TIMES = (0.0, 4.0)
+DRIFT_PATH = (ROOMS_LIGHT, (ROOMS_LIGHT[0], ROOMS_LIGHT[1], ROOMS_LIGHT[2] - 1.0))
+
+
+def light_drift():
+    g, nodes, extras = rooms_build(door=True)
+    light = nodes[-2]
+    times = g.accessor(list(DRIFT_TIMES), "SCALAR", target=None, minmax=True)
+    path = g.accessor([tuple(p) for p in DRIFT_PATH], "VEC3", target=None)
+    g.add("animations", {"name": "light drifts in room A",
+                         "channels": [{"sampler": 0, "target": {"node": light, "path": "translation"}}],
+                         "samplers": [{"input": times, "output": path, "interpolation": "LINEAR"}]})
+    extras = restyle(
+        extras, "doorway.gltf with the camera still in room B and the point light drifting 1 m along -z in "
+                "room A over 4 s (0.25 m/s; the motion benchmark's slow light)",
+        light_times=list(DRIFT_TIMES),
+        light_positions=[vec(p) for p in DRIFT_PATH],
+        same_at_time_0="scenes/doorway.gltf",
+        expected={"direct": EXPECT_LIT, "reference": EXPECT_LIT, "splat": EXPECT_LEAKS,
+                  "leakless": EXPECT_MATCH, "leakless-capped": EXPECT_LIT})
+    return finish_scene(g, "light drift", nodes, room_b_not_dark(extras, room_a_lit=True))

@@ -38,13 +38,31 @@ ATRIUM_PAN_TIMES = (0.0, 2.0, 4.0)
 ATRIUM_PAN_EYES = (ATRIUM_CAMERA, (1.5, 1.5, -1.7), (-2.5, 1.5, -1.7))
 ATRIUM_PAN_TARGETS = (ATRIUM_CAMERA_TARGET, (-3.0, 2.2, -0.8), (-6.0, 1.6, 2.5))
 
+# atrium-orbit (the motion benchmark's fast camera): from the courtyard, the camera swings on
+# an arc of radius 5.5 m about a point under the slab's front edge, from 80° west to 80° east
+# of the courtyard's axis in 2 s and back in 2 s (80°/s), looking at that point all along.
+ATRIUM_ORBIT_PIVOT = (0.0, 2.5, 0.0)
+ATRIUM_ORBIT_RADIUS = 5.5
+ATRIUM_ORBIT_HEIGHT = 1.8
+ATRIUM_ORBIT_DEGREES = tuple(range(-80, 81, 20)) + tuple(range(60, -81, -20))
+
+
+def atrium_orbit_path():
+    """(times, eyes, targets) of the orbit: a keyframe every 20° (0.25 s)."""
+    import math
+    px, _, pz = ATRIUM_ORBIT_PIVOT
+    eyes = [(round(px + ATRIUM_ORBIT_RADIUS * math.sin(math.radians(a)), 6), ATRIUM_ORBIT_HEIGHT,
+             round(pz + ATRIUM_ORBIT_RADIUS * math.cos(math.radians(a)), 6)) for a in ATRIUM_ORBIT_DEGREES]
+    times = [0.25 * k for k in range(len(eyes))]
+    return times, eyes, [ATRIUM_ORBIT_PIVOT] * len(eyes)
+
 
 def atrium_sun_direction():
     """Direction the sunlight travels (unit, downward)."""
     return sun_direction(ATRIUM_SUN_ELEVATION, ATRIUM_SUN_AZIMUTH)
 
 
-def atrium(pan=False):
+def atrium(pan=False, orbit=False):
     g = Gltf()
     stone = g.material("stone", ATRIUM_STONE)
     ground = g.material("ground", ATRIUM_GROUND)
@@ -80,14 +98,22 @@ def atrium(pan=False):
     d = atrium_sun_direction()
     nodes.append(g.light("sun", {"name": "sun", "type": "directional", "color": ATRIUM_SUN_COLOR,
                                  "intensity": ATRIUM_SUN_INTENSITY}, rotation=quat_look(d)))
-    nodes.append(camera_node(g, "gallery camera", ATRIUM_CAMERA, ATRIUM_CAMERA_TARGET))
+    if orbit:
+        nodes.append(camera_node(g, "orbiting camera", atrium_orbit_path()[1][0], ATRIUM_ORBIT_PIVOT))
+    else:
+        nodes.append(camera_node(g, "gallery camera", ATRIUM_CAMERA, ATRIUM_CAMERA_TARGET))
     description = ("courtyard open to the sky; two-storey gallery along the back wall under a thin slab; "
                    "sun on the terrace and the upper back wall, camera in the ground-floor gallery")
     if pan:
         from .animated import camera_path
         camera_path(g, nodes[-1], "pan along the gallery", ATRIUM_PAN_TIMES, ATRIUM_PAN_EYES, ATRIUM_PAN_TARGETS)
         description += "; the camera walks along the gallery under the slab, turning out to the courtyard, over 4 s"
-    g.doc["scene"] = g.add("scenes", {"name": "atrium pan" if pan else "atrium", "nodes": nodes, "extras": {
+    if orbit:
+        from .animated import camera_path
+        camera_path(g, nodes[-1], "orbit across the courtyard", *atrium_orbit_path())
+        description += "; the camera swings 160° on an arc across the courtyard and back in 4 s (80°/s)"
+    name = "atrium pan" if pan else "atrium orbit" if orbit else "atrium"
+    g.doc["scene"] = g.add("scenes", {"name": name, "nodes": nodes, "extras": {
         "description": description,
         "units": "m",
         "courtyard_min": vec((-w, 0.0, sf)),

@@ -17,7 +17,7 @@ from .stress import (
     far_degenerate, grazing_spot, hundred_lights, lattice, light_near_wall, partition_sweep, room_10km,
     room_1mm, sealed_quads,
 )
-from .animated import door, doorway_walk, moving_light
+from .animated import door, doorway_walk, light_drift, moving_light
 from .sponza import SPONZA_EYE, SPONZA_SUN, SPONZA_TARGET, light_gltf
 
 
@@ -38,6 +38,8 @@ def outputs():
         "scenes/moving-light.gltf": moving_light(),
         "scenes/motion/doorway-walk.gltf": doorway_walk(),
         "scenes/motion/atrium-pan.gltf": atrium(pan=True),
+        "scenes/motion/atrium-orbit.gltf": atrium(orbit=True),
+        "scenes/motion/light-drift.gltf": light_drift(),
         "scenes/basilica.glb": basilica(),
         "scenes/basilica-sealed.glb": basilica(sealed=True),
         "scenes/stress/sealed-quads.gltf": sealed_quads(),
