@@ -68,6 +68,15 @@ def door():
     return finish_scene(g, "door", nodes, extras)
 
 
+def light_path(g, light, name, times, positions):
+    """Animates node `light` through `positions` at `times` (LINEAR translation)."""
+    key = g.accessor(list(times), "SCALAR", target=None, minmax=True)
+    where = g.accessor([tuple(p) for p in positions], "VEC3", target=None)
+    g.add("animations", {"name": name,
+                         "channels": [{"sampler": 0, "target": {"node": light, "path": "translation"}}],
+                         "samplers": [{"input": key, "output": where, "interpolation": "LINEAR"}]})
+
+
 # moving-light: doorway.gltf (at t = 0 the same scene) with its light walking through the door:
 # room A at t = 0, the middle of the doorway at t = 2 s, room B at t = 4 s (LINEAR in between).
 MOVING_LIGHT_TIMES = (0.0, 2.0, 4.0)
@@ -76,12 +85,7 @@ MOVING_LIGHT_PATH = (ROOMS_LIGHT, (0.0, 1.0, 0.75), (1.2, 1.8, 0.3))
 
 def moving_light():
     g, nodes, extras = rooms_build(door=True)
-    light = nodes[-2]
-    times = g.accessor(list(MOVING_LIGHT_TIMES), "SCALAR", target=None, minmax=True)
-    path = g.accessor([tuple(p) for p in MOVING_LIGHT_PATH], "VEC3", target=None)
-    g.add("animations", {"name": "light walks through the door",
-                         "channels": [{"sampler": 0, "target": {"node": light, "path": "translation"}}],
-                         "samplers": [{"input": times, "output": path, "interpolation": "LINEAR"}]})
+    light_path(g, nodes[-2], "light walks through the door", MOVING_LIGHT_TIMES, MOVING_LIGHT_PATH)
     t = ROOMS_PARTITION / 2
     (t0, t1, t2), (p0, p1, p2) = MOVING_LIGHT_TIMES, MOVING_LIGHT_PATH
     enters = t0 + (t1 - t0) * (-t - p0[0]) / (p1[0] - p0[0])   # crosses x = -t (room A's side)
@@ -141,12 +145,7 @@ DRIFT_PATH = (ROOMS_LIGHT, (ROOMS_LIGHT[0], ROOMS_LIGHT[1], ROOMS_LIGHT[2] - 1.0
 
 def light_drift():
     g, nodes, extras = rooms_build(door=True)
-    light = nodes[-2]
-    times = g.accessor(list(DRIFT_TIMES), "SCALAR", target=None, minmax=True)
-    path = g.accessor([tuple(p) for p in DRIFT_PATH], "VEC3", target=None)
-    g.add("animations", {"name": "light drifts in room A",
-                         "channels": [{"sampler": 0, "target": {"node": light, "path": "translation"}}],
-                         "samplers": [{"input": times, "output": path, "interpolation": "LINEAR"}]})
+    light_path(g, nodes[-2], "light drifts in room A", DRIFT_TIMES, DRIFT_PATH)
     extras = restyle(
         extras, "doorway.gltf with the camera still in room B and the point light drifting 1 m along -z in "
                 "room A over 4 s (0.25 m/s; the motion benchmark's slow light)",
