@@ -73,9 +73,8 @@ impl Renderer {
     /// paths (batch 0: the single frame; after it, the sequence from the accumulation's start).
     /// A frame of fewer paths than `--paths` (the frame budget's cut) keeps the radius of
     /// `--paths`, its kernels holding fewer than K photons: the cut then cuts the gather's work
-    /// with the photons' (a radius growing as 1/√p would keep it at K photons a sample, and the
-    /// atrium's budgeted pan at 320×240 took 664 ms a frame at 1024 paths, 326 ms at the fixed
-    /// radius). More paths than `--paths` shrink it.
+    /// with the photons', which a radius growing as 1/√p would keep at K photons a sample
+    /// (docs/results.md, *Frame budget*). More paths than `--paths` shrink it.
     pub(super) fn batch_radius(&self, first_batch: u32, paths: u32) -> f32 {
         let paths = paths.max(self.settings.splat.paths);
         match (first_batch, self.settings.splat.radius, self.kernel.accumulation_radius) {
@@ -93,10 +92,9 @@ impl Renderer {
 
     /// The radius an accumulation's batches shrink from: the count's radius for one batch of
     /// `--paths` paths, at most the scene's fixed radius. An accumulation averages its batches'
-    /// noise away, so its kernels need no more photons than its bias allows: where photons
-    /// are few (the basilica's 1.8 a kernel at the fixed radius and 10k paths) a batch at the
-    /// count's radius (3.8× the fixed one there) left still views 1.3× worse in relMSE and
-    /// HDR-FLIP after 20 s (docs/results.md, *Converging at the photon count's radius*).
+    /// noise away, so its kernels need no more photons than its bias allows; where photons are
+    /// few, a start at the count's radius lets that bias last (docs/results.md, *Converging at
+    /// the photon count's radius*).
     fn accumulation_start(&self) -> f32 {
         let single = self.single_frame_radius(self.settings.splat.paths);
         match self.settings.splat.radius {
