@@ -93,6 +93,14 @@ impl Renderer {
         }
     }
 
+    /// The host waited for work that is not a frame (a probe): the next frame's time starts
+    /// now, not at the last frame's completion.
+    pub(super) fn restart_budget_clock(&mut self) {
+        if let Some(budget) = &mut self.budget {
+            budget.last_completion = None;
+        }
+    }
+
     /// The budget, when one is set.
     pub fn frame_budget(&self) -> Option<&FrameBudget> {
         match &self.budget.as_ref()?.choice {

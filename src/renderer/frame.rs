@@ -72,7 +72,7 @@ impl Renderer {
         display: Option<DisplayTarget<'_>>,
         request: Option<ReadbackRequest>,
     ) -> Result<()> {
-        let started = Instant::now();
+        let mut started = Instant::now();
         if let Some(done) = self.runner.acquire_slot(&self.gpu)? {
             self.collect(done)?;
         }
@@ -93,6 +93,8 @@ impl Renderer {
         let mut splat = if render { self.splat_frame(first_batch, frame_batches, budget_paths, seed)? } else { None };
         if let Some(frame) = splat.as_ref().filter(|f| f.first_batch == 0 && self.needs_kernel_probe()) {
             self.probe_kernel(&frame.clone())?;
+            // The frame's time (the budget's measure) starts after the probe's wait.
+            started = Instant::now();
             self.start_accumulation_radius();
             splat = self.splat_frame(first_batch, frame_batches, budget_paths, seed)?;
         }

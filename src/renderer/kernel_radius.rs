@@ -143,7 +143,13 @@ impl Renderer {
         }
         let measured =
             KernelDensity::measured(gather.accepted(), gather.valid_samples, frame.settings.paths, frame.radius);
-        if measured.is_some() {
+        // A frame whose visibility rays culled every photon it accepted sees a sealed room's
+        // walls from inside: the photons its kernels took are the sparse ones behind them, and
+        // a radius for K of those grows to the range's cap over 16× the area, all culled. The
+        // image does not depend on the radius there: the fixed one, until a frame keeps some.
+        if frame.settings.visibility && gather.accepted() > 0 && gather.occluded() >= gather.accepted() {
+            self.kernel.density = None;
+        } else if measured.is_some() {
             self.kernel.density = measured;
         }
     }
@@ -152,6 +158,13 @@ impl Renderer {
     pub(super) fn probe_kernel(&mut self, frame: &SplatFrame) -> Result<()> {
         self.wait_idle()?;
         self.kernel.probed = true;
+        let probed = self.probe_radius(frame);
+        // The budget times frames, not the probe's waited submissions.
+        self.restart_budget_clock();
+        probed
+    }
+
+    fn probe_radius(&mut self, frame: &SplatFrame) -> Result<()> {
         let fixed = auto_radius(&self.scene);
         let k = self.settings.splat.kernel_photons as f64;
         // 10k paths at the fixed radius held 2–40 photons a kernel in the shipped scenes.
