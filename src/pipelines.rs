@@ -1,8 +1,9 @@
 //! Compute passes' definitions, and their pipelines made from them: a pass is a function over
 //! the graph, which lends it its pipeline ([`Graph::pipeline`](leakless_graph::Graph::pipeline)),
 //! with no pipeline of its own to construct and no field to add to the renderer. Every pass of a
-//! frame is listed in [`passes::FRAME_PASSES`]; [`Pipelines`] makes them all for a backend when
-//! the backend is first used, and the bindings test checks the same list against reflection.
+//! frame collects itself into [`passes::FRAME_PASSES`]; [`Pipelines`] makes them all for a
+//! backend when the backend is first used, and the bindings test checks the same collection
+//! against reflection.
 //!
 //! [`passes::FRAME_PASSES`]: crate::passes::FRAME_PASSES
 
@@ -127,7 +128,7 @@ impl ComputePassDef {
 /// each pipeline made once per shader module, so the passes that trace nothing share theirs
 /// between the backends' tables.
 pub struct Pipelines {
-    defs: &'static [&'static ComputePassDef],
+    defs: Vec<&'static ComputePassDef>,
     tuning: DeviceTuning,
     /// Each module's pipeline and the definition that made it.
     by_module: HashMap<&'static str, (PassName, Rc<ComputePipeline>)>,
@@ -138,10 +139,11 @@ impl Pipelines {
     /// The pipelines of `defs` on `backend`, specialized for `tuning`.
     pub fn new(
         gpu: &Gpu,
-        defs: &'static [&'static ComputePassDef],
+        defs: &[&'static ComputePassDef],
         backend: Backend,
         tuning: &DeviceTuning,
     ) -> Result<Pipelines> {
+        let defs = defs.to_vec();
         let mut pipelines =
             Pipelines { defs, tuning: tuning.clone(), by_module: HashMap::new(), tables: Default::default() };
         pipelines.prepare(gpu, backend)?;
@@ -151,7 +153,7 @@ impl Pipelines {
     /// Makes what `backend` needs and is not made yet (a backend used for the first time).
     pub fn prepare(&mut self, gpu: &Gpu, backend: Backend) -> Result<()> {
         let table = &mut self.tables[backend as usize];
-        for def in self.defs {
+        for &def in &self.defs {
             if table.contains(def.name) {
                 continue;
             }

@@ -75,6 +75,8 @@ pub struct Accumulated {
     pub frame_batches: u32,
 }
 
+#[linkme::distributed_slice(crate::passes::FRAME_PASSES)]
+
 pub static ACCUMULATE: ComputePassDef = ComputePassDef::any(
     PassName::new("accumulate", group::COMPOSE),
     &shaders::ACCUMULATE_COMP,
@@ -117,5 +119,5 @@ pub fn add<'r>(
             mean_radiance: means.radiance,
         },
     );
-    pass.dispatch(ACCUMULATE.name, own, params, [extent.width, extent.height, 1]);
+    pass.dispatch(own, params, [extent.width, extent.height, 1]);
 }

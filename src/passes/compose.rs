@@ -37,6 +37,8 @@ shader_bindings! {
     pub struct ComposeResources;
 }
 
+#[linkme::distributed_slice(crate::passes::FRAME_PASSES)]
+
 pub static COMPOSE: ComputePassDef =
     ComputePassDef::any(PassName::new("compose", group::COMPOSE), &shaders::COMPOSE_COMP, &[ComposeBindings::DECLS])
         .push(ComposeParams::LAYOUT);
@@ -67,5 +69,5 @@ pub fn add<'r>(graph: &mut Graph<'r>, params: ComposeParams, frame: &BufferHandl
             gather_counts: images.gather_counts,
         },
     );
-    pass.dispatch(COMPOSE.name, own, params, [extent.width, extent.height, 1]);
+    pass.dispatch(own, params, [extent.width, extent.height, 1]);
 }

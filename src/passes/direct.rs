@@ -45,6 +45,8 @@ shader_bindings! {
     pub struct DirectResources;
 }
 
+#[linkme::distributed_slice(crate::passes::FRAME_PASSES)]
+
 pub static DIRECT: ComputePassDef = ComputePassDef::traced(
     PassName::new("direct", group::DIRECT),
     (&shaders::DIRECT_COMP_RAYQUERY, &shaders::DIRECT_COMP_COMPUTE),
@@ -58,5 +60,5 @@ pub fn add<'r>(graph: &mut Graph<'r>, params: DirectParams, view: &ViewInputs<'_
     let inputs = view.declare(&mut pass);
     let emitters = view.scene.declare_emitters(&mut pass, Stage::Compute);
     let own = DirectBindings::declare(&mut pass, Stage::Compute, DirectResources { direct });
-    pass.dispatch(DIRECT.name, (inputs, emitters, own), params, [extent.width, extent.height, 1]);
+    pass.dispatch((inputs, emitters, own), params, [extent.width, extent.height, 1]);
 }

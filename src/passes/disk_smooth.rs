@@ -37,6 +37,8 @@ shader_bindings! {
     pub struct DiskSmoothResources;
 }
 
+#[linkme::distributed_slice(crate::passes::FRAME_PASSES)]
+
 pub static DISK_SMOOTH: ComputePassDef = ComputePassDef::any(
     PassName::new("disk smoothing", group::VISIBLE_DISK),
     &shaders::DISK_SMOOTH_COMP,
@@ -58,5 +60,5 @@ pub fn add<'r>(
     let own =
         DiskSmoothBindings::declare(&mut pass, Stage::Compute, DiskSmoothResources { frame, measured, disk_mass });
     let gbuffer = gbuffer.declare(&mut pass);
-    pass.dispatch(DISK_SMOOTH.name, (own, gbuffer), params, [extent.width, extent.height, 1]);
+    pass.dispatch((own, gbuffer), params, [extent.width, extent.height, 1]);
 }

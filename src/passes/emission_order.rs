@@ -52,12 +52,16 @@ shader_bindings! {
 pub const EMISSION_CELLS_CLEAR: PassName = PassName::new("emission cells clear", group::PHOTONS);
 pub const EMISSION_CELL_STARTS: PassName = PassName::new("emission cell starts", group::PHOTONS);
 
+#[linkme::distributed_slice(crate::passes::FRAME_PASSES)]
+
 pub static EMISSION_CELLS: ComputePassDef = ComputePassDef::any(
     PassName::new("emission cells", group::PHOTONS),
     &shaders::EMISSION_CELLS_COMP,
     &[EmissionCellBindings::DECLS],
 )
 .push(EmissionOrderParams::LAYOUT);
+
+#[linkme::distributed_slice(crate::passes::FRAME_PASSES)]
 
 pub static EMISSION_ORDER: ComputePassDef = ComputePassDef::any(
     PassName::new("emission order", group::PHOTONS),
@@ -82,7 +86,7 @@ pub fn add<'r>(graph: &mut Graph<'r>, params: EmissionOrderParams) -> Result<Buf
     let mut pass = graph.pass(EMISSION_CELLS.name);
     let own =
         EmissionCellBindings::declare(&mut pass, Stage::Compute, EmissionCellResources { cell_counts: &mut counts });
-    pass.dispatch(EMISSION_CELLS.name, own, params, threads);
+    pass.dispatch(own, params, threads);
 
     scan::add(graph, (EMISSION_CELL_STARTS, None), CELLS, &mut counts)?;
 
@@ -92,6 +96,6 @@ pub fn add<'r>(graph: &mut Graph<'r>, params: EmissionOrderParams) -> Result<Buf
         Stage::Compute,
         EmissionOrderResources { cell_starts: &mut counts, path_order: &mut order },
     );
-    pass.dispatch(EMISSION_ORDER.name, own, params, threads);
+    pass.dispatch(own, params, threads);
     Ok(order)
 }

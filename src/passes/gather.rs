@@ -107,6 +107,8 @@ shader_bindings! {
 
 const GATHER_CLEAR: PassName = PassName::new("gather clear", group::GATHER);
 
+#[linkme::distributed_slice(crate::passes::FRAME_PASSES)]
+
 pub static GATHER: ComputePassDef = ComputePassDef::traced(
     PassName::new("gather", group::GATHER),
     (&shaders::GATHER_COMP_RAYQUERY, &shaders::GATHER_COMP_COMPUTE),
@@ -219,5 +221,5 @@ pub fn add<'r>(
     let surfaces = scene.declare(&mut pass, Stage::Compute);
     let trace = trace.declare(&mut pass);
     let samples = shape.sample_count;
-    pass.dispatch(GATHER.name, (own, gbuffer, surfaces, trace), params, [samples, 1, 1]);
+    pass.dispatch((own, gbuffer, surfaces, trace), params, [samples, 1, 1]);
 }

@@ -22,6 +22,7 @@ shader_bindings! {
 }
 
 /// The spin, appended to the pass it stalls (its own name labels no pass).
+#[linkme::distributed_slice(crate::passes::TOOL_PASSES)]
 pub static HANG: ComputePassDef =
     ComputePassDef::any(PassName::new("hang", group::TOOLS), &shaders::HANG_COMP, &[HangBindings::DECLS]);
 

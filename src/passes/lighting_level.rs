@@ -57,6 +57,8 @@ shader_bindings! {
     pub struct LevelResources;
 }
 
+#[linkme::distributed_slice(crate::passes::FRAME_PASSES)]
+
 pub static LIGHTING_LEVEL: ComputePassDef = ComputePassDef::any(
     PassName::new("lighting level", group::REUSE),
     &shaders::LIGHTING_LEVEL_COMP,
@@ -105,5 +107,5 @@ pub fn add<'r>(
         Stage::Compute,
         LevelResources { level_partials: partials, level_previous: &level.previous, level_current: &mut level.current },
     );
-    pass.dispatch(LIGHTING_LEVEL.name, own, params, [256, 1, 1]);
+    pass.dispatch(own, params, [256, 1, 1]);
 }

@@ -44,6 +44,7 @@ const LIST_SCAN: PassName = PassName::new("list scan", group::SPLAT);
 const LIST_DISPATCH: PassName = PassName::new("list dispatch", group::SPLAT);
 
 /// One thread per record, looping where the records outnumber the workgroups.
+#[linkme::distributed_slice(crate::passes::FRAME_PASSES)]
 pub static LIST_SCATTER: ComputePassDef = ComputePassDef::any(
     PassName::new("list scatter", group::SPLAT),
     &shaders::LIST_SCATTER_COMP,
@@ -76,6 +77,6 @@ pub fn add<'r>(graph: &mut Graph<'r>, lists: &mut NodeListHandles, max_groups: u
         },
     );
     let (args, threads) = (dispatch.declare(&mut pass), dispatch.most_threads());
-    pass.dispatch_indirect(LIST_SCATTER.name, own, params, args, threads);
+    pass.dispatch_indirect(own, params, args, threads);
     Ok(())
 }

@@ -101,12 +101,16 @@ pub struct LuminanceInputs<'a> {
     pub leaked: &'a ImageHandle,
 }
 
+#[linkme::distributed_slice(crate::passes::FRAME_PASSES)]
+
 pub static LUMINANCE_TILES: ComputePassDef = ComputePassDef::any(
     PassName::new("luminance tiles", group::LUMINANCE),
     &shaders::LUMINANCE_COMP,
     &[TileBindings::DECLS],
 )
 .push(LuminanceParams::LAYOUT);
+
+#[linkme::distributed_slice(crate::passes::FRAME_PASSES)]
 
 pub static LUMINANCE_TOTAL: ComputePassDef = ComputePassDef::any(
     PassName::new("luminance total", group::LUMINANCE),
@@ -138,12 +142,12 @@ pub fn add<'r>(graph: &mut Graph<'r>, input: LuminanceInputs<'_>) -> Result<Buff
             partials: &mut partials,
         },
     );
-    pass.dispatch(LUMINANCE_TILES.name, own, params, [extent.width, extent.height, 1]);
+    pass.dispatch(own, params, [extent.width, extent.height, 1]);
 
     let mut pass = graph.pass(LUMINANCE_TOTAL.name);
     let own =
         TotalBindings::declare(&mut pass, Stage::Compute, TotalResources { partials: &partials, stats: &mut stats });
     let params = TotalParams { tiles, ..Default::default() };
-    pass.dispatch(LUMINANCE_TOTAL.name, own, params, [256, 1, 1]);
+    pass.dispatch(own, params, [256, 1, 1]);
     Ok(stats)
 }

@@ -1,6 +1,6 @@
 //! One pass per file, named after what it computes; each declares its bindings once
-//! (`shader_bindings!`) and adds itself to the frame's graph with the resources it reads and
-//! writes in its signature.
+//! (`shader_bindings!`), collects itself into [`FRAME_PASSES`] where it is defined, and adds
+//! itself to the frame's graph with the resources it reads and writes in its signature.
 
 pub mod accumulate;
 pub mod compose;
@@ -40,43 +40,21 @@ use crate::pipelines::ComputePassDef;
 use crate::trace::{TraceBindings, TraceHandles};
 use gbuffer::{GBufferBindings, GBufferHandles};
 
-/// Every compute pass a frame may run: the renderer's pipeline cache makes them all, and the
-/// bindings test checks them all against their shaders on both backends. A new pass adds its
-/// definition here.
-pub static FRAME_PASSES: &[&ComputePassDef] = &[
-    &direct::DIRECT,
-    &reference::REFERENCE,
-    &emission_order::EMISSION_CELLS,
-    &scan::SCAN,
-    &emission_order::EMISSION_ORDER,
-    &photons::PHOTONS,
-    &photon_dispatch::PHOTON_DISPATCH,
-    &photon_order::PHOTON_CELLS,
-    &photon_order::PHOTON_ORDER,
-    &visible_disk::VISIBLE_DISK,
-    &disk_smooth::DISK_SMOOTH,
-    &hierarchy::sample_bounds::SAMPLE_BOUNDS,
-    &hierarchy::morton::MORTON,
-    &sort::SORT_HISTOGRAM,
-    &sort::SORT_SCATTER,
-    &sort::SORT_COPY,
-    &hierarchy::build::HIERARCHY_LEVEL,
-    &splat::SPLAT,
-    &list_scatter::LIST_SCATTER,
-    &photon_clearance::PHOTON_CLEARANCE,
-    &gather::GATHER,
-    &compose::COMPOSE,
-    &accumulate::ACCUMULATE,
-    &spatial::SPATIAL,
-    &temporal::TEMPORAL,
-    &lighting_level::LIGHTING_LEVEL,
-    &luminance::LUMINANCE_TILES,
-    &luminance::LUMINANCE_TOTAL,
-];
+/// Every compute pass a frame may run, collected from their definitions
+/// (`#[linkme::distributed_slice(FRAME_PASSES)]` on each): the renderer's pipeline cache makes
+/// them all, and the bindings test checks them all against their shaders on both backends.
+#[linkme::distributed_slice]
+pub static FRAME_PASSES: [ComputePassDef];
 
 /// The compute passes of tools and tests, outside the frame: `bench rays` and the
 /// backend-agreement tests' ray casts, and fault injection's stall.
-pub static TOOL_PASSES: &[&ComputePassDef] = &[&raycast::RAYCAST, &hang::HANG];
+#[linkme::distributed_slice]
+pub static TOOL_PASSES: [ComputePassDef];
+
+/// The frame's passes, as a pipeline set takes them.
+pub fn frame_passes() -> Vec<&'static ComputePassDef> {
+    FRAME_PASSES.iter().collect()
+}
 
 /// What every pass that shades view samples reads: the frame, the lights, the G-buffer, the
 /// scene's surfaces and the trace structures.

@@ -66,6 +66,7 @@ pub enum Needed<'a> {
 }
 
 /// The clearance searches the scene's BVH on every backend (it needs distances, not hits).
+#[linkme::distributed_slice(crate::passes::FRAME_PASSES)]
 pub static PHOTON_CLEARANCE: ComputePassDef = ComputePassDef::any(
     PassName::new("photon clearance", group::CLEARANCE),
     &shaders::PHOTON_CLEARANCE_COMP,
@@ -111,6 +112,6 @@ pub fn add<'r>(
     );
     let bvh = trace.declare_bvh(&mut pass);
     let (args, threads) = (dispatch.declare(&mut pass), dispatch.most_threads());
-    pass.dispatch_indirect(PHOTON_CLEARANCE.name, (own, bvh), params, args, threads);
+    pass.dispatch_indirect((own, bvh), params, args, threads);
     Ok(())
 }

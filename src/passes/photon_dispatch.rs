@@ -71,6 +71,8 @@ impl PhotonDispatch {
     }
 }
 
+#[linkme::distributed_slice(crate::passes::FRAME_PASSES)]
+
 pub static PHOTON_DISPATCH: ComputePassDef = ComputePassDef::any(
     PassName::new("photon dispatch", group::PHOTONS),
     &shaders::PHOTON_DISPATCH_COMP,
@@ -101,12 +103,12 @@ pub fn add_over<'r>(
         location: MemoryLocation::GpuOnly,
     })?;
     let params = PhotonDispatchParams { capacity, group_size: PHOTON_WORKGROUP, max_groups, ..Default::default() };
-    let mut pass = graph.pass(name);
+    let mut pass = graph.pass(name).runs(PHOTON_DISPATCH.name);
     let own = PhotonDispatchBindings::declare(
         &mut pass,
         Stage::Compute,
         PhotonDispatchResources { counters, photon_dispatch: &mut args },
     );
-    pass.dispatch(PHOTON_DISPATCH.name, own, params, [1, 1, 1]);
+    pass.dispatch(own, params, [1, 1, 1]);
     Ok(PhotonDispatch { args, capacity, max_groups })
 }

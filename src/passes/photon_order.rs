@@ -92,8 +92,11 @@ const fn order_pass(
 const PHOTON_CELLS_CLEAR: PassName = PassName::new("photon cells clear", group::PHOTON_ORDER);
 const PHOTON_CELL_STARTS: PassName = PassName::new("photon cell starts", group::PHOTON_ORDER);
 
+#[linkme::distributed_slice(crate::passes::FRAME_PASSES)]
+
 pub static PHOTON_CELLS: ComputePassDef =
     order_pass(PassName::new("photon cells", group::PHOTON_ORDER), &shaders::PHOTON_CELLS_COMP, &[CellBindings::DECLS]);
+#[linkme::distributed_slice(crate::passes::FRAME_PASSES)]
 pub static PHOTON_ORDER: ComputePassDef = order_pass(
     PassName::new("photon order", group::PHOTON_ORDER),
     &shaders::PHOTON_ORDER_COMP,
@@ -137,7 +140,7 @@ pub fn add<'r>(
         CellResources { photons, photon_counters, cell_counts: &mut counts, photon_cell_of: &mut cell_of },
     );
     let (args, threads) = (dispatch.declare(&mut pass), dispatch.most_threads());
-    pass.dispatch_indirect(PHOTON_CELLS.name, own, params, args, threads);
+    pass.dispatch_indirect(own, params, args, threads);
 
     scan::add(graph, (PHOTON_CELL_STARTS, None), CELLS, &mut counts)?;
 
@@ -154,6 +157,6 @@ pub fn add<'r>(
         },
     );
     let (args, threads) = (dispatch.declare(&mut pass), dispatch.most_threads());
-    pass.dispatch_indirect(PHOTON_ORDER.name, own, params, args, threads);
+    pass.dispatch_indirect(own, params, args, threads);
     Ok(())
 }

@@ -171,6 +171,8 @@ pub const COUNTER_BUFFER_USAGE: vk::BufferUsageFlags = vk::BufferUsageFlags::fro
 
 const PHOTON_COUNTERS: PassName = PassName::new("photon counters", group::PHOTONS);
 
+#[linkme::distributed_slice(crate::passes::FRAME_PASSES)]
+
 pub static PHOTONS: ComputePassDef = ComputePassDef::traced(
     PassName::new("photons", group::PHOTONS),
     (&shaders::PHOTONS_COMP_RAYQUERY, &shaders::PHOTONS_COMP_COMPUTE),
@@ -252,7 +254,7 @@ pub fn add<'r>(
     let surfaces = scene.declare(&mut pass, Stage::Compute);
     let emitters = scene.declare_emitters(&mut pass, Stage::Compute);
     let trace = trace.declare(&mut pass);
-    pass.dispatch(PHOTONS.name, (own, surfaces, emitters, trace), push, [push.threads, 1, 1]);
+    pass.dispatch((own, surfaces, emitters, trace), push, [push.threads, 1, 1]);
     Ok(())
 }
 

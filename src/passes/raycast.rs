@@ -44,6 +44,8 @@ shader_bindings! {
     pub struct RaycastResources;
 }
 
+#[linkme::distributed_slice(crate::passes::TOOL_PASSES)]
+
 pub static RAYCAST: ComputePassDef = ComputePassDef::traced(
     PassName::new("raycast", group::TOOLS),
     (&shaders::RAYCAST_COMP_RAYQUERY, &shaders::RAYCAST_COMP_COMPUTE),
@@ -80,5 +82,5 @@ pub fn add<'r>(
         RaycastBindings::declare(&mut pass, Stage::Compute, RaycastResources { rays, ray_hits: hits, ray_work: work });
     let surfaces = scene.declare(&mut pass, Stage::Compute);
     let trace = trace.declare(&mut pass);
-    pass.dispatch(def.name, (own, surfaces, trace), params, [ray_count, 1, 1]);
+    pass.dispatch((own, surfaces, trace), params, [ray_count, 1, 1]);
 }

@@ -41,6 +41,8 @@ shader_bindings! {
     pub struct ReferenceResources;
 }
 
+#[linkme::distributed_slice(crate::passes::FRAME_PASSES)]
+
 pub static REFERENCE: ComputePassDef = ComputePassDef::traced(
     PassName::new("reference", group::REFERENCE),
     (&shaders::REFERENCE_COMP_RAYQUERY, &shaders::REFERENCE_COMP_COMPUTE),
@@ -64,7 +66,7 @@ pub fn add<'r>(graph: &mut Graph<'r>, params: ReferenceParams, view: &ViewInputs
         let inputs = view.declare(&mut pass);
         let emitters = view.scene.declare_emitters(&mut pass, Stage::Compute);
         let own = ReferenceBindings::declare(&mut pass, Stage::Compute, ReferenceResources { accumulated });
-        pass.dispatch(REFERENCE.name, (inputs, emitters, own), params, [extent.width, extent.height, 1]);
+        pass.dispatch((inputs, emitters, own), params, [extent.width, extent.height, 1]);
     }
 }
 

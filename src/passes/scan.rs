@@ -19,6 +19,7 @@ shader_bindings! {
 }
 
 /// The scan is one workgroup of the sort's size.
+#[linkme::distributed_slice(crate::passes::FRAME_PASSES)]
 pub static SCAN: ComputePassDef =
     sort_pass(PassName::new("sort scan", group::HIERARCHY), &shaders::SORT_SCAN_COMP, &[ScanBindings::DECLS]);
 
@@ -41,8 +42,9 @@ pub fn add<'r>(
     let mut pass = match index {
         Some(index) => graph.pass_numbered(name, index),
         None => graph.pass(name),
-    };
+    }
+    .runs(SCAN.name);
     let own = ScanBindings::declare(&mut pass, Stage::Compute, ScanResources { histograms: counts });
-    pass.dispatch(SCAN.name, own, params, [WORKGROUP_SIZE, 1, 1]);
+    pass.dispatch(own, params, [WORKGROUP_SIZE, 1, 1]);
     Ok(())
 }

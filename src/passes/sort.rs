@@ -142,13 +142,17 @@ pub(crate) const fn sort_pass(
     ComputePassDef::any(name, shader, bindings).push(SortParams::LAYOUT).workgroup([WORKGROUP_SIZE, 1, 1])
 }
 
+#[linkme::distributed_slice(crate::passes::FRAME_PASSES)]
+
 pub static SORT_HISTOGRAM: ComputePassDef = sort_pass(
     PassName::new("sort histogram", group::HIERARCHY),
     &shaders::SORT_HISTOGRAM_COMP,
     &[HistogramBindings::DECLS],
 );
+#[linkme::distributed_slice(crate::passes::FRAME_PASSES)]
 pub static SORT_SCATTER: ComputePassDef =
     sort_pass(PassName::new("sort scatter", group::HIERARCHY), &shaders::SORT_SCATTER_COMP, &[ScatterBindings::DECLS]);
+#[linkme::distributed_slice(crate::passes::FRAME_PASSES)]
 pub static SORT_COPY: ComputePassDef =
     sort_pass(PassName::new("sort copy", group::HIERARCHY), &shaders::SORT_COPY_COMP, &[CopyBindings::DECLS]);
 
@@ -216,7 +220,7 @@ pub fn add<'r>(
             Stage::Compute,
             CopyResources { keys_in: &scratch_keys, values_in: &scratch_values, keys_out: keys, values_out: values },
         );
-        pass.dispatch(SORT_COPY.name, own, params, [len, 1, 1]);
+        pass.dispatch(own, params, [len, 1, 1]);
     }
     Ok(())
 }
@@ -240,7 +244,7 @@ impl DigitPass {
 
         let mut pass = graph.pass_numbered(SORT_HISTOGRAM.name, digit);
         let own = HistogramBindings::declare(&mut pass, Stage::Compute, HistogramResources { keys_in, histograms });
-        pass.dispatch(SORT_HISTOGRAM.name, own, params, threads);
+        pass.dispatch(own, params, threads);
 
         scan::add(graph, (scan::SCAN.name, Some(digit)), RADIX * params.group_count, histograms)?;
 
@@ -250,7 +254,7 @@ impl DigitPass {
             Stage::Compute,
             ScatterResources { keys_in, values_in, histograms, keys_out, values_out },
         );
-        pass.dispatch(SORT_SCATTER.name, own, params, threads);
+        pass.dispatch(own, params, threads);
         Ok(())
     }
 }

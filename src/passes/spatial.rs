@@ -51,6 +51,8 @@ shader_bindings! {
     pub struct SpatialResources;
 }
 
+#[linkme::distributed_slice(crate::passes::FRAME_PASSES)]
+
 pub static SPATIAL: ComputePassDef = ComputePassDef::any(
     PassName::new("spatial reuse", group::REUSE),
     &shaders::SPATIAL_COMP,
@@ -95,6 +97,6 @@ pub fn add<'r>(
             if i % 2 == 1 { (&images.result, &mut images.scratch) } else { (&images.scratch, &mut images.result) };
         let own =
             SpatialBindings::declare(&mut pass, Stage::Compute, SpatialResources { frame, indirect, source, filtered });
-        pass.dispatch(SPATIAL.name, (own, g), params, [extent.width, extent.height, 1]);
+        pass.dispatch((own, g), params, [extent.width, extent.height, 1]);
     }
 }

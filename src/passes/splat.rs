@@ -160,6 +160,7 @@ pub struct SplatInputs<'a> {
 const SPLAT_CLEAR: PassName = PassName::new("splat clear", group::SPLAT);
 
 /// The splat: one thread per stored photon.
+#[linkme::distributed_slice(crate::passes::FRAME_PASSES)]
 pub static SPLAT: ComputePassDef =
     ComputePassDef::any(PassName::new("splat", group::SPLAT), &shaders::SPLAT_COMP, &[SplatBindings::DECLS])
         .push(SplatParams::LAYOUT)
@@ -201,5 +202,5 @@ pub fn add<'r>(
         },
     );
     let (args, threads) = (input.dispatch.declare(&mut pass), input.dispatch.most_threads());
-    pass.dispatch_indirect(SPLAT.name, own, params, args, threads);
+    pass.dispatch_indirect(own, params, args, threads);
 }

@@ -108,6 +108,8 @@ shader_bindings! {
     pub struct TemporalResources;
 }
 
+#[linkme::distributed_slice(crate::passes::FRAME_PASSES)]
+
 pub static TEMPORAL: ComputePassDef = ComputePassDef::any(
     PassName::new("temporal reuse", group::REUSE),
     &shaders::TEMPORAL_COMP,
@@ -217,5 +219,5 @@ pub fn add<'r>(
             level_partials: inputs.level_partials,
         },
     );
-    pass.dispatch(TEMPORAL.name, (own, gbuffer, scene), params, [extent.width, extent.height, 1]);
+    pass.dispatch((own, gbuffer, scene), params, [extent.width, extent.height, 1]);
 }

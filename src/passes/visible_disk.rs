@@ -87,6 +87,8 @@ fn mass_image(graph: &mut Graph<'_>, extent: vk::Extent2D, name: &'static str) -
     })?)
 }
 
+#[linkme::distributed_slice(crate::passes::FRAME_PASSES)]
+
 pub static VISIBLE_DISK: ComputePassDef = ComputePassDef::traced(
     PassName::new("visible disk", group::VISIBLE_DISK),
     (&shaders::VISIBLE_DISK_COMP_RAYQUERY, &shaders::VISIBLE_DISK_COMP_COMPUTE),
@@ -118,7 +120,7 @@ pub fn add<'r>(
     let trace = trace.declare(&mut pass);
     // One more tile each way: the tiles start up to TILE − 1 pixels before pixel 0.
     let threads = [extent.width + TILE - 1, extent.height + TILE - 1, 1];
-    pass.dispatch(VISIBLE_DISK.name, (own, gbuffer, surfaces, trace), params, threads);
+    pass.dispatch((own, gbuffer, surfaces, trace), params, threads);
 }
 
 /// The side of visible_disk.comp's workgroups, whose samples share their directions' masses.

@@ -7,7 +7,7 @@ use leakless_graph::Timing;
 use super::{resolve, reuse, Renderer};
 use crate::error::Result;
 use crate::passes::tonemap::ViewLayer;
-use crate::passes::FRAME_PASSES;
+use crate::passes::frame_passes;
 use crate::pipelines::Pipelines;
 use crate::settings::{Method, RenderSettings};
 use crate::trace::BackendChoice;
@@ -38,7 +38,7 @@ impl Renderer {
         let retuned = if settings.tuning != self.settings.tuning {
             let tuning = DeviceTuning::choose(self.gpu.report(), settings.tuning);
             check_tuning(&settings, &tuning, self.gpu.report())?;
-            Some(Pipelines::new(&self.gpu, FRAME_PASSES, backend.backend, &tuning)?)
+            Some(Pipelines::new(&self.gpu, &frame_passes(), backend.backend, &tuning)?)
         } else {
             check_tuning(&settings, self.tuning(), self.gpu.report())?;
             None
@@ -71,7 +71,7 @@ impl Renderer {
     /// sweeps: a driver may run out of something if every variant opened a device of its own).
     pub fn set_tuning(&mut self, tuning: DeviceTuning) -> Result<()> {
         check_tuning(&self.settings, &tuning, self.gpu.report())?;
-        let pipelines = Pipelines::new(&self.gpu, FRAME_PASSES, self.backend.backend, &tuning)?;
+        let pipelines = Pipelines::new(&self.gpu, &frame_passes(), self.backend.backend, &tuning)?;
         self.gpu.wait_idle()?; // the pipelines of frames in flight
         self.pipelines = pipelines;
         self.restart();

@@ -42,7 +42,7 @@ use crate::passes::gbuffer::GBufferPass;
 use crate::passes::hang::HangPass;
 use crate::passes::luminance::LuminanceStats;
 use crate::passes::tonemap::{TonemapPass, ViewLayer};
-use crate::passes::FRAME_PASSES;
+use crate::passes::frame_passes;
 use crate::pipelines::Pipelines;
 use crate::scene_pose::ScenePose;
 use crate::settings::{Method, RenderSettings};
@@ -188,7 +188,7 @@ impl Renderer {
             tonemaps: vec![TonemapPass::new(&gpu, readback::DISPLAY_FORMAT)?],
             hang: HangPass::from_env(&gpu)?,
         };
-        let pipelines = Pipelines::new(&gpu, FRAME_PASSES, resolved.backend, &tuning)?;
+        let pipelines = Pipelines::new(&gpu, &frame_passes(), resolved.backend, &tuning)?;
         let mut runner = GraphRunner::new(&gpu, FRAMES_IN_FLIGHT)?;
         if let Some(hang) = &passes.hang {
             hang.release_on_device_lost(&mut runner);

@@ -12,7 +12,7 @@ use leakless_device::{check_bindings, check_push_constants, BindingDecl, GpuStru
 fn every_compute_pass_matches_its_shader_on_both_backends() {
     let mut errors = Vec::new();
     for backend in [Backend::Compute, Backend::RayQuery] {
-        for pass in FRAME_PASSES.iter().chain(TOOL_PASSES) {
+        for pass in FRAME_PASSES.iter().chain(TOOL_PASSES.iter()) {
             let (shader, name) = (pass.shader(backend), pass.name.label);
             if let Err(e) = check_bindings(shader, name, &pass.decls(backend)) {
                 errors.push(format!("{backend:?}: {e}"));
@@ -89,12 +89,12 @@ fn every_module_is_spirv_and_reflected() {
 fn every_compute_module_belongs_to_a_registered_pass() {
     let registered: Vec<&str> = [Backend::Compute, Backend::RayQuery]
         .into_iter()
-        .flat_map(|b| FRAME_PASSES.iter().chain(TOOL_PASSES).map(move |p| p.shader(b).name))
+        .flat_map(|b| FRAME_PASSES.iter().chain(TOOL_PASSES.iter()).map(move |p| p.shader(b).name))
         .collect();
     for s in shaders::ALL.iter().filter(|s| s.stage == leakless_device::shader::ShaderStage::Compute) {
         assert!(registered.contains(&s.name), "{} is no registered pass's shader (passes::FRAME_PASSES)", s.name);
     }
-    let mut labels: Vec<&str> = FRAME_PASSES.iter().chain(TOOL_PASSES).map(|p| p.name.label).collect();
+    let mut labels: Vec<&str> = FRAME_PASSES.iter().chain(TOOL_PASSES.iter()).map(|p| p.name.label).collect();
     labels.sort();
     let count = labels.len();
     labels.dedup();

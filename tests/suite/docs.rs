@@ -1,6 +1,8 @@
-//! The docs stay true to the tree: every relative link in the README and `docs/` resolves, and
-//! the README's layout table names every path it lists and every pass file there is, so a new
-//! pass or a moved file fails here until the table says so. No device needed.
+//! The docs stay true to the tree: every relative link in the README and `docs/` resolves (to a
+//! heading too, where it names one), and
+//! the README's layout table names every top-level source path there is and only passes that
+//! exist, so a moved file fails here until the table says so (a new pass collects itself and
+//! needs no line). No device needed.
 
 use std::path::Path;
 
@@ -22,19 +24,53 @@ fn documents() -> Vec<String> {
     docs
 }
 
-/// The targets of `[text](target)` links: relative ones only, without their `#anchor`.
-fn relative_links(text: &str) -> Vec<String> {
-    let mut links = Vec::new();
-    let mut rest = text;
-    while let Some(at) = rest.find("](") {
-        rest = &rest[at + 2..];
-        let Some(end) = rest.find(')') else { break };
-        let target = rest[..end].split('#').next().unwrap_or_default().trim();
-        if !target.is_empty() && !target.contains("://") && !target.starts_with("mailto:") {
-            links.push(target.to_string());
+/// The targets of the document's links and images, as CommonMark reads them: relative ones
+/// only, as (path, anchor); a link within the document has an empty path.
+fn relative_links(text: &str) -> Vec<(String, Option<String>)> {
+    use pulldown_cmark::{Event, Parser, Tag};
+    Parser::new(text)
+        .filter_map(|event| match event {
+            Event::Start(Tag::Link { dest_url, .. } | Tag::Image { dest_url, .. }) => Some(dest_url.to_string()),
+            _ => None,
+        })
+        .filter(|target| !target.contains("://") && !target.starts_with("mailto:"))
+        .map(|target| match target.split_once('#') {
+            Some((path, anchor)) => (path.to_string(), Some(anchor.to_string())),
+            None => (target, None),
+        })
+        .collect()
+}
+
+/// The anchors of a document's headings, as GitHub makes them: lower case, spaces to hyphens,
+/// other punctuation dropped, a repeated heading numbered (`-1`, `-2`, …).
+fn heading_anchors(text: &str) -> Vec<String> {
+    use pulldown_cmark::{Event, Parser, Tag, TagEnd};
+    let (mut anchors, mut heading): (Vec<String>, Option<String>) = (Vec::new(), None);
+    for event in Parser::new(text) {
+        match event {
+            Event::Start(Tag::Heading { .. }) => heading = Some(String::new()),
+            Event::Text(t) | Event::Code(t) => {
+                if let Some(h) = heading.as_mut() {
+                    h.push_str(&t);
+                }
+            }
+            Event::End(TagEnd::Heading(_)) => {
+                let text = heading.take().unwrap_or_default().to_lowercase();
+                let slug: String = text
+                    .chars()
+                    .filter(|c| c.is_alphanumeric() || *c == ' ' || *c == '-' || *c == '_')
+                    .map(|c| if c == ' ' { '-' } else { c })
+                    .collect();
+                let repeats = anchors.iter().filter(|a| **a == slug).count();
+                anchors.push(slug.clone());
+                if repeats > 0 {
+                    anchors.push(format!("{slug}-{repeats}"));
+                }
+            }
+            _ => {}
         }
     }
-    links
+    anchors
 }
 
 #[test]
@@ -43,10 +79,18 @@ fn every_relative_link_resolves() {
     let (mut broken, mut checked) = (Vec::new(), 0);
     for doc in documents() {
         let base = Path::new(&doc).parent().unwrap_or(Path::new(""));
-        for link in relative_links(&read(&doc)) {
+        for (path, anchor) in relative_links(&read(&doc)) {
             checked += 1;
-            if !root.join(base).join(&link).exists() {
-                broken.push(format!("{doc}: {link}"));
+            let target = if path.is_empty() { Path::new(&doc).to_path_buf() } else { base.join(&path) };
+            if !root.join(&target).exists() {
+                broken.push(format!("{doc}: {path}"));
+                continue;
+            }
+            let is_markdown = target.extension().is_some_and(|e| e == "md");
+            if let Some(anchor) = anchor.filter(|_| is_markdown) {
+                if !heading_anchors(&read(&target.to_string_lossy())).contains(&anchor) {
+                    broken.push(format!("{doc}: {path}#{anchor} (no such heading)"));
+                }
             }
         }
     }
@@ -104,16 +148,65 @@ fn the_layout_table_names_what_exists() {
             }
         }
     }
+    // The passes collect themselves (passes::FRAME_PASSES): a new one needs no line here. What
+    // the row names must exist.
     let passes = rows.iter().find(|(p, _)| p == "`src/passes/`").map(|(_, w)| w.clone()).expect("a src/passes row");
-    for dir in ["src/passes", "src/passes/hierarchy"] {
-        for entry in std::fs::read_dir(root.join(dir)).unwrap() {
-            let name = entry.unwrap().file_name().to_string_lossy().to_string();
-            let stem = name.trim_end_matches(".rs");
-            let named = [format!("`{stem}`"), format!("`{name}`"), format!("`{name}/`")];
-            if name != "mod.rs" && !named.iter().any(|n| passes.contains(n.as_str())) {
-                missing.push(format!("{dir}/{name}"));
-            }
+    let mut stale = Vec::new();
+    for name in passes.split('`').skip(1).step_by(2).filter(|n| !n.contains(' ') && !n.contains("::")) {
+        let name = name.trim_end_matches('/').trim_end_matches(".rs");
+        let exists = ["src/passes", "src/passes/hierarchy"].iter().any(|dir| {
+            let base = root.join(dir).join(name);
+            base.with_extension("rs").exists() || base.is_dir()
+        });
+        if !exists {
+            stale.push(name.to_string());
         }
     }
+    assert!(stale.is_empty(), "README's src/passes row names passes that do not exist: {stale:?}");
     assert!(missing.is_empty(), "README's layout table does not mention:\n{}", missing.join("\n"));
+}
+
+/// The figures the README states (ratios and percentages: `1.44–1.71×`, `17%`), each end of a
+/// range on its own; sizes (`640×480`) are not figures.
+fn stated_figures(text: &str) -> Vec<String> {
+    let chars: Vec<char> = text.chars().collect();
+    let mut figures = Vec::new();
+    let mut i = 0;
+    while i < chars.len() {
+        let starts = chars[i].is_ascii_digit() && (i == 0 || !(chars[i - 1].is_alphanumeric() || chars[i - 1] == '.'));
+        if !starts {
+            i += 1;
+            continue;
+        }
+        let mut j = i;
+        while j < chars.len() && (chars[j].is_ascii_digit() || chars[j] == '.' || chars[j] == '–') {
+            j += 1;
+        }
+        let unit = chars.get(j).copied().filter(|c| *c == '×' || *c == '%');
+        let size = chars.get(j + 1).is_some_and(|c| c.is_ascii_digit());
+        if let (Some(unit), false) = (unit, size) {
+            let number: String = chars[i..j].iter().collect();
+            figures.extend(number.split('–').filter(|n| !n.is_empty()).map(|n| format!("{n}{unit}")));
+        }
+        i = j.max(i + 1);
+    }
+    figures
+}
+
+/// Every figure the README states is one that docs/ measures (docs/results.md and the pages
+/// beside it, which give the command that makes it): the README does not carry figures of its
+/// own that could drift from what was measured.
+#[test]
+fn the_readmes_figures_are_measured_in_docs() {
+    let docs: String = documents().iter().filter(|d| d.starts_with("docs/")).map(|d| read(d)).collect();
+    let figures = stated_figures(&read("README.md"));
+    assert!(!figures.is_empty(), "no figure found in the README: is the scanner broken?");
+    let unmeasured: Vec<&String> = figures.iter().filter(|f| !docs.contains(f.as_str())).collect();
+    assert!(unmeasured.is_empty(), "README figures that no page of docs/ states: {unmeasured:?}");
+}
+
+#[test]
+fn figures_are_ratios_and_percentages_not_sizes() {
+    let found = stated_figures("costs 1.44–1.71× at 640×480; 17% of them, v1.5× no, (2×)");
+    assert_eq!(found, ["1.44×", "1.71×", "17%", "2×"]);
 }

@@ -220,17 +220,19 @@ impl<'r> Graph<'r> {
         Ok(())
     }
 
-    /// Starts a pass; `name` gives its debug label, timing key and crash marker, and the
-    /// group its time counts under.
+    /// Starts a pass; `name` gives its debug label, timing key and crash marker, the group its
+    /// time counts under, and the pipeline its dispatch runs ([`PassBuilder::runs`] names
+    /// another).
     pub fn pass<'g>(&'g mut self, name: PassName) -> PassBuilder<'g, 'r> {
         let (label, group) = (name.label.to_string(), name.group);
-        PassBuilder { graph: self, name: label, group, uses: Vec::new(), extends: None }
+        PassBuilder { graph: self, name: label, group, pipeline: Some(name), uses: Vec::new(), extends: None }
     }
 
-    /// Starts pass number `index` of a repeated pass ("sort histogram 2").
+    /// Starts pass number `index` of a repeated pass ("sort histogram 2"), running `name`'s
+    /// pipeline.
     pub fn pass_numbered<'g>(&'g mut self, name: PassName, index: u32) -> PassBuilder<'g, 'r> {
         let (label, group) = (format!("{} {index}", name.label), name.group);
-        PassBuilder { graph: self, name: label, group, uses: Vec::new(), extends: None }
+        PassBuilder { graph: self, name: label, group, pipeline: Some(name), uses: Vec::new(), extends: None }
     }
 
     /// Continues the last pass labelled `label`: what the builder declares joins its uses, and what
@@ -240,7 +242,7 @@ impl<'r> Graph<'r> {
     pub fn extend_pass<'g>(&'g mut self, label: &str) -> Option<PassBuilder<'g, 'r>> {
         let index = self.passes.iter().rposition(|p| p.name == label)?;
         let (uses, group) = (self.passes[index].uses.clone(), self.passes[index].group);
-        Some(PassBuilder { graph: self, name: label.to_string(), group, uses, extends: Some(index) })
+        Some(PassBuilder { graph: self, name: label.to_string(), group, pipeline: None, uses, extends: Some(index) })
     }
 
     pub fn pass_names(&self) -> impl Iterator<Item = &str> {
@@ -254,6 +256,9 @@ pub struct PassBuilder<'g, 'r> {
     graph: &'g mut Graph<'r>,
     name: String,
     group: &'static str,
+    /// The compute pipeline a dispatch runs, from the graph's table (`None`: a pass continued
+    /// by [`Graph::extend_pass`], which records its own commands).
+    pipeline: Option<PassName>,
     uses: Vec<(usize, Access)>,
     /// The pass this builder continues ([`Graph::extend_pass`]).
     extends: Option<usize>,
@@ -321,31 +326,38 @@ impl<'r> PassBuilder<'_, 'r> {
         self.declare(handle, access)
     }
 
-    /// The compute pipeline of the pass `name` ([`Graph::pipeline`]).
-    pub fn pipeline(&self, name: PassName) -> &'r ComputePipeline {
+    /// Runs the pipeline of the pass `name` instead of its own (one shader under several
+    /// labels, as the prefix sum of each photon ordering).
+    pub fn runs(self, name: PassName) -> Self {
+        PassBuilder { pipeline: Some(name), ..self }
+    }
+
+    /// The compute pipeline the pass runs ([`Graph::pipeline`]).
+    pub fn pipeline(&self) -> &'r ComputePipeline {
+        let name = self.pipeline.unwrap_or_else(|| panic!("pass {} runs no pipeline of the graph's table", self.name));
         self.graph.pipeline(name)
     }
 
-    /// Ends the declaration with one dispatch of the pass `name`'s pipeline over `threads`
+    /// Ends the declaration with one dispatch of the pass's pipeline over `threads`
     /// invocations, binding `groups` (a bindings struct, or a tuple of them) and pushing `push`
     /// (`()` when the shader has no push constants).
-    pub fn dispatch<G, P>(self, name: PassName, groups: G, push: P, threads: [u32; 3])
+    pub fn dispatch<G, P>(self, groups: G, push: P, threads: [u32; 3])
     where
         G: Bindings + 'r,
         P: bytemuck::NoUninit + 'r,
     {
-        let pipeline = self.pipeline(name);
+        let pipeline = self.pipeline();
         self.record(move |ctx| ctx.dispatch(pipeline, &[&groups], &push, threads));
     }
 
     /// Like [`PassBuilder::dispatch`], with the workgroup counts in `args` (see
     /// [`PassContext::dispatch_indirect`]).
-    pub fn dispatch_indirect<G, P>(self, name: PassName, groups: G, push: P, args: (Buf, u64), most_threads: [u32; 3])
+    pub fn dispatch_indirect<G, P>(self, groups: G, push: P, args: (Buf, u64), most_threads: [u32; 3])
     where
         G: Bindings + 'r,
         P: bytemuck::NoUninit + 'r,
     {
-        let pipeline = self.pipeline(name);
+        let pipeline = self.pipeline();
         self.record(move |ctx| ctx.dispatch_indirect(pipeline, &[&groups], &push, args, most_threads));
     }
 

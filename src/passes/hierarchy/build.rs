@@ -33,6 +33,8 @@ shader_bindings! {
     pub struct BuildResources;
 }
 
+#[linkme::distributed_slice(crate::passes::FRAME_PASSES)]
+
 pub static HIERARCHY_LEVEL: ComputePassDef = ComputePassDef::any(
     PassName::new("hierarchy level", group::HIERARCHY),
     &shaders::HIERARCHY_BUILD_COMP,
@@ -69,6 +71,6 @@ pub fn add<'r>(
         );
         let gbuffer_uses = gbuffer.declare(&mut pass);
         let count = info.count;
-        pass.dispatch(HIERARCHY_LEVEL.name, (own, gbuffer_uses), params, [count, 1, 1]);
+        pass.dispatch((own, gbuffer_uses), params, [count, 1, 1]);
     }
 }

@@ -20,6 +20,8 @@ shader_bindings! {
     pub struct MortonResources;
 }
 
+#[linkme::distributed_slice(crate::passes::FRAME_PASSES)]
+
 pub static MORTON: ComputePassDef = ComputePassDef::any(
     PassName::new("morton", group::HIERARCHY),
     &shaders::MORTON_COMP,
@@ -42,5 +44,5 @@ pub fn add<'r>(
         MortonResources { frame, sample_bounds: bounds, morton_keys: keys, morton_values: values },
     );
     let gbuffer = gbuffer.declare(&mut pass);
-    pass.dispatch(MORTON.name, (own, gbuffer), (), [extent.width, extent.height, 1]);
+    pass.dispatch((own, gbuffer), (), [extent.width, extent.height, 1]);
 }

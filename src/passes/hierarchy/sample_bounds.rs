@@ -20,6 +20,8 @@ shader_bindings! {
 
 const SAMPLE_BOUNDS_CLEAR: PassName = PassName::new("sample bounds clear", group::HIERARCHY);
 
+#[linkme::distributed_slice(crate::passes::FRAME_PASSES)]
+
 pub static SAMPLE_BOUNDS: ComputePassDef = ComputePassDef::any(
     PassName::new("sample bounds", group::HIERARCHY),
     &shaders::SAMPLE_BOUNDS_COMP,
@@ -38,5 +40,5 @@ pub fn add<'r>(graph: &mut Graph<'r>, frame: &BufferHandle, gbuffer: &GBufferHan
         SampleBoundsResources { frame, sample_bounds: bounds },
     );
     let gbuffer = gbuffer.declare(&mut pass);
-    pass.dispatch(SAMPLE_BOUNDS.name, (own, gbuffer), (), [extent.width, extent.height, 1]);
+    pass.dispatch((own, gbuffer), (), [extent.width, extent.height, 1]);
 }
