@@ -3,14 +3,10 @@
 
 use crate::error::Result;
 use crate::Renderer;
+use crate::metrics::luminance;
 
 /// Frames the flicker metric looks at.
 pub const FLICKER_FRAMES: u32 = 16;
-
-/// Rec.709 luminance of a linear RGB pixel.
-pub fn luminance(p: &[f32; 3]) -> f64 {
-    0.2126 * p[0] as f64 + 0.7152 * p[1] as f64 + 0.0722 * p[2] as f64
-}
 
 /// Flicker: `frames` frames of the renderer's current view and settings, each with fresh
 /// photons (the next seed) and no accumulation; each pixel's temporal standard deviation of

@@ -23,6 +23,7 @@ pub mod scene_pose;
 pub mod settings;
 pub mod shaders;
 pub mod splatting;
+pub mod stderr_log;
 pub mod trace;
 pub mod tuning;
 

@@ -29,6 +29,22 @@ pub fn epsilon(reference: &[[f32; 3]]) -> f64 {
     EPSILON_SCALE * mean_value(reference).powi(2)
 }
 
+/// Rec.709 (sRGB primaries) luminance of linear RGB: the one definition on the CPU (the
+/// shaders' is `dot(c, vec3(0.2126, 0.7152, 0.0722))`).
+pub fn rgb_luminance(rgb: [f64; 3]) -> f64 {
+    0.2126 * rgb[0] + 0.7152 * rgb[1] + 0.0722 * rgb[2]
+}
+
+/// Luminance of a linear RGB pixel.
+pub fn luminance(p: &[f32; 3]) -> f64 {
+    rgb_luminance(p.map(f64::from))
+}
+
+/// Mean luminance of a layer's pixels (0 for an empty layer).
+pub fn mean_luminance(layer: &[[f32; 3]]) -> f64 {
+    layer.iter().map(luminance).sum::<f64>() / layer.len().max(1) as f64
+}
+
 /// Mean over every pixel and channel (0 for an empty image).
 pub fn mean_value(layer: &[[f32; 3]]) -> f64 {
     if layer.is_empty() {

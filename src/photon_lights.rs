@@ -30,10 +30,7 @@ use crate::gpu_scene::gpu_light;
 use crate::gpu_types::{Light, LIGHT_DIRECTIONAL, LIGHT_POINT, LIGHT_SPOT};
 use crate::passes::photons::PhotonLight;
 
-/// Rec.709 (sRGB primaries) luminance of linear RGB.
-pub fn luminance(rgb: [f64; 3]) -> f64 {
-    0.2126 * rgb[0] + 0.7152 * rgb[1] + 0.0722 * rgb[2]
-}
+pub use crate::metrics::rgb_luminance as luminance;
 
 /// The falloff's Δ = c_inner − c_outer as `light.glsl` and `photons.comp` compute it (in f32,
 /// at least 1e-4).

@@ -7,13 +7,10 @@ use crate::common;
 use leakless::passes::photons::{PhotonParams, PhotonTracer};
 use leakless::{BackendChoice, Method, RenderSettings, RenderedFrame, Scene};
 
-fn render(scene: &Scene, settings: RenderSettings) -> RenderedFrame {
-    common::render_scene(scene, settings).expect("checked by common::choices()")
-}
+use common::render_chosen as render;
 
 fn luminance_mean(layer: &[[f32; 3]]) -> f64 {
-    let m = common::mean(layer);
-    0.2126 * m[0] + 0.7152 * m[1] + 0.0722 * m[2]
+    leakless::metrics::rgb_luminance(common::mean(layer))
 }
 
 /// A closed cube whose every inner face emits Le and reflects ρ: every pixel sees
@@ -167,7 +164,7 @@ fn resampled_emitter_samples_are_less_noisy_than_plain_ones() {
                 render(scene, settings)
             })
             .collect();
-        let lum = |p: [f32; 3]| 0.2126 * p[0] as f64 + 0.7152 * p[1] as f64 + 0.0722 * p[2] as f64;
+        let lum = |p: [f32; 3]| leakless::metrics::luminance(&p);
         let (mut std_sum, mut mean_sum) = (0.0, 0.0);
         for i in 0..frames[0].direct.len() {
             let v: Vec<f64> = frames.iter().map(|f| lum(f.direct[i])).collect();

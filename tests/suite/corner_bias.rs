@@ -6,6 +6,7 @@ use crate::common;
 
 use leakless::{flicker, metrics};
 use leakless::{Method, RenderSettings, RenderedFrame, Renderer, SplatSettings};
+use leakless::metrics::luminance as pixel_luminance;
 
 const WIDTH: u32 = 64;
 const HEIGHT: u32 = 48;
@@ -36,12 +37,7 @@ fn reference(path: &str, (width, height): (u32, u32), spp: u32) -> Option<Render
 
 /// Mean luminance of a layer.
 fn luminance(layer: &[[f32; 3]]) -> f64 {
-    let [r, g, b] = common::mean(layer);
-    0.2126 * r + 0.7152 * g + 0.0722 * b
-}
-
-fn pixel_luminance(p: &[f32; 3]) -> f64 {
-    0.2126 * p[0] as f64 + 0.7152 * p[1] as f64 + 0.0722 * p[2] as f64
+    leakless::metrics::rgb_luminance(common::mean(layer))
 }
 
 /// The mean over `seeds` single frames (fresh photons each) of the indirect layer's mean

@@ -4,7 +4,7 @@
 
 use crate::common;
 
-use leakless::{BackendChoice, Method, RenderSettings, RenderedFrame, Scene, SplatSettings};
+use leakless::{BackendChoice, Method, RenderSettings, Scene, SplatSettings};
 
 fn settings(method: Method, backend: BackendChoice) -> RenderSettings {
     RenderSettings {
@@ -19,9 +19,7 @@ fn settings(method: Method, backend: BackendChoice) -> RenderSettings {
     }
 }
 
-fn render(scene: &Scene, settings: RenderSettings) -> RenderedFrame {
-    common::render_scene(scene, settings).expect("checked by common::choices()")
-}
+use common::render_chosen as render;
 
 fn lit(layer: &[[f32; 3]]) -> usize {
     layer.iter().filter(|p| **p != [0.0; 3]).count()

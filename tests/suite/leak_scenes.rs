@@ -7,9 +7,7 @@ use leakless::metrics;
 use leakless::{BackendChoice, Method, RenderSettings, RenderedFrame, Scene};
 use leakless_scene::LightKind;
 
-fn render(scene: &Scene, settings: RenderSettings) -> RenderedFrame {
-    common::render_scene(scene, settings).expect("checked by common::choices()")
-}
+use common::render_chosen as render;
 
 fn photons(method: Method, backend: BackendChoice, paths: u32, radius: f32) -> RenderSettings {
     common::photon_settings(method, backend, paths, radius)

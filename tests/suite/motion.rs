@@ -189,7 +189,7 @@ fn reuse_halves_the_error_of_a_moving_camera() {
         for k in 0..24 {
             r.set_camera(views[k % 2].clone());
             let frame = r.capture_frame().expect("a moving frame");
-            luminance.push(frame.radiance.iter().map(leakless::flicker::luminance).collect());
+            luminance.push(frame.radiance.iter().map(leakless::metrics::luminance).collect());
             if k >= 8 {
                 let t = &truth[k % 2].radiance;
                 error += leakless::metrics::rel_mse(&frame.radiance, t, None, eps).expect("pixels") / 16.0;

@@ -3,6 +3,7 @@
 use crate::common;
 
 use leakless::output::exr;
+use leakless::metrics::luminance;
 
 #[test]
 fn exr_layers_and_attributes_round_trip() {
@@ -42,8 +43,7 @@ fn exr_rejects_a_layer_of_the_wrong_size() {
 /// The PNG's definition, on the CPU: automatic exposure (log-average luminance of the pixels
 /// above 1e-6 to middle grey), Narkowicz's ACES fit, sRGB encoding.
 fn cpu_tonemap(pixels: &[[f32; 3]]) -> Vec<[u8; 3]> {
-    let lum = |c: [f32; 3]| 0.2126 * c[0] as f64 + 0.7152 * c[1] as f64 + 0.0722 * c[2] as f64;
-    let logs: Vec<f64> = pixels.iter().map(|&p| lum(p)).filter(|l| *l > 1e-6).map(f64::ln).collect();
+    let logs: Vec<f64> = pixels.iter().map(luminance).filter(|l| *l > 1e-6).map(f64::ln).collect();
     let exposure = if logs.is_empty() { 1.0 } else { 0.18 / (logs.iter().sum::<f64>() / logs.len() as f64).exp() };
     let filmic = |x: f64| ((x * (2.51 * x + 0.03)) / (x * (2.43 * x + 0.59) + 0.14)).clamp(0.0, 1.0);
     let srgb = |x: f64| if x <= 0.0031308 { 12.92 * x } else { 1.055 * x.powf(1.0 / 2.4) - 0.055 };
@@ -66,9 +66,7 @@ fn gpu_tonemap_is_the_png_definition() {
     assert!(frame.display.iter().any(|p| p[0] > 200), "a bright pixel exists");
     assert!(frame.display.iter().all(|p| p[3] == 255));
     // The GPU's leaked-energy sums agree with the layers read back.
-    let lum = |l: &[[f32; 3]]| {
-        l.iter().map(|c| 0.2126 * c[0] as f64 + 0.7152 * c[1] as f64 + 0.0722 * c[2] as f64).sum::<f64>()
-    };
+    let lum = |l: &[[f32; 3]]| l.iter().map(luminance).sum::<f64>();
     let (lost, kept) = (lum(&frame.leaked), lum(&frame.indirect));
     let host = lost / (lost + kept);
     let gpu = frame.splat.as_ref().unwrap().leaked_energy_fraction;

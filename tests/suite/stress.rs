@@ -7,6 +7,7 @@ use crate::common;
 
 use leakless::extras::in_dark_box;
 use leakless::{Backend, BackendChoice, Method, RenderSettings, RenderedFrame, Renderer, Scene, SplatSettings};
+use leakless::metrics::mean_luminance as image_luminance;
 
 const METHODS: [Method; 5] =
     [Method::Direct, Method::Splat, Method::LeakLessCapped, Method::LeakLess, Method::Reference];
@@ -363,11 +364,6 @@ fn mean_and_error(frames: &[f64]) -> (f64, f64) {
     let mean = frames.iter().sum::<f64>() / n;
     let var = frames.iter().map(|m| (m - mean).powi(2)).sum::<f64>() / (n - 1.0);
     (mean, (var / n).sqrt())
-}
-
-fn image_luminance(layer: &[[f32; 3]]) -> f64 {
-    layer.iter().map(|p| 0.2126 * p[0] as f64 + 0.7152 * p[1] as f64 + 0.0722 * p[2] as f64).sum::<f64>()
-        / layer.len() as f64
 }
 
 /// `frames` independent frames of `method` (fresh photons, or fresh reference samples).

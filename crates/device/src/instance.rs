@@ -51,7 +51,7 @@ pub(crate) fn create(want_validation: bool, extra_extensions: &[*const std::ffi:
 
     let validation = want_validation && has_layer && has_debug_utils;
     if want_validation && !validation {
-        eprintln!("warning: Vulkan validation requested but VK_LAYER_KHRONOS_validation is not installed (apt install vulkan-validationlayers)");
+        log::warn!("warning: Vulkan validation requested but VK_LAYER_KHRONOS_validation is not installed (apt install vulkan-validationlayers)");
     }
 
     let app = vk::ApplicationInfo::default()
@@ -101,12 +101,12 @@ unsafe extern "system" fn on_message(
         (msg, &*(user as *const ValidationLog))
     };
     if severity.contains(vk::DebugUtilsMessageSeverityFlagsEXT::ERROR) {
-        eprintln!("validation error: {message}");
+        log::error!("validation error: {message}");
         if let Ok(mut errors) = log.errors.lock() {
             errors.push(message);
         }
     } else {
-        eprintln!("validation warning: {message}");
+        log::warn!("validation warning: {message}");
     }
     vk::FALSE
 }

@@ -54,6 +54,7 @@ enum Command {
 }
 
 fn main() -> ExitCode {
+    leakless::stderr_log::install();
     let result = match Cli::parse().command {
         Command::Render(args) => render::run(args),
         Command::View(args) => view::run(args),

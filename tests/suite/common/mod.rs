@@ -59,7 +59,13 @@ pub fn render_scene(scene: &Scene, settings: RenderSettings) -> Option<RenderedF
     Some(frame)
 }
 
+/// [`render_scene`] with a backend of [`choices`], which has a device.
+pub fn render_chosen(scene: &Scene, settings: RenderSettings) -> RenderedFrame {
+    render_scene(scene, settings).expect("checked by common::choices()")
+}
+
 pub fn gpu_with(ray_tracing: bool) -> Option<Gpu> {
+    leakless::stderr_log::install();
     let validation = std::env::var("LEAKLESS_VALIDATION").map_or(true, |v| v != "0");
     match Gpu::new(&GpuOptions { validation: Some(validation), ray_tracing, window: None }) {
         Ok(gpu) => Some(gpu),
@@ -91,12 +97,7 @@ pub fn render(path: &str, width: u32, height: u32) -> Option<RenderedFrame> {
 }
 
 pub fn render_with(path: &str, settings: RenderSettings) -> Option<RenderedFrame> {
-    let gpu = gpu_with(settings.backend.wants_ray_queries())?;
-    let scene = scene(path);
-    let mut renderer = Renderer::new(gpu, &scene, settings).expect("renderer");
-    let frame = renderer.render().expect("render");
-    renderer.gpu().check_validation().expect("validation clean");
-    Some(frame)
+    render_scene(&scene(path), settings)
 }
 
 /// The label of a scene file's recorded references: its name without directory and extension.

@@ -3,7 +3,7 @@
 //! regions.
 
 use glam::{Mat4, Vec3, Vec4Swizzles};
-use leakless::flicker::luminance;
+use leakless::metrics::luminance;
 
 /// Flicker as the screen sees it: the mean over frames, from the `settle`th on, of |ΔY| between
 /// successive frames over the frame's mean Y. It counts the change the moving view makes too:

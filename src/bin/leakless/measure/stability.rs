@@ -13,6 +13,7 @@ use leakless::flicker::{flicker, FLICKER_FRAMES};
 use leakless::metrics;
 use leakless::trace::{Backend, BackendChoice};
 use leakless::{Method, RenderSettings, RenderedFrame, Renderer, SplatSettings};
+use leakless::metrics::{luminance, mean_luminance};
 
 /// The methods measured.
 pub const STABILITY_METHODS: [Method; 4] = [Method::Direct, Method::Splat, Method::LeakLessCapped, Method::LeakLess];
@@ -59,10 +60,6 @@ pub struct StabilityConfig {
     pub fixed_radius: bool,
 }
 
-fn luminance(p: &[f32; 3]) -> f64 {
-    0.2126 * p[0] as f64 + 0.7152 * p[1] as f64 + 0.0722 * p[2] as f64
-}
-
 fn dark_radiance(frame: &RenderedFrame, in_dark: &[bool]) -> Option<f64> {
     let n = in_dark.iter().filter(|d| **d).count();
     if n == 0 {
@@ -70,10 +67,6 @@ fn dark_radiance(frame: &RenderedFrame, in_dark: &[bool]) -> Option<f64> {
     }
     let sum: f64 = frame.radiance.iter().zip(in_dark).filter(|(_, d)| **d).map(|(p, _)| luminance(p)).sum();
     Some(sum / n as f64)
-}
-
-fn mean_luminance(layer: &[[f32; 3]]) -> f64 {
-    layer.iter().map(luminance).sum::<f64>() / layer.len().max(1) as f64
 }
 
 /// Measures `scene` with every method on every backend of `config`, each on a fresh device.

@@ -8,6 +8,8 @@
 //! here as the paper describes it. The 8-bit quantisation of each exposure adds at most half a
 //! code value of difference, far below the errors measured.
 
+use leakless::metrics::luminance;
+
 /// The ACES fit FLIP tone-maps with: t(x) = (a x² + b x + c) / (d x² + e x + f), with the 0.6
 /// pre-exposure of the fit folded in (as in FLIP's own coefficient table).
 const ACES: [f64; 6] = [0.6 * 0.6 * 2.51, 0.6 * 0.03, 0.0, 0.6 * 0.6 * 2.43, 0.6 * 0.59, 0.14];
@@ -15,10 +17,6 @@ const ACES: [f64; 6] = [0.6 * 0.6 * 2.51, 0.6 * 0.03, 0.0, 0.6 * 0.6 * 2.43, 0.6
 fn tonemap(x: f64) -> f64 {
     let [a, b, c, d, e, f] = ACES;
     ((a * x * x + b * x + c) / (d * x * x + e * x + f)).clamp(0.0, 1.0)
-}
-
-fn luminance(p: &[f32; 3]) -> f64 {
-    0.2126 * p[0] as f64 + 0.7152 * p[1] as f64 + 0.0722 * p[2] as f64
 }
 
 fn srgb8(linear: f64) -> u8 {
