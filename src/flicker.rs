@@ -2,8 +2,8 @@
 //! every frame traces fresh photons, and how quickly an accumulation settles.
 
 use crate::error::Result;
-use crate::Renderer;
 use crate::metrics::luminance;
+use crate::Renderer;
 
 /// Frames the flicker metric looks at.
 pub const FLICKER_FRAMES: u32 = 16;

@@ -3,7 +3,7 @@
 
 use bytemuck::{Pod, Zeroable};
 use leakless_device::{gpu_struct, GpuStruct};
-use leakless_graph::{shader_bindings, BufferHandle, Graph, ImageHandle, PassName, Stage};
+use leakless_graph::{shader_bindings, BufferHandle, Graph, ImageHandle, PassName};
 
 use crate::gpu_types::Frame;
 use crate::passes::names::group;
@@ -101,23 +101,18 @@ pub fn add<'r>(
         inv_batches: 1.0 / count.batches.max(1) as f32,
     };
     let extent = means.radiance.extent();
-    let mut pass = graph.pass(ACCUMULATE.name);
-    let own = AccumulateBindings::declare(
-        &mut pass,
-        Stage::Compute,
-        AccumulateResources {
-            frame,
-            direct: layers.direct,
-            indirect: layers.indirect,
-            leaked: layers.leaked,
-            sum_direct: sums.direct,
-            sum_indirect: sums.indirect,
-            sum_leaked: sums.leaked,
-            mean_direct: means.direct,
-            mean_indirect: means.indirect,
-            mean_leaked: means.leaked,
-            mean_radiance: means.radiance,
-        },
-    );
-    pass.dispatch(own, params, [extent.width, extent.height, 1]);
+    let resources = AccumulateResources {
+        frame,
+        direct: layers.direct,
+        indirect: layers.indirect,
+        leaked: layers.leaked,
+        sum_direct: sums.direct,
+        sum_indirect: sums.indirect,
+        sum_leaked: sums.leaked,
+        mean_direct: means.direct,
+        mean_indirect: means.indirect,
+        mean_leaked: means.leaked,
+        mean_radiance: means.radiance,
+    };
+    ACCUMULATE.add(graph, resources, params, [extent.width, extent.height, 1]);
 }

@@ -3,7 +3,7 @@
 
 use bytemuck::{Pod, Zeroable};
 use leakless_device::{gpu_struct, GpuStruct};
-use leakless_graph::{shader_bindings, BufferHandle, Graph, ImageHandle, PassName, Stage};
+use leakless_graph::{shader_bindings, BufferHandle, Graph, ImageHandle, PassName};
 
 use crate::gpu_types::Frame;
 use crate::passes::names::group;
@@ -55,19 +55,14 @@ pub struct ComposeImages<'a> {
 
 pub fn add<'r>(graph: &mut Graph<'r>, params: ComposeParams, frame: &BufferHandle, images: ComposeImages<'_>) {
     let extent = images.radiance.extent();
-    let mut pass = graph.pass(COMPOSE.name);
-    let own = ComposeBindings::declare(
-        &mut pass,
-        Stage::Compute,
-        ComposeResources {
-            frame,
-            direct: images.direct,
-            indirect_sum: images.indirect_sum,
-            indirect: images.indirect,
-            radiance: images.radiance,
-            leaked: images.leaked,
-            gather_counts: images.gather_counts,
-        },
-    );
-    pass.dispatch(own, params, [extent.width, extent.height, 1]);
+    let resources = ComposeResources {
+        frame,
+        direct: images.direct,
+        indirect_sum: images.indirect_sum,
+        indirect: images.indirect,
+        radiance: images.radiance,
+        leaked: images.leaked,
+        gather_counts: images.gather_counts,
+    };
+    COMPOSE.add(graph, resources, params, [extent.width, extent.height, 1]);
 }

@@ -7,6 +7,7 @@ use leakless_device::{gpu_struct, GpuStruct};
 use leakless_graph::{shader_bindings, Graph, ImageHandle, PassName, Stage};
 
 use crate::gpu_scene::{EmitterBindings, SceneBindings};
+use crate::passes::add::Threads;
 use crate::passes::gbuffer::GBufferBindings;
 use crate::passes::names::group;
 use crate::passes::{ViewBindings, ViewInputs};
@@ -56,9 +57,12 @@ pub static DIRECT: ComputePassDef = ComputePassDef::traced(
 
 pub fn add<'r>(graph: &mut Graph<'r>, params: DirectParams, view: &ViewInputs<'_>, direct: &mut ImageHandle) {
     let extent = direct.extent();
-    let mut pass = graph.pass(DIRECT.name);
-    let inputs = view.declare(&mut pass);
-    let emitters = view.scene.declare_emitters(&mut pass, Stage::Compute);
-    let own = DirectBindings::declare(&mut pass, Stage::Compute, DirectResources { direct });
-    pass.dispatch((inputs, emitters, own), params, [extent.width, extent.height, 1]);
+    let threads = Threads::Fixed([extent.width, extent.height, 1]);
+    DIRECT.add_with(
+        graph,
+        DirectResources { direct },
+        |pass| (view.declare(pass), view.scene.declare_emitters(pass, Stage::Compute)),
+        params,
+        threads,
+    );
 }

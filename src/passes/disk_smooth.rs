@@ -7,9 +7,10 @@
 
 use bytemuck::{Pod, Zeroable};
 use leakless_device::{gpu_struct, GpuStruct};
-use leakless_graph::{shader_bindings, BufferHandle, Graph, ImageHandle, PassName, Stage};
+use leakless_graph::{shader_bindings, BufferHandle, Graph, ImageHandle, PassName};
 
 use crate::gpu_types::Frame;
+use crate::passes::add::Threads;
 use crate::passes::gbuffer::{GBufferBindings, GBufferHandles};
 use crate::passes::names::group;
 use crate::pipelines::ComputePassDef;
@@ -56,9 +57,7 @@ pub fn add<'r>(
     disk_mass: &mut ImageHandle,
 ) {
     let extent = disk_mass.extent();
-    let mut pass = graph.pass(DISK_SMOOTH.name);
-    let own =
-        DiskSmoothBindings::declare(&mut pass, Stage::Compute, DiskSmoothResources { frame, measured, disk_mass });
-    let gbuffer = gbuffer.declare(&mut pass);
-    pass.dispatch((own, gbuffer), params, [extent.width, extent.height, 1]);
+    let resources = DiskSmoothResources { frame, measured, disk_mass };
+    let threads = Threads::Fixed([extent.width, extent.height, 1]);
+    DISK_SMOOTH.add_with(graph, resources, |pass| gbuffer.declare(pass), params, threads);
 }

@@ -10,7 +10,7 @@
 use ash::vk;
 use bytemuck::{Pod, Zeroable};
 use leakless_device::{gpu_struct, BufferDesc, GpuStruct, MemoryLocation};
-use leakless_graph::{shader_bindings, BufferHandle, Fill, Graph, PassName, Stage};
+use leakless_graph::{shader_bindings, BufferHandle, Fill, Graph, PassName};
 
 use crate::error::Result;
 use crate::passes::names::group;
@@ -83,19 +83,15 @@ pub fn add<'r>(graph: &mut Graph<'r>, params: EmissionOrderParams) -> Result<Buf
     let mut order = graph.buffer(&storage("path order", params.paths, vk::BufferUsageFlags::empty()))?;
     graph.fill(EMISSION_CELLS_CLEAR, &mut [(&mut counts, &[Fill::whole(0)])]);
     let threads = [params.paths, 1, 1];
-    let mut pass = graph.pass(EMISSION_CELLS.name);
-    let own =
-        EmissionCellBindings::declare(&mut pass, Stage::Compute, EmissionCellResources { cell_counts: &mut counts });
-    pass.dispatch(own, params, threads);
+    EMISSION_CELLS.add(graph, EmissionCellResources { cell_counts: &mut counts }, params, threads);
 
     scan::add(graph, (EMISSION_CELL_STARTS, None), CELLS, &mut counts)?;
 
-    let mut pass = graph.pass(EMISSION_ORDER.name);
-    let own = EmissionOrderBindings::declare(
-        &mut pass,
-        Stage::Compute,
+    EMISSION_ORDER.add(
+        graph,
         EmissionOrderResources { cell_starts: &mut counts, path_order: &mut order },
+        params,
+        threads,
     );
-    pass.dispatch(own, params, threads);
     Ok(order)
 }

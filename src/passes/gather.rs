@@ -9,6 +9,7 @@ use leakless_graph::{shader_bindings, BufferHandle, Fill, Graph, ImageHandle, Pa
 
 use crate::error::Result;
 use crate::gpu_scene::{SceneBindings, SceneHandles};
+use crate::passes::add::Threads;
 use crate::passes::gbuffer::{GBufferBindings, GBufferHandles};
 use crate::passes::hierarchy::{HierarchyHandles, Level, Shape};
 use crate::passes::names::group;
@@ -197,29 +198,26 @@ pub fn add<'r>(
         eye: input.eye,
         visible_disk: input.visible_disk as u32,
     };
-    let mut pass = graph.pass(GATHER.name);
-    let own = GatherBindings::declare(
-        &mut pass,
-        Stage::Compute,
-        GatherResources {
-            sorted_keys: &hierarchy.keys,
-            sorted_samples: &hierarchy.samples,
-            levels: &hierarchy.levels,
-            photons: input.photons,
-            node_ends: &lists.ends,
-            list_photons: &lists.photons,
-            gather_counters: out.counters,
-            indirect_sum: out.indirect_sum,
-            leaked: out.leaked,
-            gather_counts: out.counts,
-            clearance: input.clearance,
-            disk_mass: input.disk_mass,
-            photon_positions: &lists.positions,
-        },
+    let resources = GatherResources {
+        sorted_keys: &hierarchy.keys,
+        sorted_samples: &hierarchy.samples,
+        levels: &hierarchy.levels,
+        photons: input.photons,
+        node_ends: &lists.ends,
+        list_photons: &lists.photons,
+        gather_counters: out.counters,
+        indirect_sum: out.indirect_sum,
+        leaked: out.leaked,
+        gather_counts: out.counts,
+        clearance: input.clearance,
+        disk_mass: input.disk_mass,
+        photon_positions: &lists.positions,
+    };
+    GATHER.add_with(
+        graph,
+        resources,
+        |pass| (gbuffer.declare(pass), scene.declare(pass, Stage::Compute), trace.declare(pass)),
+        params,
+        Threads::Fixed([shape.sample_count, 1, 1]),
     );
-    let gbuffer = gbuffer.declare(&mut pass);
-    let surfaces = scene.declare(&mut pass, Stage::Compute);
-    let trace = trace.declare(&mut pass);
-    let samples = shape.sample_count;
-    pass.dispatch((own, gbuffer, surfaces, trace), params, [samples, 1, 1]);
 }

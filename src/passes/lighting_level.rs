@@ -7,7 +7,7 @@
 use ash::vk;
 use bytemuck::{Pod, Zeroable};
 use leakless_device::{gpu_struct, BufferDesc, GpuStruct, ImageDesc, MemoryLocation};
-use leakless_graph::{shader_bindings, BufferHandle, Graph, History, PassName, Stage};
+use leakless_graph::{shader_bindings, BufferHandle, Graph, History, PassName};
 
 use crate::error::Result;
 use crate::passes::gbuffer;
@@ -101,11 +101,7 @@ pub fn add<'r>(
         most_frames: level_frames(history_frames),
         sigmas: LEVEL_SIGMAS,
     };
-    let mut pass = graph.pass(LIGHTING_LEVEL.name);
-    let own = LevelBindings::declare(
-        &mut pass,
-        Stage::Compute,
-        LevelResources { level_partials: partials, level_previous: &level.previous, level_current: &mut level.current },
-    );
-    pass.dispatch(own, params, [256, 1, 1]);
+    let resources =
+        LevelResources { level_partials: partials, level_previous: &level.previous, level_current: &mut level.current };
+    LIGHTING_LEVEL.add(graph, resources, params, [256, 1, 1]);
 }

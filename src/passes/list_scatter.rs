@@ -6,9 +6,10 @@
 
 use bytemuck::{Pod, Zeroable};
 use leakless_device::{gpu_struct, GpuStruct};
-use leakless_graph::{shader_bindings, Graph, PassName, Stage};
+use leakless_graph::{shader_bindings, Graph, PassName};
 
 use crate::error::Result;
+use crate::passes::add::Threads;
 use crate::passes::names::group;
 use crate::passes::photon_dispatch::{self, PHOTON_WORKGROUP};
 use crate::passes::scan;
@@ -65,18 +66,12 @@ pub fn add<'r>(graph: &mut Graph<'r>, lists: &mut NodeListHandles, max_groups: u
         max_groups,
     )?;
     let params = ListScatterParams { capacity: lists.capacity, ..Default::default() };
-    let mut pass = graph.pass(LIST_SCATTER.name);
-    let own = ListScatterBindings::declare(
-        &mut pass,
-        Stage::Compute,
-        ListScatterResources {
-            splat_counters: &lists.counters,
-            splat_records: &lists.records,
-            node_ends: &mut lists.ends,
-            list_photons: &mut lists.photons,
-        },
-    );
-    let (args, threads) = (dispatch.declare(&mut pass), dispatch.most_threads());
-    pass.dispatch_indirect(own, params, args, threads);
+    let resources = ListScatterResources {
+        splat_counters: &lists.counters,
+        splat_records: &lists.records,
+        node_ends: &mut lists.ends,
+        list_photons: &mut lists.photons,
+    };
+    LIST_SCATTER.add_with(graph, resources, |_| (), params, Threads::Indirect(&dispatch));
     Ok(())
 }

@@ -6,7 +6,7 @@
 use ash::vk;
 use bytemuck::{Pod, Zeroable};
 use leakless_device::{gpu_struct, BufferDesc, GpuStruct, MemoryLocation};
-use leakless_graph::{shader_bindings, BufferHandle, Graph, ImageHandle, PassName, Stage};
+use leakless_graph::{shader_bindings, BufferHandle, Graph, ImageHandle, PassName};
 
 use crate::error::Result;
 use crate::passes::names::group;
@@ -131,23 +131,15 @@ pub fn add<'r>(graph: &mut Graph<'r>, input: LuminanceInputs<'_>) -> Result<Buff
     let mut stats = buffer("luminance stats", std::mem::size_of::<LuminanceStats>() as u64)?;
 
     let params = LuminanceParams { mode: input.mode, width: extent.width, height: extent.height, tiles_x };
-    let mut pass = graph.pass(LUMINANCE_TILES.name);
-    let own = TileBindings::declare(
-        &mut pass,
-        Stage::Compute,
-        TileResources {
-            displayed: input.displayed,
-            indirect: input.indirect,
-            leaked: input.leaked,
-            partials: &mut partials,
-        },
-    );
-    pass.dispatch(own, params, [extent.width, extent.height, 1]);
+    let resources = TileResources {
+        displayed: input.displayed,
+        indirect: input.indirect,
+        leaked: input.leaked,
+        partials: &mut partials,
+    };
+    LUMINANCE_TILES.add(graph, resources, params, [extent.width, extent.height, 1]);
 
-    let mut pass = graph.pass(LUMINANCE_TOTAL.name);
-    let own =
-        TotalBindings::declare(&mut pass, Stage::Compute, TotalResources { partials: &partials, stats: &mut stats });
     let params = TotalParams { tiles, ..Default::default() };
-    pass.dispatch(own, params, [256, 1, 1]);
+    LUMINANCE_TOTAL.add(graph, TotalResources { partials: &partials, stats: &mut stats }, params, [256, 1, 1]);
     Ok(stats)
 }

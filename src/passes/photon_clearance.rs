@@ -5,9 +5,10 @@
 use ash::vk;
 use bytemuck::{Pod, Zeroable};
 use leakless_device::{gpu_struct, BufferDesc, GpuStruct, MemoryLocation};
-use leakless_graph::{shader_bindings, BufferHandle, Graph, PassName, Stage};
+use leakless_graph::{shader_bindings, BufferHandle, Graph, PassName};
 
 use crate::error::Result;
+use crate::passes::add::Threads;
 use crate::passes::names::group;
 use crate::passes::photon_dispatch::{PhotonDispatch, PHOTON_WORKGROUP};
 use crate::passes::photons::{Photon, PhotonCounters};
@@ -104,14 +105,8 @@ pub fn add<'r>(
         }
     };
     let params = ClearanceParams { max_radius, capacity: dispatch.capacity, only_listed, ..Default::default() };
-    let mut pass = graph.pass(PHOTON_CLEARANCE.name);
-    let own = ClearanceBindings::declare(
-        &mut pass,
-        Stage::Compute,
-        ClearanceResources { photons, photon_counters, clearance, photon_listed: listed },
-    );
-    let bvh = trace.declare_bvh(&mut pass);
-    let (args, threads) = (dispatch.declare(&mut pass), dispatch.most_threads());
-    pass.dispatch_indirect((own, bvh), params, args, threads);
+    let resources = ClearanceResources { photons, photon_counters, clearance, photon_listed: listed };
+    let threads = Threads::Indirect(dispatch);
+    PHOTON_CLEARANCE.add_with(graph, resources, |pass| trace.declare_bvh(pass), params, threads);
     Ok(())
 }

@@ -9,9 +9,10 @@
 use ash::vk;
 use bytemuck::{Pod, Zeroable};
 use leakless_device::{gpu_struct, BufferDesc, GpuStruct, MemoryLocation};
-use leakless_graph::{shader_bindings, Access, Buf, BufferHandle, Graph, PassBuilder, PassName, Stage};
+use leakless_graph::{shader_bindings, Access, Buf, BufferHandle, Graph, PassBuilder, PassName};
 
 use crate::error::Result;
+use crate::passes::add::Threads;
 use crate::passes::names::group;
 use crate::pipelines::ComputePassDef;
 use crate::shaders;
@@ -103,12 +104,7 @@ pub fn add_over<'r>(
         location: MemoryLocation::GpuOnly,
     })?;
     let params = PhotonDispatchParams { capacity, group_size: PHOTON_WORKGROUP, max_groups, ..Default::default() };
-    let mut pass = graph.pass(name).runs(PHOTON_DISPATCH.name);
-    let own = PhotonDispatchBindings::declare(
-        &mut pass,
-        Stage::Compute,
-        PhotonDispatchResources { counters, photon_dispatch: &mut args },
-    );
-    pass.dispatch(own, params, [1, 1, 1]);
+    let resources = PhotonDispatchResources { counters, photon_dispatch: &mut args };
+    PHOTON_DISPATCH.add_as(graph, (name, None), resources, |_| (), params, Threads::Fixed([1, 1, 1]));
     Ok(PhotonDispatch { args, capacity, max_groups })
 }

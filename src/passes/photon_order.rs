@@ -16,10 +16,11 @@ use ash::vk;
 use bytemuck::{Pod, Zeroable};
 use leakless_device::shader::ShaderInfo;
 use leakless_device::{gpu_struct, BindingDecl, BufferDesc, GpuStruct, MemoryLocation};
-use leakless_graph::{shader_bindings, BufferHandle, Fill, Graph, PassName, Stage};
+use leakless_graph::{shader_bindings, BufferHandle, Fill, Graph, PassName};
 use leakless_scene::Aabb;
 
 use crate::error::Result;
+use crate::passes::add::Threads;
 use crate::passes::names::group;
 use crate::passes::photon_dispatch::{PhotonDispatch, PHOTON_WORKGROUP};
 use crate::passes::photons::{Photon, PhotonCounters};
@@ -133,30 +134,18 @@ pub fn add<'r>(
     })?;
     graph.fill(PHOTON_CELLS_CLEAR, &mut [(&mut counts, &[Fill::whole(0)])]);
 
-    let mut pass = graph.pass(PHOTON_CELLS.name);
-    let own = CellBindings::declare(
-        &mut pass,
-        Stage::Compute,
-        CellResources { photons, photon_counters, cell_counts: &mut counts, photon_cell_of: &mut cell_of },
-    );
-    let (args, threads) = (dispatch.declare(&mut pass), dispatch.most_threads());
-    pass.dispatch_indirect(own, params, args, threads);
+    let resources = CellResources { photons, photon_counters, cell_counts: &mut counts, photon_cell_of: &mut cell_of };
+    PHOTON_CELLS.add_with(graph, resources, |_| (), params, Threads::Indirect(dispatch));
 
     scan::add(graph, (PHOTON_CELL_STARTS, None), CELLS, &mut counts)?;
 
-    let mut pass = graph.pass(PHOTON_ORDER.name);
-    let own = OrderBindings::declare(
-        &mut pass,
-        Stage::Compute,
-        OrderResources {
-            photons,
-            photon_counters,
-            cell_starts: &mut counts,
-            ordered_photons: ordered,
-            photon_cell_of: &cell_of,
-        },
-    );
-    let (args, threads) = (dispatch.declare(&mut pass), dispatch.most_threads());
-    pass.dispatch_indirect(own, params, args, threads);
+    let resources = OrderResources {
+        photons,
+        photon_counters,
+        cell_starts: &mut counts,
+        ordered_photons: ordered,
+        photon_cell_of: &cell_of,
+    };
+    PHOTON_ORDER.add_with(graph, resources, |_| (), params, Threads::Indirect(dispatch));
     Ok(())
 }

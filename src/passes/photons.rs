@@ -17,6 +17,7 @@ use leakless_scene::Scene;
 use crate::error::{RenderError, Result};
 use crate::gpu_scene::{EmitterBindings, GpuScene, SceneBindings, SceneHandles};
 use crate::gpu_types::Light;
+use crate::passes::add::Threads;
 use crate::passes::emission_order::{self, EmissionOrderParams};
 use crate::passes::names::{self, group};
 use crate::passes::photon_clearance::{self, Clearance, Needed};
@@ -239,22 +240,20 @@ pub fn add<'r>(
         EmissionOrderParams { paths: ordered_paths, path_offset: params.path_offset, seed: params.seed, pad0: 0 };
     let path_order = emission_order::add(graph, order)?;
 
-    let mut pass = graph.pass(PHOTONS.name);
-    let own = PhotonBindings::declare(
-        &mut pass,
-        Stage::Compute,
-        PhotonResources {
-            path_order: &path_order,
-            lights: &lights.lights,
-            photon_lights: &lights.photon_lights,
-            photons,
-            photon_counters: counters,
-        },
+    let resources = PhotonResources {
+        path_order: &path_order,
+        lights: &lights.lights,
+        photon_lights: &lights.photon_lights,
+        photons,
+        photon_counters: counters,
+    };
+    PHOTONS.add_with(
+        graph,
+        resources,
+        |pass| (scene.declare(pass, Stage::Compute), scene.declare_emitters(pass, Stage::Compute), trace.declare(pass)),
+        push,
+        Threads::Fixed([push.threads, 1, 1]),
     );
-    let surfaces = scene.declare(&mut pass, Stage::Compute);
-    let emitters = scene.declare_emitters(&mut pass, Stage::Compute);
-    let trace = trace.declare(&mut pass);
-    pass.dispatch((own, surfaces, emitters, trace), push, [push.threads, 1, 1]);
     Ok(())
 }
 

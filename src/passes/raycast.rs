@@ -6,6 +6,7 @@ use leakless_graph::{shader_bindings, BufferHandle, Graph, PassName, Stage};
 
 use crate::gpu_scene::{SceneBindings, SceneHandles};
 use crate::gpu_types::{GpuRay, RayHit};
+use crate::passes::add::Threads;
 use crate::passes::names::group;
 use crate::pipelines::ComputePassDef;
 use crate::shaders;
@@ -77,10 +78,12 @@ pub fn add<'r>(
     work: &mut BufferHandle,
 ) {
     let params = RaycastParams { ray_count, occlusion: occlusion as u32, ..Default::default() };
-    let mut pass = graph.pass(def.name);
-    let own =
-        RaycastBindings::declare(&mut pass, Stage::Compute, RaycastResources { rays, ray_hits: hits, ray_work: work });
-    let surfaces = scene.declare(&mut pass, Stage::Compute);
-    let trace = trace.declare(&mut pass);
-    pass.dispatch((own, surfaces, trace), params, [ray_count, 1, 1]);
+    let resources = RaycastResources { rays, ray_hits: hits, ray_work: work };
+    def.add_with(
+        graph,
+        resources,
+        |pass| (scene.declare(pass, Stage::Compute), trace.declare(pass)),
+        params,
+        Threads::Fixed([ray_count, 1, 1]),
+    );
 }

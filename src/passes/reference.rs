@@ -6,6 +6,7 @@ use leakless_device::{gpu_struct, GpuStruct};
 use leakless_graph::{shader_bindings, Graph, ImageHandle, PassName, Stage};
 
 use crate::gpu_scene::{EmitterBindings, SceneBindings};
+use crate::passes::add::Threads;
 use crate::passes::gbuffer::GBufferBindings;
 use crate::passes::names::group;
 use crate::passes::{ViewBindings, ViewInputs};
@@ -62,11 +63,14 @@ pub static REFERENCE: ComputePassDef = ComputePassDef::traced(
 pub fn add<'r>(graph: &mut Graph<'r>, params: ReferenceParams, view: &ViewInputs<'_>, accumulated: &mut ImageHandle) {
     let extent = accumulated.extent();
     for params in dispatches(params, extent.width as u64 * extent.height as u64) {
-        let mut pass = graph.pass(REFERENCE.name);
-        let inputs = view.declare(&mut pass);
-        let emitters = view.scene.declare_emitters(&mut pass, Stage::Compute);
-        let own = ReferenceBindings::declare(&mut pass, Stage::Compute, ReferenceResources { accumulated });
-        pass.dispatch((inputs, emitters, own), params, [extent.width, extent.height, 1]);
+        let threads = Threads::Fixed([extent.width, extent.height, 1]);
+        REFERENCE.add_with(
+            graph,
+            ReferenceResources { accumulated },
+            |pass| (view.declare(pass), view.scene.declare_emitters(pass, Stage::Compute)),
+            params,
+            threads,
+        );
     }
 }
 

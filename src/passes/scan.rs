@@ -3,9 +3,10 @@
 //! and emission orders (`photon_order.rs`, `emission_order.rs`).
 
 use leakless_device::GpuStruct;
-use leakless_graph::{shader_bindings, BufferHandle, Graph, PassName, Stage};
+use leakless_graph::{shader_bindings, BufferHandle, Graph, PassName};
 
 use crate::error::{RenderError, Result};
+use crate::passes::add::Threads;
 use crate::passes::names::group;
 use crate::passes::sort::{sort_pass, SortParams, RADIX, WORKGROUP_SIZE};
 use crate::pipelines::ComputePassDef;
@@ -39,12 +40,7 @@ pub fn add<'r>(
         )));
     }
     let params = SortParams { group_count: words / RADIX, ..Default::default() };
-    let mut pass = match index {
-        Some(index) => graph.pass_numbered(name, index),
-        None => graph.pass(name),
-    }
-    .runs(SCAN.name);
-    let own = ScanBindings::declare(&mut pass, Stage::Compute, ScanResources { histograms: counts });
-    pass.dispatch(own, params, [WORKGROUP_SIZE, 1, 1]);
+    let threads = Threads::Fixed([WORKGROUP_SIZE, 1, 1]);
+    SCAN.add_as(graph, (name, index), ScanResources { histograms: counts }, |_| (), params, threads);
     Ok(())
 }

@@ -28,9 +28,10 @@ use ash::vk;
 use bytemuck::{Pod, Zeroable};
 use leakless_device::shader::ShaderInfo;
 use leakless_device::{gpu_struct, BindingDecl, BufferDesc, GpuStruct, MemoryLocation};
-use leakless_graph::{shader_bindings, BufferHandle, Graph, PassName, Stage};
+use leakless_graph::{shader_bindings, BufferHandle, Graph, PassName};
 
 use crate::error::{RenderError, Result};
+use crate::passes::add::Threads;
 use crate::passes::names::group;
 use crate::passes::scan;
 use crate::pipelines::ComputePassDef;
@@ -214,13 +215,9 @@ pub fn add<'r>(
     if digits % 2 == 1 {
         // The copy reads only `len`.
         let params = SortParams { len, shift: 0, key_limit, group_count };
-        let mut pass = graph.pass(SORT_COPY.name);
-        let own = CopyBindings::declare(
-            &mut pass,
-            Stage::Compute,
-            CopyResources { keys_in: &scratch_keys, values_in: &scratch_values, keys_out: keys, values_out: values },
-        );
-        pass.dispatch(own, params, [len, 1, 1]);
+        let resources =
+            CopyResources { keys_in: &scratch_keys, values_in: &scratch_values, keys_out: keys, values_out: values };
+        SORT_COPY.add(graph, resources, params, [len, 1, 1]);
     }
     Ok(())
 }
@@ -242,19 +239,14 @@ impl DigitPass {
         let (digit, params) = (self.digit, self.params);
         let threads = [params.group_count * WORKGROUP_SIZE, 1, 1];
 
-        let mut pass = graph.pass_numbered(SORT_HISTOGRAM.name, digit);
-        let own = HistogramBindings::declare(&mut pass, Stage::Compute, HistogramResources { keys_in, histograms });
-        pass.dispatch(own, params, threads);
+        let (label, threads) = ((SORT_HISTOGRAM.name, Some(digit)), Threads::Fixed(threads));
+        SORT_HISTOGRAM.add_as(graph, label, HistogramResources { keys_in, histograms }, |_| (), params, threads);
 
         scan::add(graph, (scan::SCAN.name, Some(digit)), RADIX * params.group_count, histograms)?;
 
-        let mut pass = graph.pass_numbered(SORT_SCATTER.name, digit);
-        let own = ScatterBindings::declare(
-            &mut pass,
-            Stage::Compute,
-            ScatterResources { keys_in, values_in, histograms, keys_out, values_out },
-        );
-        pass.dispatch(own, params, threads);
+        let resources = ScatterResources { keys_in, values_in, histograms, keys_out, values_out };
+        let label = (SORT_SCATTER.name, Some(digit));
+        SORT_SCATTER.add_as(graph, label, resources, |_| (), params, threads);
         Ok(())
     }
 }

@@ -5,10 +5,11 @@
 use ash::vk;
 use bytemuck::{Pod, Zeroable};
 use leakless_device::{gpu_struct, GpuStruct, ImageDesc};
-use leakless_graph::{shader_bindings, BufferHandle, Graph, ImageHandle, PassName, Stage};
+use leakless_graph::{shader_bindings, BufferHandle, Graph, ImageHandle, PassName};
 
 use crate::error::Result;
 use crate::gpu_types::Frame;
+use crate::passes::add::Threads;
 use crate::passes::gbuffer::{self, GBufferBindings, GBufferHandles};
 use crate::passes::names::group;
 use crate::pipelines::ComputePassDef;
@@ -91,12 +92,10 @@ pub fn add<'r>(
     for i in 0..ITERATIONS {
         let params =
             SpatialParams { step: 1 << i, first: (i == 0) as u32, plane_tolerance: PLANE_TOLERANCE, kernel_pixels };
-        let mut pass = graph.pass_numbered(SPATIAL.name, i);
-        let g = gbuffer.declare(&mut pass);
         let (source, filtered) =
             if i % 2 == 1 { (&images.result, &mut images.scratch) } else { (&images.scratch, &mut images.result) };
-        let own =
-            SpatialBindings::declare(&mut pass, Stage::Compute, SpatialResources { frame, indirect, source, filtered });
-        pass.dispatch((own, g), params, [extent.width, extent.height, 1]);
+        let resources = SpatialResources { frame, indirect, source, filtered };
+        let threads = Threads::Fixed([extent.width, extent.height, 1]);
+        SPATIAL.add_as(graph, (SPATIAL.name, Some(i)), resources, |pass| gbuffer.declare(pass), params, threads);
     }
 }

@@ -6,9 +6,10 @@
 use ash::vk;
 use bytemuck::{Pod, Zeroable};
 use leakless_device::{gpu_struct, BufferDesc, GpuStruct, MemoryLocation};
-use leakless_graph::{shader_bindings, BufferHandle, Fill, Graph, PassName, Stage};
+use leakless_graph::{shader_bindings, BufferHandle, Fill, Graph, PassName};
 
 use crate::error::Result;
+use crate::passes::add::Threads;
 use crate::passes::hierarchy::{HierarchyHandles, Level, Node, Shape};
 use crate::passes::names::group;
 use crate::passes::photon_dispatch::{PhotonDispatch, PHOTON_WORKGROUP};
@@ -185,22 +186,16 @@ pub fn add<'r>(
     };
     let zero = [Fill::whole(0)];
     graph.fill(SPLAT_CLEAR, &mut [(&mut lists.ends, &zero), (&mut lists.counters, &zero)]);
-    let mut pass = graph.pass(SPLAT.name);
-    let own = SplatBindings::declare(
-        &mut pass,
-        Stage::Compute,
-        SplatResources {
-            photons: input.photons,
-            photon_counters: input.photon_counters,
-            levels: &hierarchy.levels,
-            nodes: &hierarchy.nodes,
-            node_counts: &mut lists.ends,
-            splat_records: &mut lists.records,
-            splat_counters: &mut lists.counters,
-            photon_listed: &mut lists.listed,
-            photon_positions: &mut lists.positions,
-        },
-    );
-    let (args, threads) = (input.dispatch.declare(&mut pass), input.dispatch.most_threads());
-    pass.dispatch_indirect(own, params, args, threads);
+    let resources = SplatResources {
+        photons: input.photons,
+        photon_counters: input.photon_counters,
+        levels: &hierarchy.levels,
+        nodes: &hierarchy.nodes,
+        node_counts: &mut lists.ends,
+        splat_records: &mut lists.records,
+        splat_counters: &mut lists.counters,
+        photon_listed: &mut lists.listed,
+        photon_positions: &mut lists.positions,
+    };
+    SPLAT.add_with(graph, resources, |_| (), params, Threads::Indirect(input.dispatch));
 }

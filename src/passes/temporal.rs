@@ -11,6 +11,7 @@ use leakless_graph::{shader_bindings, BufferHandle, Graph, History, ImageHandle,
 use crate::error::Result;
 use crate::gpu_scene::{SceneBindings, SceneHandles};
 use crate::gpu_types::Frame;
+use crate::passes::add::Threads;
 use crate::passes::gbuffer::{self, GBufferBindings, GBufferHandles};
 use crate::passes::lighting_level;
 use crate::passes::names::group;
@@ -190,34 +191,34 @@ pub fn add<'r>(
     out: Reused<'_>,
 ) {
     let extent = out.radiance.extent();
-    let mut pass = graph.pass(TEMPORAL.name);
-    let gbuffer = inputs.gbuffer.declare(&mut pass);
-    let scene = inputs.scene.declare(&mut pass, Stage::Compute);
-    let own = TemporalBindings::declare(
-        &mut pass,
-        Stage::Compute,
-        TemporalResources {
-            frame: inputs.frame,
-            direct: inputs.direct,
-            indirect: inputs.indirect,
-            radiance: inputs.radiance,
-            history_previous: &histories.irradiance.previous,
-            history_current: &mut histories.irradiance.current,
-            surface_previous: &histories.surface.previous,
-            surface_current: &mut histories.surface.current,
-            normal_previous: &histories.normal.previous,
-            normal_current: &mut histories.normal.current,
-            reused_indirect: out.indirect,
-            reused_radiance: out.radiance,
-            filtered: inputs.filtered,
-            filtered_mean_previous: &histories.filtered_mean.previous,
-            filtered_mean_current: &mut histories.filtered_mean.current,
-            own_mean_previous: &histories.own_mean.previous,
-            own_mean_current: &mut histories.own_mean.current,
-            previous_positions: inputs.previous_positions,
-            level_previous: &histories.level.previous,
-            level_partials: inputs.level_partials,
-        },
+    let resources = TemporalResources {
+        frame: inputs.frame,
+        direct: inputs.direct,
+        indirect: inputs.indirect,
+        radiance: inputs.radiance,
+        history_previous: &histories.irradiance.previous,
+        history_current: &mut histories.irradiance.current,
+        surface_previous: &histories.surface.previous,
+        surface_current: &mut histories.surface.current,
+        normal_previous: &histories.normal.previous,
+        normal_current: &mut histories.normal.current,
+        reused_indirect: out.indirect,
+        reused_radiance: out.radiance,
+        filtered: inputs.filtered,
+        filtered_mean_previous: &histories.filtered_mean.previous,
+        filtered_mean_current: &mut histories.filtered_mean.current,
+        own_mean_previous: &histories.own_mean.previous,
+        own_mean_current: &mut histories.own_mean.current,
+        previous_positions: inputs.previous_positions,
+        level_previous: &histories.level.previous,
+        level_partials: inputs.level_partials,
+    };
+    let threads = Threads::Fixed([extent.width, extent.height, 1]);
+    TEMPORAL.add_with(
+        graph,
+        resources,
+        |pass| (inputs.gbuffer.declare(pass), inputs.scene.declare(pass, Stage::Compute)),
+        params,
+        threads,
     );
-    pass.dispatch((own, gbuffer, scene), params, [extent.width, extent.height, 1]);
 }

@@ -14,6 +14,7 @@ use leakless_graph::{shader_bindings, BufferHandle, Graph, ImageHandle, PassName
 use crate::error::Result;
 use crate::gpu_scene::{SceneBindings, SceneHandles};
 use crate::gpu_types::Frame;
+use crate::passes::add::Threads;
 use crate::passes::gbuffer::{self, GBufferBindings, GBufferHandles};
 use crate::passes::names::group;
 use crate::pipelines::ComputePassDef;
@@ -109,18 +110,16 @@ pub fn add<'r>(
     disk_mass: &mut ImageHandle,
 ) {
     let extent = disk_mass.extent();
-    let mut pass = graph.pass(VISIBLE_DISK.name);
-    let own = VisibleDiskBindings::declare(
-        &mut pass,
-        Stage::Compute,
-        VisibleDiskResources { frame, disk_mass, coplanar_neighbours: &scene.coplanar_neighbours },
-    );
-    let gbuffer = gbuffer.declare(&mut pass);
-    let surfaces = scene.declare(&mut pass, Stage::Compute);
-    let trace = trace.declare(&mut pass);
+    let resources = VisibleDiskResources { frame, disk_mass, coplanar_neighbours: &scene.coplanar_neighbours };
     // One more tile each way: the tiles start up to TILE − 1 pixels before pixel 0.
-    let threads = [extent.width + TILE - 1, extent.height + TILE - 1, 1];
-    pass.dispatch((own, gbuffer, surfaces, trace), params, threads);
+    let threads = Threads::Fixed([extent.width + TILE - 1, extent.height + TILE - 1, 1]);
+    VISIBLE_DISK.add_with(
+        graph,
+        resources,
+        |pass| (gbuffer.declare(pass), scene.declare(pass, Stage::Compute), trace.declare(pass)),
+        params,
+        threads,
+    );
 }
 
 /// The side of visible_disk.comp's workgroups, whose samples share their directions' masses.

@@ -6,8 +6,8 @@ use leakless_graph::Timing;
 
 use super::{resolve, reuse, Renderer};
 use crate::error::Result;
-use crate::passes::tonemap::ViewLayer;
 use crate::passes::frame_passes;
+use crate::passes::tonemap::ViewLayer;
 use crate::pipelines::Pipelines;
 use crate::settings::{Method, RenderSettings};
 use crate::trace::BackendChoice;

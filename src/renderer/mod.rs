@@ -38,11 +38,11 @@ pub use readback::RenderedFrame;
 
 use crate::error::Result;
 use crate::gpu_scene::GpuScene;
+use crate::passes::frame_passes;
 use crate::passes::gbuffer::GBufferPass;
 use crate::passes::hang::HangPass;
 use crate::passes::luminance::LuminanceStats;
 use crate::passes::tonemap::{TonemapPass, ViewLayer};
-use crate::passes::frame_passes;
 use crate::pipelines::Pipelines;
 use crate::scene_pose::ScenePose;
 use crate::settings::{Method, RenderSettings};

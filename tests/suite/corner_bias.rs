@@ -4,9 +4,9 @@
 
 use crate::common;
 
+use leakless::metrics::luminance as pixel_luminance;
 use leakless::{flicker, metrics};
 use leakless::{Method, RenderSettings, RenderedFrame, Renderer, SplatSettings};
-use leakless::metrics::luminance as pixel_luminance;
 
 const WIDTH: u32 = 64;
 const HEIGHT: u32 = 48;

@@ -6,8 +6,8 @@
 use crate::common;
 
 use leakless::extras::in_dark_box;
-use leakless::{Backend, BackendChoice, Method, RenderSettings, RenderedFrame, Renderer, Scene, SplatSettings};
 use leakless::metrics::mean_luminance as image_luminance;
+use leakless::{Backend, BackendChoice, Method, RenderSettings, RenderedFrame, Renderer, Scene, SplatSettings};
 
 const METHODS: [Method; 5] =
     [Method::Direct, Method::Splat, Method::LeakLessCapped, Method::LeakLess, Method::Reference];

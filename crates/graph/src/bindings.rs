@@ -42,6 +42,23 @@ pub trait Bindings {
     fn bind<'a>(&self, res: Resolved<'a>, out: &mut Vec<(&'static str, Bound<'a>)>);
 }
 
+/// No group: a pass that binds only its own.
+impl Bindings for () {
+    fn bind<'a>(&self, _: Resolved<'a>, _: &mut Vec<(&'static str, Bound<'a>)>) {}
+}
+
+/// The resources struct of a [`shader_bindings!`] group: it declares its handles' uses on a
+/// pass and gives the bindings a dispatch binds. A compute pass's definition takes it, so that
+/// adding the pass is one call with its resources (`COMPOSE.add(graph, ComposeResources { … },
+/// params, threads)`).
+pub trait DeclareBindings {
+    /// The bindings struct the declaration returns.
+    type Bindings: Bindings;
+    /// Its declarations (the pipeline's), to check a pass against the group it is given.
+    const DECLS: &'static [leakless_device::BindingDecl];
+    fn declare_on(self, pass: &mut crate::PassBuilder<'_, '_>, stage: Stage) -> Self::Bindings;
+}
+
 /// Several groups bound together, in order.
 macro_rules! tuple_bindings {
     ($($g:ident),+) => {
@@ -216,6 +233,13 @@ macro_rules! shader_bindings {
         impl $crate::Bindings for $name {
             fn bind<'a>(&self, res: $crate::Resolved<'a>, out: &mut Vec<(&'static str, $crate::Bound<'a>)>) {
                 $(out.push((stringify!($field), $crate::shader_bindings!(@bound res, self.$field, $kind)));)*
+            }
+        }
+        impl $crate::DeclareBindings for $resources<'_> {
+            type Bindings = $name;
+            const DECLS: &'static [$crate::BindingDecl] = $name::DECLS;
+            fn declare_on(self, pass: &mut $crate::PassBuilder<'_, '_>, stage: $crate::Stage) -> $name {
+                $name::declare(pass, stage, self)
             }
         }
     };

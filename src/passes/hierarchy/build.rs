@@ -3,9 +3,10 @@
 
 use bytemuck::{Pod, Zeroable};
 use leakless_device::{gpu_struct, GpuStruct};
-use leakless_graph::{shader_bindings, Graph, ImageHandle, PassName, Stage};
+use leakless_graph::{shader_bindings, Graph, ImageHandle, PassName};
 
 use super::{HierarchyHandles, Level, Node, Shape};
+use crate::passes::add::Threads;
 use crate::passes::gbuffer::{GBufferBindings, GBufferHandles};
 use crate::passes::names::group;
 use crate::pipelines::ComputePassDef;
@@ -57,20 +58,14 @@ pub fn add<'r>(
             sample_count: shape.sample_count,
             image_width,
         };
-        let mut pass = graph.pass_numbered(HIERARCHY_LEVEL.name, index as u32);
-        let own = BuildBindings::declare(
-            &mut pass,
-            Stage::Compute,
-            BuildResources {
-                sorted_keys: &h.keys,
-                sorted_samples: &h.samples,
-                levels: &h.levels,
-                nodes: &mut h.nodes,
-                disk_mass,
-            },
-        );
-        let gbuffer_uses = gbuffer.declare(&mut pass);
-        let count = info.count;
-        pass.dispatch((own, gbuffer_uses), params, [count, 1, 1]);
+        let resources = BuildResources {
+            sorted_keys: &h.keys,
+            sorted_samples: &h.samples,
+            levels: &h.levels,
+            nodes: &mut h.nodes,
+            disk_mass,
+        };
+        let (label, threads) = ((HIERARCHY_LEVEL.name, Some(index as u32)), Threads::Fixed([info.count, 1, 1]));
+        HIERARCHY_LEVEL.add_as(graph, label, resources, |pass| gbuffer.declare(pass), params, threads);
     }
 }

@@ -2,9 +2,10 @@
 //! with the pixel index as value (`morton.comp`).
 
 use leakless_device::GpuStruct;
-use leakless_graph::{shader_bindings, BufferHandle, Graph, PassName, Stage};
+use leakless_graph::{shader_bindings, BufferHandle, Graph, PassName};
 
 use crate::gpu_types::Frame;
+use crate::passes::add::Threads;
 use crate::passes::gbuffer::{GBufferBindings, GBufferHandles};
 use crate::passes::names::group;
 use crate::pipelines::ComputePassDef;
@@ -37,12 +38,7 @@ pub fn add<'r>(
     values: &mut BufferHandle,
 ) {
     let extent = gbuffer.position.extent();
-    let mut pass = graph.pass(MORTON.name);
-    let own = MortonBindings::declare(
-        &mut pass,
-        Stage::Compute,
-        MortonResources { frame, sample_bounds: bounds, morton_keys: keys, morton_values: values },
-    );
-    let gbuffer = gbuffer.declare(&mut pass);
-    pass.dispatch((own, gbuffer), (), [extent.width, extent.height, 1]);
+    let resources = MortonResources { frame, sample_bounds: bounds, morton_keys: keys, morton_values: values };
+    let threads = Threads::Fixed([extent.width, extent.height, 1]);
+    MORTON.add_with(graph, resources, |pass| gbuffer.declare(pass), (), threads);
 }

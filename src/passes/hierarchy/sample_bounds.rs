@@ -2,9 +2,10 @@
 //! Morton codes are quantised to.
 
 use leakless_device::GpuStruct;
-use leakless_graph::{shader_bindings, BufferHandle, Fill, Graph, PassName, Stage};
+use leakless_graph::{shader_bindings, BufferHandle, Fill, Graph, PassName};
 
 use crate::gpu_types::Frame;
+use crate::passes::add::Threads;
 use crate::passes::gbuffer::{GBufferBindings, GBufferHandles};
 use crate::passes::names::group;
 use crate::pipelines::ComputePassDef;
@@ -33,12 +34,7 @@ pub fn add<'r>(graph: &mut Graph<'r>, frame: &BufferHandle, gbuffer: &GBufferHan
     let empty = [Fill::range(0, 12, u32::MAX), Fill::range(12, 12, 0)];
     graph.fill(SAMPLE_BOUNDS_CLEAR, &mut [(&mut *bounds, &empty)]);
     let extent = gbuffer.position.extent();
-    let mut pass = graph.pass(SAMPLE_BOUNDS.name);
-    let own = SampleBoundsBindings::declare(
-        &mut pass,
-        Stage::Compute,
-        SampleBoundsResources { frame, sample_bounds: bounds },
-    );
-    let gbuffer = gbuffer.declare(&mut pass);
-    pass.dispatch((own, gbuffer), (), [extent.width, extent.height, 1]);
+    let resources = SampleBoundsResources { frame, sample_bounds: bounds };
+    let threads = Threads::Fixed([extent.width, extent.height, 1]);
+    SAMPLE_BOUNDS.add_with(graph, resources, |pass| gbuffer.declare(pass), (), threads);
 }

@@ -11,9 +11,9 @@ use leakless::error::Result;
 use leakless::extras::{extras, in_dark_box};
 use leakless::flicker::{flicker, FLICKER_FRAMES};
 use leakless::metrics;
+use leakless::metrics::{luminance, mean_luminance};
 use leakless::trace::{Backend, BackendChoice};
 use leakless::{Method, RenderSettings, RenderedFrame, Renderer, SplatSettings};
-use leakless::metrics::{luminance, mean_luminance};
 
 /// The methods measured.
 pub const STABILITY_METHODS: [Method; 4] = [Method::Direct, Method::Splat, Method::LeakLessCapped, Method::LeakLess];
