@@ -76,7 +76,6 @@ pub struct Accumulated {
 }
 
 #[linkme::distributed_slice(crate::passes::FRAME_PASSES)]
-
 pub static ACCUMULATE: ComputePassDef = ComputePassDef::any(
     PassName::new("accumulate", group::COMPOSE),
     &shaders::ACCUMULATE_COMP,

@@ -38,7 +38,6 @@ shader_bindings! {
 }
 
 #[linkme::distributed_slice(crate::passes::FRAME_PASSES)]
-
 pub static COMPOSE: ComputePassDef =
     ComputePassDef::any(PassName::new("compose", group::COMPOSE), &shaders::COMPOSE_COMP, &[ComposeBindings::DECLS])
         .push(ComposeParams::LAYOUT);

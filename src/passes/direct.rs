@@ -47,7 +47,6 @@ shader_bindings! {
 }
 
 #[linkme::distributed_slice(crate::passes::FRAME_PASSES)]
-
 pub static DIRECT: ComputePassDef = ComputePassDef::traced(
     PassName::new("direct", group::DIRECT),
     (&shaders::DIRECT_COMP_RAYQUERY, &shaders::DIRECT_COMP_COMPUTE),

@@ -39,7 +39,6 @@ shader_bindings! {
 }
 
 #[linkme::distributed_slice(crate::passes::FRAME_PASSES)]
-
 pub static DISK_SMOOTH: ComputePassDef = ComputePassDef::any(
     PassName::new("disk smoothing", group::VISIBLE_DISK),
     &shaders::DISK_SMOOTH_COMP,

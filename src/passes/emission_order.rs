@@ -53,7 +53,6 @@ pub const EMISSION_CELLS_CLEAR: PassName = PassName::new("emission cells clear",
 pub const EMISSION_CELL_STARTS: PassName = PassName::new("emission cell starts", group::PHOTONS);
 
 #[linkme::distributed_slice(crate::passes::FRAME_PASSES)]
-
 pub static EMISSION_CELLS: ComputePassDef = ComputePassDef::any(
     PassName::new("emission cells", group::PHOTONS),
     &shaders::EMISSION_CELLS_COMP,
@@ -62,7 +61,6 @@ pub static EMISSION_CELLS: ComputePassDef = ComputePassDef::any(
 .push(EmissionOrderParams::LAYOUT);
 
 #[linkme::distributed_slice(crate::passes::FRAME_PASSES)]
-
 pub static EMISSION_ORDER: ComputePassDef = ComputePassDef::any(
     PassName::new("emission order", group::PHOTONS),
     &shaders::EMISSION_ORDER_COMP,

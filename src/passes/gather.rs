@@ -109,7 +109,6 @@ shader_bindings! {
 const GATHER_CLEAR: PassName = PassName::new("gather clear", group::GATHER);
 
 #[linkme::distributed_slice(crate::passes::FRAME_PASSES)]
-
 pub static GATHER: ComputePassDef = ComputePassDef::traced(
     PassName::new("gather", group::GATHER),
     (&shaders::GATHER_COMP_RAYQUERY, &shaders::GATHER_COMP_COMPUTE),

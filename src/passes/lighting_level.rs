@@ -58,7 +58,6 @@ shader_bindings! {
 }
 
 #[linkme::distributed_slice(crate::passes::FRAME_PASSES)]
-
 pub static LIGHTING_LEVEL: ComputePassDef = ComputePassDef::any(
     PassName::new("lighting level", group::REUSE),
     &shaders::LIGHTING_LEVEL_COMP,

@@ -102,7 +102,6 @@ pub struct LuminanceInputs<'a> {
 }
 
 #[linkme::distributed_slice(crate::passes::FRAME_PASSES)]
-
 pub static LUMINANCE_TILES: ComputePassDef = ComputePassDef::any(
     PassName::new("luminance tiles", group::LUMINANCE),
     &shaders::LUMINANCE_COMP,
@@ -111,7 +110,6 @@ pub static LUMINANCE_TILES: ComputePassDef = ComputePassDef::any(
 .push(LuminanceParams::LAYOUT);
 
 #[linkme::distributed_slice(crate::passes::FRAME_PASSES)]
-
 pub static LUMINANCE_TOTAL: ComputePassDef = ComputePassDef::any(
     PassName::new("luminance total", group::LUMINANCE),
     &shaders::LUMINANCE_TOTAL_COMP,

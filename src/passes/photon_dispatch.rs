@@ -73,7 +73,6 @@ impl PhotonDispatch {
 }
 
 #[linkme::distributed_slice(crate::passes::FRAME_PASSES)]
-
 pub static PHOTON_DISPATCH: ComputePassDef = ComputePassDef::any(
     PassName::new("photon dispatch", group::PHOTONS),
     &shaders::PHOTON_DISPATCH_COMP,

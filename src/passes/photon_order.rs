@@ -94,7 +94,6 @@ const PHOTON_CELLS_CLEAR: PassName = PassName::new("photon cells clear", group::
 const PHOTON_CELL_STARTS: PassName = PassName::new("photon cell starts", group::PHOTON_ORDER);
 
 #[linkme::distributed_slice(crate::passes::FRAME_PASSES)]
-
 pub static PHOTON_CELLS: ComputePassDef =
     order_pass(PassName::new("photon cells", group::PHOTON_ORDER), &shaders::PHOTON_CELLS_COMP, &[CellBindings::DECLS]);
 #[linkme::distributed_slice(crate::passes::FRAME_PASSES)]

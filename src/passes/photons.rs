@@ -173,7 +173,6 @@ pub const COUNTER_BUFFER_USAGE: vk::BufferUsageFlags = vk::BufferUsageFlags::fro
 const PHOTON_COUNTERS: PassName = PassName::new("photon counters", group::PHOTONS);
 
 #[linkme::distributed_slice(crate::passes::FRAME_PASSES)]
-
 pub static PHOTONS: ComputePassDef = ComputePassDef::traced(
     PassName::new("photons", group::PHOTONS),
     (&shaders::PHOTONS_COMP_RAYQUERY, &shaders::PHOTONS_COMP_COMPUTE),

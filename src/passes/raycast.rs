@@ -46,7 +46,6 @@ shader_bindings! {
 }
 
 #[linkme::distributed_slice(crate::passes::TOOL_PASSES)]
-
 pub static RAYCAST: ComputePassDef = ComputePassDef::traced(
     PassName::new("raycast", group::TOOLS),
     (&shaders::RAYCAST_COMP_RAYQUERY, &shaders::RAYCAST_COMP_COMPUTE),

@@ -43,7 +43,6 @@ shader_bindings! {
 }
 
 #[linkme::distributed_slice(crate::passes::FRAME_PASSES)]
-
 pub static REFERENCE: ComputePassDef = ComputePassDef::traced(
     PassName::new("reference", group::REFERENCE),
     (&shaders::REFERENCE_COMP_RAYQUERY, &shaders::REFERENCE_COMP_COMPUTE),

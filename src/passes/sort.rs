@@ -144,7 +144,6 @@ pub(crate) const fn sort_pass(
 }
 
 #[linkme::distributed_slice(crate::passes::FRAME_PASSES)]
-
 pub static SORT_HISTOGRAM: ComputePassDef = sort_pass(
     PassName::new("sort histogram", group::HIERARCHY),
     &shaders::SORT_HISTOGRAM_COMP,

@@ -53,7 +53,6 @@ shader_bindings! {
 }
 
 #[linkme::distributed_slice(crate::passes::FRAME_PASSES)]
-
 pub static SPATIAL: ComputePassDef = ComputePassDef::any(
     PassName::new("spatial reuse", group::REUSE),
     &shaders::SPATIAL_COMP,

@@ -110,7 +110,6 @@ shader_bindings! {
 }
 
 #[linkme::distributed_slice(crate::passes::FRAME_PASSES)]
-
 pub static TEMPORAL: ComputePassDef = ComputePassDef::any(
     PassName::new("temporal reuse", group::REUSE),
     &shaders::TEMPORAL_COMP,

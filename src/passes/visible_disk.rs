@@ -89,7 +89,6 @@ fn mass_image(graph: &mut Graph<'_>, extent: vk::Extent2D, name: &'static str) -
 }
 
 #[linkme::distributed_slice(crate::passes::FRAME_PASSES)]
-
 pub static VISIBLE_DISK: ComputePassDef = ComputePassDef::traced(
     PassName::new("visible disk", group::VISIBLE_DISK),
     (&shaders::VISIBLE_DISK_COMP_RAYQUERY, &shaders::VISIBLE_DISK_COMP_COMPUTE),

@@ -35,7 +35,6 @@ shader_bindings! {
 }
 
 #[linkme::distributed_slice(crate::passes::FRAME_PASSES)]
-
 pub static HIERARCHY_LEVEL: ComputePassDef = ComputePassDef::any(
     PassName::new("hierarchy level", group::HIERARCHY),
     &shaders::HIERARCHY_BUILD_COMP,

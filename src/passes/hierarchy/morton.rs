@@ -22,7 +22,6 @@ shader_bindings! {
 }
 
 #[linkme::distributed_slice(crate::passes::FRAME_PASSES)]
-
 pub static MORTON: ComputePassDef = ComputePassDef::any(
     PassName::new("morton", group::HIERARCHY),
     &shaders::MORTON_COMP,

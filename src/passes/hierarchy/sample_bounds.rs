@@ -22,7 +22,6 @@ shader_bindings! {
 const SAMPLE_BOUNDS_CLEAR: PassName = PassName::new("sample bounds clear", group::HIERARCHY);
 
 #[linkme::distributed_slice(crate::passes::FRAME_PASSES)]
-
 pub static SAMPLE_BOUNDS: ComputePassDef = ComputePassDef::any(
     PassName::new("sample bounds", group::HIERARCHY),
     &shaders::SAMPLE_BOUNDS_COMP,
