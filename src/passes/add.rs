@@ -4,6 +4,7 @@
 //! ([`DeclareBindings`]); debug builds check that the definition binds that group and pushes
 //! constants of the size given.
 
+use bytemuck::NoUninit;
 use leakless_graph::{Bindings, DeclareBindings, Graph, PassBuilder, PassName, Stage};
 
 use crate::passes::photon_dispatch::PhotonDispatch;
@@ -18,32 +19,32 @@ pub enum Threads<'d> {
     Indirect(&'d PhotonDispatch),
 }
 
+/// Resources of a pass's own group, whose bindings live as long as the frame's graph.
+pub trait OwnResources<'r>: DeclareBindings<Bindings: 'r> {}
+impl<'r, R: DeclareBindings<Bindings: 'r>> OwnResources<'r> for R {}
+
 impl ComputePassDef {
     /// Adds the pass with its own bindings only, over `threads` invocations.
-    pub fn add<'r, R, P>(&self, graph: &mut Graph<'r>, resources: R, push: P, threads: [u32; 3])
-    where
-        R: DeclareBindings,
-        R::Bindings: 'r,
-        P: bytemuck::NoUninit + 'r,
-    {
+    pub fn add<'r, R: OwnResources<'r>, P: NoUninit + 'r>(
+        &self,
+        graph: &mut Graph<'r>,
+        resources: R,
+        push: P,
+        threads: [u32; 3],
+    ) {
         self.record(graph.pass(self.name), resources, |_| (), push, Threads::Fixed(threads));
     }
 
     /// Adds the pass with its own bindings and the shared groups `extra` declares (the
     /// G-buffer, the scene, the trace structures).
-    pub fn add_with<'r, R, E, P>(
+    pub fn add_with<'r, R: OwnResources<'r>, E: Bindings + 'r, P: NoUninit + 'r>(
         &self,
         graph: &mut Graph<'r>,
         resources: R,
         extra: impl FnOnce(&mut PassBuilder<'_, 'r>) -> E,
         push: P,
         threads: Threads<'_>,
-    ) where
-        R: DeclareBindings,
-        R::Bindings: 'r,
-        E: Bindings + 'r,
-        P: bytemuck::NoUninit + 'r,
-    {
+    ) {
         self.record(graph.pass(self.name), resources, extra, push, threads);
     }
 
@@ -51,7 +52,7 @@ impl ComputePassDef {
     /// ("sort histogram 2"), or the label of a caller that runs this pass's shader for its own
     /// ends (the scan of each photon ordering).
     #[allow(clippy::too_many_arguments)]
-    pub fn add_as<'r, R, E, P>(
+    pub fn add_as<'r, R: OwnResources<'r>, E: Bindings + 'r, P: NoUninit + 'r>(
         &self,
         graph: &mut Graph<'r>,
         (name, index): (PassName, Option<u32>),
@@ -59,12 +60,7 @@ impl ComputePassDef {
         extra: impl FnOnce(&mut PassBuilder<'_, 'r>) -> E,
         push: P,
         threads: Threads<'_>,
-    ) where
-        R: DeclareBindings,
-        R::Bindings: 'r,
-        E: Bindings + 'r,
-        P: bytemuck::NoUninit + 'r,
-    {
+    ) {
         let pass = match index {
             Some(index) => graph.pass_numbered(name, index),
             None => graph.pass(name),
@@ -72,19 +68,14 @@ impl ComputePassDef {
         self.record(pass.runs(self.name), resources, extra, push, threads);
     }
 
-    fn record<'r, R, E, P>(
+    fn record<'r, R: OwnResources<'r>, E: Bindings + 'r, P: NoUninit + 'r>(
         &self,
         mut pass: PassBuilder<'_, 'r>,
         resources: R,
         extra: impl FnOnce(&mut PassBuilder<'_, 'r>) -> E,
         push: P,
         threads: Threads<'_>,
-    ) where
-        R: DeclareBindings,
-        R::Bindings: 'r,
-        E: Bindings + 'r,
-        P: bytemuck::NoUninit + 'r,
-    {
+    ) {
         debug_assert!(self.binds(R::DECLS), "pass {}: given resources of a group it does not bind", self.name);
         debug_assert_eq!(
             std::mem::size_of::<P>(),
