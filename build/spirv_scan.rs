@@ -3,60 +3,62 @@
 //! cannot: modules naga's SPIR-V front end rejects (ray queries), and combined image samplers,
 //! which naga folds into the image type. Buffer layouts are left to naga.
 //!
-//! Only the instructions below are decoded (numbers from the SPIR-V specification, §3);
-//! everything else is skipped by its word count.
+//! Only the instructions below are decoded (their numbers from the `spirv` crate, the
+//! specification's grammar); everything else is skipped by its word count.
 
 use std::collections::HashMap;
 
-const MAGIC: u32 = 0x0723_0203;
+use spirv::{BuiltIn, Decoration, Dim, ExecutionMode, Op, StorageClass};
+
+const MAGIC: u32 = spirv::MAGIC_NUMBER;
 
 // Opcodes.
-const OP_NAME: u32 = 5;
-const OP_EXECUTION_MODE: u32 = 16;
-const OP_CONSTANT: u32 = 43;
-const OP_EXECUTION_MODE_ID: u32 = 331;
-const OP_SPEC_CONSTANT_TRUE: u32 = 48;
-const OP_SPEC_CONSTANT_FALSE: u32 = 49;
-const OP_SPEC_CONSTANT: u32 = 50;
-const OP_SPEC_CONSTANT_COMPOSITE: u32 = 51;
-const OP_TYPE_IMAGE: u32 = 25;
-const OP_TYPE_SAMPLER: u32 = 26;
-const OP_TYPE_SAMPLED_IMAGE: u32 = 27;
-const OP_TYPE_ARRAY: u32 = 28;
-const OP_TYPE_RUNTIME_ARRAY: u32 = 29;
-const OP_TYPE_STRUCT: u32 = 30;
-const OP_TYPE_POINTER: u32 = 32;
-const OP_VARIABLE: u32 = 59;
-const OP_DECORATE: u32 = 71;
-const OP_MEMBER_DECORATE: u32 = 72;
-const OP_TYPE_ACCELERATION_STRUCTURE_KHR: u32 = 5341; // also OpTypeAccelerationStructureNV
+const OP_NAME: u32 = Op::Name as u32;
+const OP_EXECUTION_MODE: u32 = Op::ExecutionMode as u32;
+const OP_CONSTANT: u32 = Op::Constant as u32;
+const OP_EXECUTION_MODE_ID: u32 = Op::ExecutionModeId as u32;
+const OP_SPEC_CONSTANT_TRUE: u32 = Op::SpecConstantTrue as u32;
+const OP_SPEC_CONSTANT_FALSE: u32 = Op::SpecConstantFalse as u32;
+const OP_SPEC_CONSTANT: u32 = Op::SpecConstant as u32;
+const OP_SPEC_CONSTANT_COMPOSITE: u32 = Op::SpecConstantComposite as u32;
+const OP_TYPE_IMAGE: u32 = Op::TypeImage as u32;
+const OP_TYPE_SAMPLER: u32 = Op::TypeSampler as u32;
+const OP_TYPE_SAMPLED_IMAGE: u32 = Op::TypeSampledImage as u32;
+const OP_TYPE_ARRAY: u32 = Op::TypeArray as u32;
+const OP_TYPE_RUNTIME_ARRAY: u32 = Op::TypeRuntimeArray as u32;
+const OP_TYPE_STRUCT: u32 = Op::TypeStruct as u32;
+const OP_TYPE_POINTER: u32 = Op::TypePointer as u32;
+const OP_VARIABLE: u32 = Op::Variable as u32;
+const OP_DECORATE: u32 = Op::Decorate as u32;
+const OP_MEMBER_DECORATE: u32 = Op::MemberDecorate as u32;
+const OP_TYPE_ACCELERATION_STRUCTURE_KHR: u32 = Op::TypeAccelerationStructureKHR as u32;
 
-// Execution mode.
-const LOCAL_SIZE: u32 = 17;
-const LOCAL_SIZE_ID: u32 = 38;
+// Execution modes.
+const LOCAL_SIZE: u32 = ExecutionMode::LocalSize as u32;
+const LOCAL_SIZE_ID: u32 = ExecutionMode::LocalSizeId as u32;
 
 // Image dimensions that are not images to leakless.
-const DIM_BUFFER: u32 = 5;
-const DIM_SUBPASS_DATA: u32 = 6;
+const DIM_BUFFER: u32 = Dim::DimBuffer as u32;
+const DIM_SUBPASS_DATA: u32 = Dim::DimSubpassData as u32;
 
 // Storage classes.
-const UNIFORM_CONSTANT: u32 = 0;
-const UNIFORM: u32 = 2;
-const PUSH_CONSTANT: u32 = 9;
-const STORAGE_BUFFER: u32 = 12;
+const UNIFORM_CONSTANT: u32 = StorageClass::UniformConstant as u32;
+const UNIFORM: u32 = StorageClass::Uniform as u32;
+const PUSH_CONSTANT: u32 = StorageClass::PushConstant as u32;
+const STORAGE_BUFFER: u32 = StorageClass::StorageBuffer as u32;
 
 // Decorations.
-const SPEC_ID: u32 = 1;
-const BLOCK: u32 = 2;
-const BUILT_IN: u32 = 11;
-const BUFFER_BLOCK: u32 = 3;
-const BINDING: u32 = 33;
-const DESCRIPTOR_SET: u32 = 34;
-const NON_WRITABLE: u32 = 24;
-const NON_READABLE: u32 = 25;
+const SPEC_ID: u32 = Decoration::SpecId as u32;
+const BLOCK: u32 = Decoration::Block as u32;
+const BUILT_IN: u32 = Decoration::BuiltIn as u32;
+const BUFFER_BLOCK: u32 = Decoration::BufferBlock as u32;
+const BINDING: u32 = Decoration::Binding as u32;
+const DESCRIPTOR_SET: u32 = Decoration::DescriptorSet as u32;
+const NON_WRITABLE: u32 = Decoration::NonWritable as u32;
+const NON_READABLE: u32 = Decoration::NonReadable as u32;
 
 // Built-ins.
-const WORKGROUP_SIZE: u32 = 25;
+const WORKGROUP_SIZE: u32 = BuiltIn::WorkgroupSize as u32;
 
 /// One descriptor binding of a module.
 #[derive(Clone, Debug, PartialEq, Eq)]
