@@ -89,7 +89,8 @@ fn bench_scale_reports_each_scene_on_each_backend() {
         .expect("running leakless");
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     let text = std::fs::read_to_string(&csv).expect("the CSV");
-    let rows: Vec<Vec<&str>> = text.lines().skip(1).map(|l| l.split(',').collect()).collect();
+    let rows: Vec<csv::StringRecord> =
+        csv::Reader::from_reader(text.as_bytes()).records().collect::<Result<_, _>>().expect("a CSV");
     assert_eq!(rows.len(), scenes.len() * backends, "{text}");
     for (row, scene) in rows.iter().zip(scenes.iter().flat_map(|s| std::iter::repeat_n(s, backends))) {
         let triangles: usize = row[1].parse().unwrap();
@@ -98,7 +99,7 @@ fn bench_scale_reports_each_scene_on_each_backend() {
             assert!(row[column].parse::<f64>().unwrap() > 0.0, "column {column} of {row:?}");
         }
     }
-    let memory = |r: &Vec<&str>| r[6].parse::<f64>().unwrap();
+    let memory = |r: &csv::StringRecord| r[6].parse::<f64>().unwrap();
     assert!(memory(&rows[backends]) > memory(&rows[0]), "{text}");
     assert!(std::fs::metadata(&svg).is_ok() && std::fs::metadata(svg.with_extension("png")).is_ok());
 }

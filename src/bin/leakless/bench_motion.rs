@@ -11,6 +11,7 @@ use leakless::metrics;
 use leakless::{BackendChoice, Method, RenderSettings, Renderer, Scene, SplatSettings};
 use leakless_scene::Camera;
 
+use crate::measure::csv_table::CsvTable;
 use crate::measure::chart::flip;
 use crate::measure::chart::motion_plot::{plot_motion, MotionRun};
 use crate::measure::motion::{DarkBand, ScreenFlicker, SeenFrame, SurfaceFlicker, BAND_PIXELS, DARK};
@@ -94,7 +95,7 @@ pub fn run(bench: &MotionBench) -> anyhow::Result<()> {
         "{:<22} {:>10} {:>10} {:>9} {:>10}   {:>10} {:>10} {:>10} {:>10}",
         "scene", "relMSE on", "relMSE off", "FLIP on", "FLIP off", "flicker on", "flicker off", "ms on", "ms off"
     );
-    let mut csv = String::from("scene,reuse,frame,time,relmse,flip,relmse_less_noise\n");
+    let mut csv = CsvTable::new(&["scene", "reuse", "frame", "time", "relmse", "flip", "relmse_less_noise"]);
     let (mut runs, mut device) = (Vec::new(), String::new());
     for path in &bench.scenes {
         let scene = Scene::load(path).with_context(|| format!("loading {}", path.display()))?;
@@ -193,7 +194,9 @@ pub fn run(bench: &MotionBench) -> anyhow::Result<()> {
                     (true, false) => "on-unfiltered",
                     (false, _) => "off",
                 };
-                csv += &format!("{},{reuse},{k},{},{e},{f},{clean}\n", path.display(), k as f32 / bench.fps);
+                let time = k as f32 / bench.fps;
+                let fields = [path.display().to_string(), reuse.into(), k.to_string(), time.to_string()];
+                csv.row(fields.into_iter().chain([e, f, clean].map(|v| v.to_string())))?;
                 ratio += metrics::mean_value(&frame.radiance) / metrics::mean_value(truth).max(1e-30);
                 change.add(k, &frame.radiance);
                 surface_change.add(k, seen(&r, &frame));
@@ -300,7 +303,7 @@ pub fn run(bench: &MotionBench) -> anyhow::Result<()> {
         );
     }
     if let Some(path) = &bench.csv {
-        std::fs::write(path, csv).with_context(|| format!("writing {}", path.display()))?;
+        csv.write(path)?;
         println!("wrote {}", path.display());
     }
     if let Some(svg) = &bench.chart {

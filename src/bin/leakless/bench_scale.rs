@@ -8,6 +8,7 @@ use std::time::Instant;
 use anyhow::Context;
 use leakless::{Backend, BackendChoice, Method, RenderSettings, Renderer, Scene, SplatSettings};
 
+use crate::measure::csv_table::CsvTable;
 use crate::measure::chart::scale_plot::{plot_scale, ScalePoint};
 
 pub struct ScaleBench {
@@ -114,19 +115,19 @@ fn file_name(path: &Path) -> String {
 }
 
 fn write_csv(path: &Path, points: &[ScalePoint]) -> anyhow::Result<()> {
-    let mut text = String::from("scene,triangles,load_ms,backend,setup_ms,build_ms,memory_mib,frame_ms\n");
+    let header = ["scene", "triangles", "load_ms", "backend", "setup_ms", "build_ms", "memory_mib", "frame_ms"];
+    let mut table = CsvTable::new(&header);
     for p in points {
-        text += &format!(
-            "{},{},{:.1},{},{:.1},{:.1},{:.1},{:.2}\n",
-            p.scene,
-            p.triangles,
-            p.load_ms,
-            p.backend.name(),
-            p.setup_ms,
-            p.build_ms,
-            p.memory_mib,
-            p.frame_ms
-        );
+        table.row([
+            p.scene.clone(),
+            p.triangles.to_string(),
+            format!("{:.1}", p.load_ms),
+            p.backend.name().to_string(),
+            format!("{:.1}", p.setup_ms),
+            format!("{:.1}", p.build_ms),
+            format!("{:.1}", p.memory_mib),
+            format!("{:.2}", p.frame_ms),
+        ])?;
     }
-    std::fs::write(path, text).with_context(|| format!("writing {}", path.display()))
+    table.write(path)
 }

@@ -4,8 +4,9 @@
 use std::fmt::Write as _;
 use std::path::PathBuf;
 
+use crate::measure::csv_table::CsvTable;
 use crate::measure::chart::thickness::{plot_thickness, ThicknessPoint};
-use crate::measure::stability::{measure, SceneStability, StabilityConfig, StabilityRow};
+use crate::measure::stability::{measure, SceneStability, StabilityConfig};
 use anyhow::Context;
 use leakless::{Backend, Method, Scene};
 
@@ -66,7 +67,7 @@ pub fn run(args: StabilityArgs) -> anyhow::Result<()> {
     let out = args.out.display().to_string();
     let md = report(&measured, &config, &device, &out);
     std::fs::write(format!("{out}.md"), md).with_context(|| format!("writing {out}.md"))?;
-    std::fs::write(format!("{out}.csv"), csv(&measured)).with_context(|| format!("writing {out}.csv"))?;
+    csv(&measured)?.write(format!("{out}.csv").as_ref())?;
     println!("wrote {out}.md, {out}.csv");
     let points = thickness_points(&scenes, &measured);
     if !points.is_empty() {
@@ -76,11 +77,12 @@ pub fn run(args: StabilityArgs) -> anyhow::Result<()> {
         );
         let (svg, png) = (format!("{out}-thickness.svg"), format!("{out}-thickness.png"));
         plot_thickness(&points, &caption, svg.as_ref(), png.as_ref(), (900, 450))?;
-        let mut c = String::from("thickness_mm,method,dark_radiance,rmse\n");
+        let mut c = CsvTable::new(&["thickness_mm", "method", "dark_radiance", "rmse"]);
         for p in &points {
-            let _ = writeln!(c, "{},{},{:.6e},{:.6e}", p.thickness_mm, p.method.name(), p.dark_radiance, p.rmse);
+            let (dark, rmse) = (format!("{:.6e}", p.dark_radiance), format!("{:.6e}", p.rmse));
+            c.row([p.thickness_mm.to_string(), p.method.name().to_string(), dark, rmse])?;
         }
-        std::fs::write(format!("{out}-thickness.csv"), c)?;
+        c.write(format!("{out}-thickness.csv").as_ref())?;
         println!("wrote {svg}, {png}, {out}-thickness.csv");
     }
     Ok(())
@@ -193,40 +195,30 @@ fn sentence(s: &SceneStability) -> String {
     }
 }
 
-fn csv(scenes: &[SceneStability]) -> String {
-    let mut c = String::from(
-        "scene,method,backend,dark_radiance,energy,leaked_fraction,relmse,rmse,hdr_flip,non_finite,flicker,frame_ms\n",
-    );
+fn csv(scenes: &[SceneStability]) -> anyhow::Result<CsvTable> {
+    let header = [
+        "scene", "method", "backend", "dark_radiance", "energy", "leaked_fraction", "relmse", "rmse", "hdr_flip",
+        "non_finite", "flicker", "frame_ms",
+    ];
+    let mut c = CsvTable::new(&header);
     let f = |v: Option<f64>| v.map(|v| format!("{v:.6e}")).unwrap_or_default();
     for r in scenes.iter().flat_map(|s| &s.rows) {
-        let StabilityRow {
-            scene,
-            method,
-            backend,
-            dark_radiance,
-            energy,
-            leaked_fraction,
-            relmse,
-            rmse,
-            flip,
-            non_finite,
-            flicker,
-            frame_ms,
-        } = r;
-        let _ = writeln!(
-            c,
-            "{scene},{},{},{},{},{},{},{},{flip:.6e},{non_finite},{},{frame_ms:.3}",
-            method.name(),
-            backend.name(),
-            f(*dark_radiance),
-            f(*energy),
-            f(*leaked_fraction),
-            f(*relmse),
-            f(*rmse),
-            f(*flicker)
-        );
+        c.row([
+            r.scene.clone(),
+            r.method.name().to_string(),
+            r.backend.name().to_string(),
+            f(r.dark_radiance),
+            f(r.energy),
+            f(r.leaked_fraction),
+            f(r.relmse),
+            f(r.rmse),
+            format!("{:.6e}", r.flip),
+            r.non_finite.to_string(),
+            f(r.flicker),
+            format!("{:.3}", r.frame_ms),
+        ])?;
     }
-    c
+    Ok(c)
 }
 
 /// The partition sweep's points: scenes whose extras give `partition_thickness` and a dark box.

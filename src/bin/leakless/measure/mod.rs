@@ -3,5 +3,6 @@
 
 pub mod bench;
 pub mod chart;
+pub mod csv_table;
 pub mod motion;
 pub mod stability;

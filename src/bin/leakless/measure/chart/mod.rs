@@ -14,13 +14,14 @@ pub mod series;
 pub mod series_plot;
 pub mod thickness;
 
-use std::io::Write;
 use std::path::{Path, PathBuf};
 
 use leakless_device::{DeviceType, Gpu};
 use leakless_scene::Scene;
 
 use leakless::error::{RenderError, Result};
+
+use crate::measure::csv_table::CsvTable;
 use leakless::metrics;
 use leakless::splatting::SplatStats;
 use leakless::trace::{Backend, BackendChoice};
@@ -391,13 +392,12 @@ pub const CSV_COLUMNS: [&str; 15] = [
 
 /// One row per point, columns [`CSV_COLUMNS`]; what a point lacks is left empty.
 pub fn write_csv(points: &[Point], path: &Path) -> Result<()> {
-    let mut out = String::from(&CSV_COLUMNS.join(","));
-    out.push('\n');
+    let mut table = CsvTable::new(&CSV_COLUMNS);
     let opt = |v: Option<String>| v.unwrap_or_default();
     let float = |v: f64| if v.is_finite() { format!("{v:.6e}") } else { String::new() };
     for p in points {
         let fields = [
-            csv_field(&p.scene),
+            p.scene.clone(),
             p.method.name().to_string(),
             p.backend.name().to_string(),
             opt(p.paths.map(|v| v.to_string())),
@@ -413,20 +413,14 @@ pub fn write_csv(points: &[Point], path: &Path) -> Result<()> {
             opt(p.kernel_photons.map(|v| format!("{v}"))),
             opt(p.photons_per_kernel.map(|v| format!("{v:.2}"))),
         ];
-        out += &fields.join(",");
-        out.push('\n');
+        table.row(fields).map_err(|e| output_error(path, e))?;
     }
-    let fail = |e: std::io::Error| RenderError::Output { path: path.display().to_string(), message: e.to_string() };
-    std::fs::File::create(path).and_then(|mut f| f.write_all(out.as_bytes())).map_err(fail)
+    table.write(path).map_err(|e| output_error(path, e))
 }
 
-/// Quotes a CSV field that needs it (RFC 4180).
-pub(crate) fn csv_field(s: &str) -> String {
-    if s.contains([',', '"', '\n', '\r']) {
-        format!("\"{}\"", s.replace('"', "\"\""))
-    } else {
-        s.to_string()
-    }
+/// A CSV file that could not be written, as the library's output error.
+pub(crate) fn output_error(path: &Path, e: anyhow::Error) -> RenderError {
+    RenderError::Output { path: path.display().to_string(), message: format!("{e:#}") }
 }
 
 /// A scene name as a file-name part: letters, digits, `-`, `_` and `.` kept, the rest `-`.

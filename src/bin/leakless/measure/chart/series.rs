@@ -5,15 +5,15 @@
 //! ground truth that integrates the same pixel footprint (a jittered reference of many
 //! frames). Errors: relMSE, RMSE and HDR-FLIP.
 
-use std::io::Write;
 use std::path::Path;
 use std::time::{Duration, Instant};
 
 use leakless_device::Gpu;
 use leakless_scene::Scene;
 
-use super::{csv_field, flip};
-use leakless::error::{RenderError, Result};
+use super::{flip, output_error};
+use crate::measure::csv_table::CsvTable;
+use leakless::error::Result;
 use leakless::flicker::{flicker, FLICKER_FRAMES};
 use leakless::metrics;
 use leakless::settings::MAX_FRAMES;
@@ -335,11 +335,11 @@ pub const SERIES_COLUMNS: [&str; 9] =
     ["scene", "method", "frames_or_spp", "wall_ms", "relmse", "relmse_shaded", "rmse", "hdr_flip", "flicker"];
 
 pub fn write_series_csv(series: &SceneSeries, path: &Path) -> Result<()> {
-    let mut out = SERIES_COLUMNS.join(",") + "\n";
+    let mut table = CsvTable::new(&SERIES_COLUMNS);
     let float = |v: Option<f64>| v.filter(|v| v.is_finite()).map(|v| format!("{v:.6e}")).unwrap_or_default();
     for p in &series.points {
         let fields = [
-            csv_field(&series.scene),
+            series.scene.clone(),
             p.method.name().to_string(),
             p.frames.to_string(),
             format!("{:.3}", p.wall_ms),
@@ -349,10 +349,9 @@ pub fn write_series_csv(series: &SceneSeries, path: &Path) -> Result<()> {
             float(Some(p.flip)),
             float(p.flicker),
         ];
-        out += &(fields.join(",") + "\n");
+        table.row(fields).map_err(|e| output_error(path, e))?;
     }
-    let fail = |e: std::io::Error| RenderError::Output { path: path.display().to_string(), message: e.to_string() };
-    std::fs::File::create(path).and_then(|mut f| f.write_all(out.as_bytes())).map_err(fail)
+    table.write(path).map_err(|e| output_error(path, e))
 }
 
 #[cfg(test)]

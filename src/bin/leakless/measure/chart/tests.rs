@@ -78,18 +78,23 @@ fn chart_smoke_compute_backend() {
     }
 
     let csv = std::fs::read_to_string(prefix.with_file_name("cb-cornell-box.csv")).expect("the CSV");
-    let rows: Vec<Vec<&str>> = csv.lines().map(|l| l.split(',').collect()).collect();
-    assert_eq!(rows[0], CSV_COLUMNS);
+    let rows: Vec<csv::StringRecord> = csv::ReaderBuilder::new()
+        .has_headers(false)
+        .from_reader(csv.as_bytes())
+        .records()
+        .collect::<Result<_, _>>()
+        .expect("a CSV");
+    assert_eq!(rows[0], CSV_COLUMNS[..]);
     assert_eq!(rows.len(), 3, "{csv}");
     let col = |name| CSV_COLUMNS.iter().position(|c| *c == name).unwrap();
     for row in &rows[1..] {
         assert_eq!(row.len(), CSV_COLUMNS.len(), "{row:?}");
         assert_eq!(
-            (row[col("scene")], row[col("method")], row[col("backend")], row[col("paths")]),
+            (&row[col("scene")], &row[col("method")], &row[col("backend")], &row[col("paths")]),
             ("cornell-box", method.name(), "compute", "2000")
         );
         for name in ["radius", "frame_ms", "relmse", "rmse"] {
-            let v: f64 = row[col(name)].parse().unwrap_or_else(|e| panic!("{name} {:?}: {e}", row[col(name)]));
+            let v: f64 = row[col(name)].parse().unwrap_or_else(|e| panic!("{name} {:?}: {e}", &row[col(name)]));
             assert!(v.is_finite() && v > 0.0, "{name} = {v}");
         }
         assert!(row[col("photons")].parse::<u32>().unwrap() > 0);
