@@ -7,29 +7,24 @@ use std::time::Instant;
 
 use bytemuck::{Pod, Zeroable};
 use leakless_device::{Image, SubmitSync};
-use leakless_graph::{Access, CompletedFrame, Graph, ImageHandle};
+use leakless_graph::{Access, BufferHandle, CompletedFrame, Graph, ImageHandle};
 
 use super::plan::{self, FramePlan, PlanState};
 use super::readback::{ReadbackRequest, LAYERS_BUFFER};
+use super::reuse::ReuseInputs;
+use super::stages::{self, FrameStage, Layers};
 use super::{FrameReport, Pending, Renderer};
 use crate::error::Result;
 use crate::gpu_types::Frame;
-use crate::passes::accumulate::{self, Accumulated, FrameLayers, Means, Sums};
-use crate::passes::compose::{self, ComposeImages, ComposeParams};
-use crate::passes::direct::DirectParams;
-use crate::passes::gather::{self, GatherCounters, GatherOutputs};
+use crate::passes::gather::GatherCounters;
 use crate::passes::gbuffer::{self, GBufferHandles};
-use crate::passes::lighting_level;
 use crate::passes::luminance::{self, LuminanceInputs, LuminanceStats};
 use crate::passes::photons::PhotonCounters;
-use crate::passes::reference::{self, ReferenceParams};
-use crate::passes::spatial::{self, SpatialImages};
 use crate::passes::splat::SplatCounters;
-use crate::passes::temporal::{self, Reused, TemporalHistories, TemporalInputs, TemporalMode};
-use crate::passes::tonemap::ViewLayer;
-use crate::passes::{direct, instance_vertices, names, readback, ViewInputs};
+use crate::passes::temporal::TemporalMode;
+use crate::passes::tonemap::{TonemapPass, ViewLayer};
+use crate::passes::{instance_vertices, names, readback, ViewInputs};
 use crate::photon_lights::upload_lights;
-use crate::settings::Method;
 use crate::splatting::{self, grown_batch_capacity, SplatFrame, SplatStats};
 
 /// Draws over the tonemapped image (the app's overlay): passes added to the frame's graph
@@ -77,8 +72,8 @@ impl Renderer {
             self.collect(done)?;
         }
         let method = self.settings.method;
-        let FramePlan { render, first, progressive, index, first_batch, frame_batches, samples, accumulated, batches } =
-            plan::plan(&self.plan_state());
+        let plan = plan::plan(&self.plan_state());
+        let FramePlan { render, progressive, index, first_batch, frame_batches, accumulated, batches, .. } = plan;
         // Temporal reuse averages frames after a change: each must trace fresh photons (the
         // accumulation that follows, when nothing moves, continues this frame's sequence).
         let reuse = render && self.settings.reuse && method.splats();
@@ -129,185 +124,45 @@ impl Renderer {
         if render {
             passes.gbuffer.add(&mut g, &frame, &scene, self.gpu_scene.vertex_count, &mut gbuffer);
         }
-        let layer = |g: &mut Graph<'_>, name| layer(g, extent, name);
-        let mut direct = layer(&mut g, "direct")?;
+        let stage = FrameStage { plan: &plan, settings: &self.settings, method, seed, extent };
+        let mut direct = layer(&mut g, extent, "direct")?;
         let view =
             ViewInputs { frame: &frame, lights: &lights.lights, scene: &scene, trace: &trace, gbuffer: &gbuffer };
-        // The reference's samples: progressive, frame `index` restarts the sum and continues
-        // the sequence.
-        let first_sample = if progressive {
-            first_batch.wrapping_mul(self.settings.spp)
-        } else if first {
-            0
-        } else {
-            self.accumulated
-        };
-        // The emitters' direct light grows with the frame's work as the indirect light does:
-        // `light_samples` per photon batch, or per REFERENCE_SAMPLES_PER_DIRECT samples of a
-        // progressive reference frame, continuing one sequence. A reference outside an
-        // accumulation adds samples to one image over many frames while its direct layer is
-        // each frame's own: a frame that is seen (shown or read back) estimates it anew for all
-        // the image's samples, and one that is not skips it.
-        let per = direct::REFERENCE_SAMPLES_PER_DIRECT;
         let seen = display.is_some() || request.is_some();
-        let (direct_first, direct_units, direct_needed) = match method {
-            Method::Reference if progressive => (first_sample.div_ceil(per), samples.div_ceil(per), true),
-            Method::Reference => (0, accumulated.div_ceil(per), seen),
-            _ => (first_batch, frame_batches, true),
-        };
-        let light_samples = self.settings.light_samples;
-        let direct_params = DirectParams {
-            first_sample: direct_first.wrapping_mul(light_samples),
-            samples: direct_units.max(1).saturating_mul(light_samples).min(direct::MAX_SAMPLES),
-            candidates: self.settings.light_candidates,
-            seed,
-        };
-        if render && direct_needed {
-            direct::add(&mut g, direct_params, &view, &mut direct);
-        }
+        stages::direct_light(&mut g, &stage, self.accumulated, seen, &view, &mut direct);
 
         // Indirect light: photons splatted and gathered, or path-traced samples accumulated.
-        let mut indirect_sum = layer(&mut g, "indirect sum")?;
-        let mut reference_sum = layer(&mut g, "reference sum")?;
-        let mut leaked = layer(&mut g, "leaked")?;
-        let mut gather_counts = layer(&mut g, "gather counts")?;
-        let mut gather_counters = gather::counters(&mut g)?;
-        let mut splat_counters = None;
-        if let Some(splat) = &splat {
-            let out = GatherOutputs {
-                indirect_sum: &mut indirect_sum,
-                leaked: &mut leaked,
-                counts: &mut gather_counts,
-                counters: &mut gather_counters,
-            };
-            splat_counters = Some(splatting::add(&mut g, splat, &view, &lights, out)?);
-        }
-        if render && method == Method::Reference {
-            let params = ReferenceParams {
-                first_sample,
-                // Progressive frames are whole images; a single reference starts over at its first.
-                restart: (progressive || first) as u32,
-                sample_count: samples,
-                max_bounces: self.settings.max_bounces,
-                // The frame's seed, which a capture records (the settings' own outside the app).
-                seed,
-                roulette_start: 3,
-                ..Default::default()
-            };
-            reference::add(&mut g, params, &view, &mut reference_sum);
-        }
+        let (sums, counters) =
+            stages::indirect_light(&mut g, &stage, self.accumulated, splat.as_ref(), &view, &lights)?;
+        let (layers, gather_counts) = stages::compose_layers(&mut g, &stage, &frame, direct, sums, splat.is_some())?;
+        let mut layers = stages::accumulate_layers(&mut g, &stage, &frame, layers, self.image_is_mean)?;
 
-        // The layers: radiance = direct + indirect.
-        let mut indirect = layer(&mut g, "indirect")?;
-        let mut radiance = layer(&mut g, "radiance")?;
-        let (sum, indirect_scale) = match method {
-            Method::Reference if progressive => (&reference_sum, 1.0 / samples as f32),
-            Method::Reference => (&reference_sum, 1.0 / accumulated as f32),
-            Method::Splat | Method::LeakLessCapped | Method::LeakLess => (&indirect_sum, 1.0),
-            Method::Direct => (&indirect_sum, 0.0),
-        };
-        let params = ComposeParams { indirect_scale, gathered: splat.is_some() as u32, ..Default::default() };
-        let images = ComposeImages {
-            direct: &direct,
-            indirect_sum: sum,
-            indirect: &mut indirect,
-            radiance: &mut radiance,
-            leaked: &mut leaked,
-            gather_counts: &mut gather_counts,
-        };
-        if render {
-            compose::add(&mut g, params, &frame, images);
-        }
-        // Accumulating: the image is the mean of the frames so far.
-        if progressive {
-            let mut sum_direct = layer(&mut g, "accumulated direct")?;
-            let mut sum_indirect = layer(&mut g, "accumulated indirect")?;
-            let mut sum_leaked = layer(&mut g, "accumulated leaked")?;
-            let mut mean_direct = layer(&mut g, "mean direct")?;
-            let mut mean_indirect = layer(&mut g, "mean indirect")?;
-            let mut mean_leaked = layer(&mut g, "mean leaked")?;
-            let mut mean_radiance = layer(&mut g, "mean radiance")?;
-            accumulate::add(
-                &mut g,
-                Accumulated { frames: accumulated, batches, frame_batches },
-                &frame,
-                FrameLayers { direct: &direct, indirect: &indirect, leaked: &leaked },
-                Sums { direct: &mut sum_direct, indirect: &mut sum_indirect, leaked: &mut sum_leaked },
-                Means {
-                    direct: &mut mean_direct,
-                    indirect: &mut mean_indirect,
-                    leaked: &mut mean_leaked,
-                    radiance: &mut mean_radiance,
-                },
-            );
-            (direct, indirect, leaked, radiance) = (mean_direct, mean_indirect, mean_leaked, mean_radiance);
-        } else if !render && self.image_is_mean {
-            // Nothing new: the image is the accumulation's mean, kept in the pool by name.
-            direct = layer(&mut g, "mean direct")?;
-            indirect = layer(&mut g, "mean indirect")?;
-            leaked = layer(&mut g, "mean leaked")?;
-            radiance = layer(&mut g, "mean radiance")?;
-        }
         // Temporal reuse: the frames before, reprojected, with this frame (or, while nothing
         // moves, weighing into the accumulation's mean).
-        let mut reused = None;
-        let mut history_shown = None;
+        let (mut reused, mut history_shown) = (None, None);
         if reuse {
-            let mut histories = TemporalHistories::new(&mut g, extent)?;
-            let mode = match (histories.valid(), progressive && index > 0) {
-                (false, _) => TemporalMode::Restart,
-                (true, true) => TemporalMode::Still,
-                (true, false) => TemporalMode::Motion,
-            };
-            let instances_moved = mode == TemporalMode::Motion && self.reuse.pose_version != self.pose.version;
-            let previous: Vec<[f32; 3]> = match instances_moved {
-                true => self.reuse.vertices.iter().map(|v| v.position).collect(),
-                false => vec![[0.0; 3]],
-            };
-            let storage = ash::vk::BufferUsageFlags::STORAGE_BUFFER;
-            let previous_positions =
-                g.upload("previous instance positions", storage, bytemuck::cast_slice(&previous))?;
-            let first_moving = self.scene.static_triangle_count() as u32;
-            // The gather kernel's radius in pixels one metre away: the filter's reach and the
-            // clamp's footprint follow it.
             let kernel_pixels = splat
                 .as_ref()
                 .map_or(0.0, |s| s.radius * 0.5 * self.settings.height as f32 / (0.5 * self.camera.yfov).tan());
-            let params = self.reuse.params(mode, batches, first_moving, instances_moved, kernel_pixels);
-            // Spatial reuse of a moving frame's own estimate, before the history weighs in.
-            let mut spatial = SpatialImages::new(&mut g, extent)?;
-            if params.spatial != 0 {
-                spatial::add(&mut g, &frame, &gbuffer, &indirect, &mut spatial, kernel_pixels);
-            }
-            let mut level_partials = lighting_level::partials(&mut g, extent)?;
-            let mut reused_indirect = layer(&mut g, "reused indirect")?;
-            let mut reused_radiance = layer(&mut g, "reused radiance")?;
-            let inputs = TemporalInputs {
+            let input = ReuseInputs {
                 frame: &frame,
                 gbuffer: &gbuffer,
                 scene: &scene,
-                previous_positions: &previous_positions,
-                direct: &direct,
-                indirect: &indirect,
-                radiance: &radiance,
-                filtered: &spatial.result,
-                level_partials: &mut level_partials,
+                pose_version: self.pose.version,
+                first_moving_triangle: self.scene.static_triangle_count() as u32,
+                kernel_pixels,
             };
-            let out = Reused { indirect: &mut reused_indirect, radiance: &mut reused_radiance };
-            temporal::add(&mut g, params, inputs, &mut histories, out);
-            let motion = mode == TemporalMode::Motion;
-            lighting_level::add(&mut g, extent, motion, params.max_history, &level_partials, &mut histories.level);
-            (indirect, radiance) = (reused_indirect, reused_radiance);
-            history_shown = Some(histories.irradiance.current);
-            reused = Some(mode);
+            let (with_history, history, mode) = self.reuse.add(&mut g, &stage, input, layers)?;
+            (layers, history_shown, reused) = (with_history, Some(history), Some(mode));
         } else if !render && self.image_is_reused {
-            indirect = layer(&mut g, "reused indirect")?;
-            radiance = layer(&mut g, "reused radiance")?;
+            layers.indirect = layer(&mut g, extent, "reused indirect")?;
+            layers.radiance = layer(&mut g, extent, "reused radiance")?;
         }
         if render {
             self.image_is_mean = progressive;
             self.image_is_reused = reuse;
         }
+        let Layers { direct, indirect, leaked, radiance } = layers;
 
         // What the frame shows, and its luminance statistics (exposure, leaked energy).
         let shown = match self.view {
@@ -321,43 +176,23 @@ impl Renderer {
         };
         let input = LuminanceInputs { displayed: shown, mode: self.view.mode(), indirect: &indirect, leaked: &leaked };
         let luminance = luminance::add(&mut g, input)?;
-        let mut sync = SubmitSync::default();
-        if let Some(display) = display {
-            let stage = ash::vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT;
-            let mut target = g.import_acquired_image(display.image, stage);
-            let tonemap = passes.tonemaps.iter().find(|t| t.format() == target.format()).ok_or_else(|| {
-                crate::RenderError::Settings(format!("no tonemap for {:?}: call prepare_display", target.format()))
-            })?;
-            let exposure = view_exposure(self.view, self.exposure, self.reuse.history_frames);
-            tonemap.add(&mut g, self.view, exposure, shown, &luminance, &mut target);
-            if let Some(overlay) = display.overlay {
-                overlay.add(&mut g, &mut target)?;
-            }
-            let mut present = g.pass(names::PRESENT);
-            present.read(&target, Access::Present);
-            present.record(|_| Ok(()));
-            sync = display.sync;
-        }
+        let tonemaps = Tonemaps { passes: &passes.tonemaps, history_frames: self.reuse.history_frames };
+        let sync = match display {
+            Some(display) => tonemaps.display(&mut g, display, (self.view, self.exposure), shown, &luminance)?,
+            None => SubmitSync::default(),
+        };
         if let Some(request) = request {
-            let mut shown_rgba8 = g.image(&leakless_device::ImageDesc {
-                name: "display",
-                extent,
-                format: super::readback::DISPLAY_FORMAT,
-                usage: ash::vk::ImageUsageFlags::COLOR_ATTACHMENT | ash::vk::ImageUsageFlags::TRANSFER_SRC,
-            })?;
-            let tonemap = passes.tonemaps.iter().find(|t| t.format() == shown_rgba8.format()).expect("made at start");
-            let exposure = view_exposure(request.view, request.exposure, self.reuse.history_frames);
-            tonemap.add(&mut g, request.view, exposure, shown, &luminance, &mut shown_rgba8);
+            let shown_rgba8 = tonemaps.readback(&mut g, extent, (request.view, request.exposure), shown, &luminance)?;
             let layers = [&radiance, &direct, &indirect, &leaked, &gbuffer.position, &shown_rgba8];
             readback::add(&mut g, LAYERS_BUFFER, &layers)?;
         }
 
         // The counters, for the stats of this frame once it completed.
-        let mut counters = vec![&luminance];
-        if let Some(s) = &splat_counters {
-            counters.extend([&s.photons, &s.lists, &gather_counters]);
+        let mut copied = vec![&luminance];
+        if let Some(s) = &counters.splat {
+            copied.extend([&s.photons, &s.lists, &counters.gather]);
         }
-        readback::add_buffers(&mut g, (COUNTERS_BUFFER, names::FRAME_COUNTERS), &counters)?;
+        readback::add_buffers(&mut g, (COUNTERS_BUFFER, names::FRAME_COUNTERS), &copied)?;
 
         if let Some(hang) = &passes.hang {
             hang.add(&mut g);
@@ -557,6 +392,63 @@ impl Renderer {
 /// The tonemap's exposure for `view`: `exposure` (the user's, or automatic), except for the
 /// history length, which maps 0 … `history_frames` (the longest history) onto the whole ramp,
 /// so that its colours mean the same in every frame.
+/// The tonemaps a frame ends with: into the window's swapchain image, or into an RGBA8
+/// image for a readback.
+struct Tonemaps<'a> {
+    passes: &'a [TonemapPass],
+    history_frames: u32,
+}
+
+impl<'r> Tonemaps<'r> {
+    /// Tonemaps `shown` into the display's acquired image, draws its overlay over it and
+    /// presents it; the semaphores the submission waits on and signals.
+    fn display<'d>(
+        &self,
+        g: &mut Graph<'r>,
+        display: DisplayTarget<'d>,
+        (view, exposure): (ViewLayer, Option<f32>),
+        shown: &ImageHandle,
+        luminance: &BufferHandle,
+    ) -> Result<SubmitSync<'d>>
+    where
+        'd: 'r,
+    {
+        let stage = ash::vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT;
+        let mut target = g.import_acquired_image(display.image, stage);
+        let tonemap = self.passes.iter().find(|t| t.format() == target.format()).ok_or_else(|| {
+            crate::RenderError::Settings(format!("no tonemap for {:?}: call prepare_display", target.format()))
+        })?;
+        tonemap.add(g, view, view_exposure(view, exposure, self.history_frames), shown, luminance, &mut target);
+        if let Some(overlay) = display.overlay {
+            overlay.add(g, &mut target)?;
+        }
+        let mut present = g.pass(names::PRESENT);
+        present.read(&target, Access::Present);
+        present.record(|_| Ok(()));
+        Ok(display.sync)
+    }
+
+    /// Tonemaps `shown` into an RGBA8 image that a readback copies out.
+    fn readback(
+        &self,
+        g: &mut Graph<'r>,
+        extent: ash::vk::Extent2D,
+        (view, exposure): (ViewLayer, Option<f32>),
+        shown: &ImageHandle,
+        luminance: &BufferHandle,
+    ) -> Result<ImageHandle> {
+        let mut shown_rgba8 = g.image(&leakless_device::ImageDesc {
+            name: "display",
+            extent,
+            format: super::readback::DISPLAY_FORMAT,
+            usage: ash::vk::ImageUsageFlags::COLOR_ATTACHMENT | ash::vk::ImageUsageFlags::TRANSFER_SRC,
+        })?;
+        let tonemap = self.passes.iter().find(|t| t.format() == shown_rgba8.format()).expect("made at start");
+        tonemap.add(g, view, view_exposure(view, exposure, self.history_frames), shown, luminance, &mut shown_rgba8);
+        Ok(shown_rgba8)
+    }
+}
+
 fn view_exposure(view: ViewLayer, exposure: Option<f32>, history_frames: u32) -> Option<f32> {
     match view {
         ViewLayer::History => Some(1.0 / history_frames as f32),

@@ -19,6 +19,7 @@ mod motion;
 mod plan;
 mod readback;
 mod reuse;
+mod stages;
 
 use std::collections::VecDeque;
 

@@ -1,11 +1,22 @@
-//! What temporal reuse remembers of the frame its history was written in: the camera, and
-//! the animated instances' vertices, so that this frame can carry each pixel's surface point
-//! back to where it was.
+//! Temporal reuse's state and its stage of the frame: what it remembers of the frame its
+//! history was written in (the camera, and the animated instances' vertices, so that this
+//! frame can carry each pixel's surface point back to where it was), and the passes that
+//! reproject, filter and blend (`ReuseState::add`).
 
 use glam::Mat4;
+use leakless_graph::{BufferHandle, Graph, ImageHandle};
 use leakless_scene::Vertex;
 
-use crate::passes::temporal::{TemporalMode, TemporalParams, CLAMP_KERNELS, CLAMP_RELATIVE};
+use super::frame::layer;
+use super::stages::{FrameStage, Layers};
+use crate::error::Result;
+use crate::gpu_scene::SceneHandles;
+use crate::passes::gbuffer::GBufferHandles;
+use crate::passes::lighting_level;
+use crate::passes::spatial::{self, SpatialImages};
+use crate::passes::temporal::{
+    self, Reused, TemporalHistories, TemporalInputs, TemporalMode, TemporalParams, CLAMP_KERNELS, CLAMP_RELATIVE,
+};
 
 /// Frames a history holds by default: about half a second at 30 frames a second.
 pub const DEFAULT_HISTORY_FRAMES: u32 = 16;
@@ -79,5 +90,74 @@ impl ReuseState {
             self.vertices.clear();
             self.vertices.extend_from_slice(vertices);
         }
+    }
+}
+
+/// What temporal reuse reads of the frame besides its layers.
+pub(super) struct ReuseInputs<'a> {
+    pub frame: &'a BufferHandle,
+    pub gbuffer: &'a GBufferHandles,
+    pub scene: &'a SceneHandles,
+    /// The scene's pose now (its version) and its first animated triangle.
+    pub pose_version: u64,
+    pub first_moving_triangle: u32,
+    /// The gather kernel's radius in pixels one metre away: the filter's reach and the
+    /// clamp's footprint follow it.
+    pub kernel_pixels: f32,
+}
+
+impl ReuseState {
+    /// Temporal reuse: the frames before, reprojected, with this frame's `layers` (or, while
+    /// nothing moves, weighing into the accumulation's mean); a moving frame's own estimate
+    /// filtered spatially first. Gives the layers with the reused indirect light and radiance,
+    /// the history the history view shows, and the mode it ran in.
+    pub(super) fn add<'r>(
+        &self,
+        g: &mut Graph<'r>,
+        s: &FrameStage<'_>,
+        input: ReuseInputs<'_>,
+        layers: Layers,
+    ) -> Result<(Layers, ImageHandle, TemporalMode)> {
+        let extent = s.extent;
+        let mut histories = TemporalHistories::new(g, extent)?;
+        let mode = match (histories.valid(), s.plan.progressive && s.plan.index > 0) {
+            (false, _) => TemporalMode::Restart,
+            (true, true) => TemporalMode::Still,
+            (true, false) => TemporalMode::Motion,
+        };
+        let instances_moved = mode == TemporalMode::Motion && self.pose_version != input.pose_version;
+        let previous: Vec<[f32; 3]> = match instances_moved {
+            true => self.vertices.iter().map(|v| v.position).collect(),
+            false => vec![[0.0; 3]],
+        };
+        let storage = ash::vk::BufferUsageFlags::STORAGE_BUFFER;
+        let previous_positions = g.upload("previous instance positions", storage, bytemuck::cast_slice(&previous))?;
+        let kernel_pixels = input.kernel_pixels;
+        let params = self.params(mode, s.plan.batches, input.first_moving_triangle, instances_moved, kernel_pixels);
+        // Spatial reuse of a moving frame's own estimate, before the history weighs in.
+        let mut spatial = SpatialImages::new(g, extent)?;
+        if params.spatial != 0 {
+            spatial::add(g, input.frame, input.gbuffer, &layers.indirect, &mut spatial, kernel_pixels);
+        }
+        let mut level_partials = lighting_level::partials(g, extent)?;
+        let mut reused_indirect = layer(g, extent, "reused indirect")?;
+        let mut reused_radiance = layer(g, extent, "reused radiance")?;
+        let inputs = TemporalInputs {
+            frame: input.frame,
+            gbuffer: input.gbuffer,
+            scene: input.scene,
+            previous_positions: &previous_positions,
+            direct: &layers.direct,
+            indirect: &layers.indirect,
+            radiance: &layers.radiance,
+            filtered: &spatial.result,
+            level_partials: &mut level_partials,
+        };
+        let out = Reused { indirect: &mut reused_indirect, radiance: &mut reused_radiance };
+        temporal::add(g, params, inputs, &mut histories, out);
+        let motion = mode == TemporalMode::Motion;
+        lighting_level::add(g, extent, motion, params.max_history, &level_partials, &mut histories.level);
+        let layers = Layers { indirect: reused_indirect, radiance: reused_radiance, ..layers };
+        Ok((layers, histories.irradiance.current, mode))
     }
 }

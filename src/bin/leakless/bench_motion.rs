@@ -11,9 +11,9 @@ use leakless::metrics;
 use leakless::{BackendChoice, Method, RenderSettings, Renderer, Scene, SplatSettings};
 use leakless_scene::Camera;
 
-use crate::measure::csv_table::CsvTable;
 use crate::measure::chart::flip;
 use crate::measure::chart::motion_plot::{plot_motion, MotionRun};
+use crate::measure::csv_table::CsvTable;
 use crate::measure::motion::{DarkBand, ScreenFlicker, SeenFrame, SurfaceFlicker, BAND_PIXELS, DARK};
 
 /// What the bench renders.

@@ -8,8 +8,8 @@ use std::time::Instant;
 use anyhow::Context;
 use leakless::{Backend, BackendChoice, Method, RenderSettings, Renderer, Scene, SplatSettings};
 
-use crate::measure::csv_table::CsvTable;
 use crate::measure::chart::scale_plot::{plot_scale, ScalePoint};
+use crate::measure::csv_table::CsvTable;
 
 pub struct ScaleBench {
     pub scenes: Vec<PathBuf>,

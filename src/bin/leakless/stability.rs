@@ -4,8 +4,8 @@
 use std::fmt::Write as _;
 use std::path::PathBuf;
 
-use crate::measure::csv_table::CsvTable;
 use crate::measure::chart::thickness::{plot_thickness, ThicknessPoint};
+use crate::measure::csv_table::CsvTable;
 use crate::measure::stability::{measure, SceneStability, StabilityConfig};
 use anyhow::Context;
 use leakless::{Backend, Method, Scene};
@@ -197,8 +197,18 @@ fn sentence(s: &SceneStability) -> String {
 
 fn csv(scenes: &[SceneStability]) -> anyhow::Result<CsvTable> {
     let header = [
-        "scene", "method", "backend", "dark_radiance", "energy", "leaked_fraction", "relmse", "rmse", "hdr_flip",
-        "non_finite", "flicker", "frame_ms",
+        "scene",
+        "method",
+        "backend",
+        "dark_radiance",
+        "energy",
+        "leaked_fraction",
+        "relmse",
+        "rmse",
+        "hdr_flip",
+        "non_finite",
+        "flicker",
+        "frame_ms",
     ];
     let mut c = CsvTable::new(&header);
     let f = |v: Option<f64>| v.map(|v| format!("{v:.6e}")).unwrap_or_default();
