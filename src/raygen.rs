@@ -7,20 +7,17 @@ use leakless_scene::{Camera, Scene};
 use crate::gpu_types::{GpuRay, RayHit};
 use crate::raycast::offset_ray;
 
-/// A tiny deterministic generator (SplitMix64): enough for test and benchmark rays.
-pub struct SplitMix(u64);
+/// The seeded generator of test and benchmark rays (a PCG of rand_pcg): the same rays for a
+/// seed on every run.
+pub struct SeededRng(rand_pcg::Pcg64Mcg);
 
-impl SplitMix {
+impl SeededRng {
     pub fn new(seed: u64) -> Self {
-        SplitMix(seed)
+        SeededRng(rand_core::SeedableRng::seed_from_u64(seed))
     }
 
     pub fn next_u64(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-        z ^ (z >> 31)
+        rand_core::RngCore::next_u64(&mut self.0)
     }
 
     /// Uniform in [0, 1).
@@ -71,7 +68,7 @@ pub fn facing_normal(scene: &Scene, t: usize, dir: Vec3) -> Vec3 {
 /// From every hit of `primary`, a ray into a uniformly random direction of the hemisphere on
 /// the ray's side of the surface: incoherent secondary rays, starting on surfaces.
 pub fn hemisphere_rays(scene: &Scene, primary: &[GpuRay], hits: &[RayHit], seed: u64) -> Vec<GpuRay> {
-    let mut rng = SplitMix::new(seed);
+    let mut rng = SeededRng::new(seed);
     let scale = crate::trace::scene_scale(scene);
     primary
         .iter()
@@ -95,7 +92,7 @@ pub fn hemisphere_rays(scene: &Scene, primary: &[GpuRay], hits: &[RayHit], seed:
 pub fn random_rays(scene: &Scene, count: usize, seed: u64) -> Vec<GpuRay> {
     let b = scene.bounds();
     let (lo, size) = (b.min - 0.1 * b.extent(), 1.2 * b.extent());
-    let mut rng = SplitMix::new(seed);
+    let mut rng = SeededRng::new(seed);
     (0..count)
         .map(|_| {
             let o = lo + size * Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32());

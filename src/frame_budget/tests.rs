@@ -1,5 +1,5 @@
 use super::*;
-use crate::raygen::SplitMix;
+use crate::raygen::SeededRng;
 
 /// A device whose frames take `fixed + per_path·p` ms, times (1 ± `jitter`) uniformly, and
 /// report their photon share only every `timed_every` frames (lavapipe's app times its passes
@@ -9,13 +9,13 @@ struct Device {
     per_path: f64,
     jitter: f64,
     timed_every: u32,
-    rng: SplitMix,
+    rng: SeededRng,
     frame: u32,
 }
 
 impl Device {
     fn new(fixed: f64, per_path: f64, jitter: f64) -> Device {
-        Device { fixed, per_path, jitter, timed_every: 1, rng: SplitMix::new(7), frame: 0 }
+        Device { fixed, per_path, jitter, timed_every: 1, rng: SeededRng::new(7), frame: 0 }
     }
 
     fn frame(&mut self, paths: u32) -> FrameTime {

@@ -4,7 +4,7 @@
 
 use bytemuck::{Pod, Zeroable};
 use leakless_device::{gpu_struct, GpuStruct};
-use leakless_graph::{shader_bindings, Graph, ImageHandle, PassName, Stage};
+use leakless_graph::{shader_bindings, Graph, ImageHandle, PassName};
 
 use crate::gpu_scene::{EmitterBindings, SceneBindings};
 use crate::passes::add::Threads;
@@ -57,11 +57,5 @@ pub static DIRECT: ComputePassDef = ComputePassDef::traced(
 pub fn add<'r>(graph: &mut Graph<'r>, params: DirectParams, view: &ViewInputs<'_>, direct: &mut ImageHandle) {
     let extent = direct.extent();
     let threads = Threads::Fixed([extent.width, extent.height, 1]);
-    DIRECT.add_with(
-        graph,
-        DirectResources { direct },
-        |pass| (view.declare(pass), view.scene.declare_emitters(pass, Stage::Compute)),
-        params,
-        threads,
-    );
+    DIRECT.add_with(graph, DirectResources { direct }, |pass| view.declare_lit(pass), params, threads);
 }

@@ -80,6 +80,12 @@ shader_bindings! {
 pub type ViewUses = (ViewBindings, GBufferBindings, SceneBindings, TraceBindings);
 
 impl ViewInputs<'_> {
+    /// Declares the compute reads of [`ViewInputs`] and of the scene's emitters: what a pass
+    /// that lights view samples binds (direct light, the reference).
+    pub fn declare_lit(&self, pass: &mut PassBuilder<'_, '_>) -> (ViewUses, crate::gpu_scene::EmitterBindings) {
+        (self.declare(pass), self.scene.declare_emitters(pass, Stage::Compute))
+    }
+
     /// Declares the compute reads of [`ViewInputs`].
     pub fn declare(&self, pass: &mut PassBuilder<'_, '_>) -> ViewUses {
         let resources = ViewResources { frame: self.frame, lights: self.lights };

@@ -3,7 +3,7 @@
 
 use bytemuck::{Pod, Zeroable};
 use leakless_device::{gpu_struct, GpuStruct};
-use leakless_graph::{shader_bindings, Graph, ImageHandle, PassName, Stage};
+use leakless_graph::{shader_bindings, Graph, ImageHandle, PassName};
 
 use crate::gpu_scene::{EmitterBindings, SceneBindings};
 use crate::passes::add::Threads;
@@ -63,13 +63,7 @@ pub fn add<'r>(graph: &mut Graph<'r>, params: ReferenceParams, view: &ViewInputs
     let extent = accumulated.extent();
     for params in dispatches(params, extent.width as u64 * extent.height as u64) {
         let threads = Threads::Fixed([extent.width, extent.height, 1]);
-        REFERENCE.add_with(
-            graph,
-            ReferenceResources { accumulated },
-            |pass| (view.declare(pass), view.scene.declare_emitters(pass, Stage::Compute)),
-            params,
-            threads,
-        );
+        REFERENCE.add_with(graph, ReferenceResources { accumulated }, |pass| view.declare_lit(pass), params, threads);
     }
 }
 

@@ -16,16 +16,15 @@ const SENTINEL: u32 = u32::MAX;
 const GUARD_WORDS: usize = 37;
 const GUARD: u32 = 0xDEAD_BEEF;
 
-/// A small deterministic generator (SplitMix64): the tests need no crate for randomness.
-struct Rng(u64);
+/// Seeded PCG32 (rand_pcg): the same keys every run.
+struct Rng(rand_pcg::Pcg32);
 
 impl Rng {
+    fn new(seed: u64) -> Self {
+        Rng(rand_core::SeedableRng::seed_from_u64(seed))
+    }
     fn next(&mut self) -> u32 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        (z ^ (z >> 31)) as u32
+        rand_core::RngCore::next_u32(&mut self.0)
     }
     fn below(&mut self, n: u32) -> u32 {
         ((self.next() as u64 * n as u64) >> 32) as u32
@@ -139,7 +138,7 @@ fn workgroup_sizes_match() {
 #[test]
 fn random_keys_of_awkward_lengths() {
     let Some(mut s) = Sorter::new() else { return };
-    let mut rng = Rng(1);
+    let mut rng = Rng::new(1);
     for n in [1, 2, 255, 256, 257, 1023, 1024, 1025, 4097, 100_003] {
         let keys: Vec<u32> = (0..n).map(|_| rng.next()).collect();
         let values: Vec<u32> = (0..n).map(|_| rng.next()).collect();
@@ -153,7 +152,7 @@ fn random_keys_of_awkward_lengths() {
 #[test]
 fn equal_keys_keep_their_order() {
     let Some(mut s) = Sorter::new() else { return };
-    let mut rng = Rng(2);
+    let mut rng = Rng::new(2);
     let n = 100_003;
     for distinct in [1, 2, 5, 300] {
         let keys: Vec<u32> = (0..n).map(|_| rng.below(distinct).wrapping_mul(0x0111_1111)).collect();
@@ -184,7 +183,7 @@ fn sorted_and_reversed_input() {
 #[test]
 fn sentinels_sort_last_in_input_order() {
     let Some(mut s) = Sorter::new() else { return };
-    let mut rng = Rng(3);
+    let mut rng = Rng::new(3);
     let n = 100_003;
     for percent in [0, 1, 50, 99, 100] {
         let keys = morton_keys(&mut rng, n, percent);
@@ -207,7 +206,7 @@ fn sentinels_sort_last_in_input_order() {
 #[test]
 fn out_of_range_keys_and_odd_digit_counts() {
     let Some(mut s) = Sorter::new() else { return };
-    let mut rng = Rng(4);
+    let mut rng = Rng::new(4);
     for key_bits in [0, 3, 4, 12, 16, 19, 24, 27, 31] {
         let passes = sort::digit_passes(key_bits);
         assert_eq!(passes, (key_bits + 1).min(32).div_ceil(4));
@@ -278,7 +277,7 @@ fn print_sort_time(width: usize, height: usize) {
     let n = width * height;
     let Some(mut s) = Sorter::new() else { return };
     s.runner.set_timing(Timing::PerPassSubmit);
-    let keys = morton_keys(&mut Rng(5), n, 10);
+    let keys = morton_keys(&mut Rng::new(5), n, 10);
     let total = |t: &[PassTiming], prefix: &str| -> f64 {
         t.iter().filter(|p| p.name.starts_with(prefix)).filter_map(|p| p.wall_ms).sum()
     };

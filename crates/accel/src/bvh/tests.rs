@@ -3,18 +3,15 @@
 
 use super::*;
 
-/// Small deterministic generator (PCG32): no dependency, same rays every run.
-struct Rng(u64);
+/// Seeded PCG32 (rand_pcg): the same rays every run.
+struct Rng(rand_pcg::Pcg32);
 
 impl Rng {
     fn new(seed: u64) -> Self {
-        Self(seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407))
+        Self(rand_core::SeedableRng::seed_from_u64(seed))
     }
     fn u32(&mut self) -> u32 {
-        let x = self.0;
-        self.0 = x.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
-        let xorshifted = (((x >> 18) ^ x) >> 27) as u32;
-        xorshifted.rotate_right((x >> 59) as u32)
+        rand_core::RngCore::next_u32(&mut self.0)
     }
     /// Uniform in [0, 1).
     fn f32(&mut self) -> f32 {

@@ -97,7 +97,7 @@ fn fuzz_scene_load() {
     let hand_labels: Vec<String> = hand.iter().map(|d| d.label.clone()).collect();
     corpus.extend(hand);
 
-    let mut rng = Rng(seed);
+    let mut rng = Rng::new(seed);
     let mut stats: BTreeMap<&'static str, u64> = BTreeMap::new();
     let mut failures: Vec<String> = Vec::new();
     let (mut cases, mut slowest, mut peak) = (0u64, (Duration::ZERO, String::new()), (0usize, String::new()));

@@ -1,14 +1,14 @@
-//! Random numbers (SplitMix64: tiny, seedable, good enough to pick mutations).
+//! Random numbers to pick mutations with: a seeded PCG (rand_pcg), the same cases for a seed.
 
-pub(crate) struct Rng(pub(crate) u64);
+pub(crate) struct Rng(rand_pcg::Pcg64Mcg);
 
 impl Rng {
+    pub(crate) fn new(seed: u64) -> Self {
+        Rng(rand_core::SeedableRng::seed_from_u64(seed))
+    }
+
     pub(crate) fn next(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
+        rand_core::RngCore::next_u64(&mut self.0)
     }
 
     pub(crate) fn below(&mut self, n: usize) -> usize {
