@@ -10,6 +10,8 @@ use leakless::Backend;
 use leakless::{shaders, Gpu};
 use leakless_device::{vk, Buffer, BufferDesc, MemoryLocation};
 use leakless_graph::{Access, GraphRunner, PassTiming, Timing};
+use rand_core::{RngCore, SeedableRng};
+use rand_pcg::Pcg32;
 
 const SENTINEL: u32 = u32::MAX;
 /// Words past `len` in every test buffer, filled with this: the sort must leave them alone.
@@ -17,18 +19,13 @@ const GUARD_WORDS: usize = 37;
 const GUARD: u32 = 0xDEAD_BEEF;
 
 /// Seeded PCG32 (rand_pcg): the same keys every run.
-struct Rng(rand_pcg::Pcg32);
+fn rng(seed: u64) -> Pcg32 {
+    Pcg32::seed_from_u64(seed)
+}
 
-impl Rng {
-    fn new(seed: u64) -> Self {
-        Rng(rand_core::SeedableRng::seed_from_u64(seed))
-    }
-    fn next(&mut self) -> u32 {
-        rand_core::RngCore::next_u32(&mut self.0)
-    }
-    fn below(&mut self, n: u32) -> u32 {
-        ((self.next() as u64 * n as u64) >> 32) as u32
-    }
+/// Uniform below `n`.
+fn below(rng: &mut Pcg32, n: u32) -> u32 {
+    ((rng.next_u32() as u64 * n as u64) >> 32) as u32
 }
 
 /// The sort's passes (it traces nothing: any backend).
@@ -120,8 +117,8 @@ fn indices(n: usize) -> Vec<u32> {
 }
 
 /// Random 30-bit Morton-like keys with a `sentinel_percent` share of invalid pixels.
-fn morton_keys(rng: &mut Rng, n: usize, sentinel_percent: u32) -> Vec<u32> {
-    (0..n).map(|_| if rng.below(100) < sentinel_percent { SENTINEL } else { rng.next() >> 2 }).collect()
+fn morton_keys(rng: &mut Pcg32, n: usize, sentinel_percent: u32) -> Vec<u32> {
+    (0..n).map(|_| if below(rng, 100) < sentinel_percent { SENTINEL } else { rng.next_u32() >> 2 }).collect()
 }
 
 /// The sort shaders' workgroups are what sort.rs assumes (their bindings are checked with
@@ -138,10 +135,10 @@ fn workgroup_sizes_match() {
 #[test]
 fn random_keys_of_awkward_lengths() {
     let Some(mut s) = Sorter::new() else { return };
-    let mut rng = Rng::new(1);
+    let mut rng = rng(1);
     for n in [1, 2, 255, 256, 257, 1023, 1024, 1025, 4097, 100_003] {
-        let keys: Vec<u32> = (0..n).map(|_| rng.next()).collect();
-        let values: Vec<u32> = (0..n).map(|_| rng.next()).collect();
+        let keys: Vec<u32> = (0..n).map(|_| rng.next_u32()).collect();
+        let values: Vec<u32> = (0..n).map(|_| rng.next_u32()).collect();
         s.check("random 32-bit keys", &keys, &values, 32);
         let keys = morton_keys(&mut rng, n, 10);
         s.check("random Morton keys and sentinels", &keys, &indices(n), 30);
@@ -152,10 +149,10 @@ fn random_keys_of_awkward_lengths() {
 #[test]
 fn equal_keys_keep_their_order() {
     let Some(mut s) = Sorter::new() else { return };
-    let mut rng = Rng::new(2);
+    let mut rng = rng(2);
     let n = 100_003;
     for distinct in [1, 2, 5, 300] {
-        let keys: Vec<u32> = (0..n).map(|_| rng.below(distinct).wrapping_mul(0x0111_1111)).collect();
+        let keys: Vec<u32> = (0..n).map(|_| below(&mut rng, distinct).wrapping_mul(0x0111_1111)).collect();
         s.check(&format!("{distinct} distinct keys"), &keys, &indices(n), 32);
     }
     // Equal keys in runs that straddle workgroup blocks.
@@ -183,7 +180,7 @@ fn sorted_and_reversed_input() {
 #[test]
 fn sentinels_sort_last_in_input_order() {
     let Some(mut s) = Sorter::new() else { return };
-    let mut rng = Rng::new(3);
+    let mut rng = rng(3);
     let n = 100_003;
     for percent in [0, 1, 50, 99, 100] {
         let keys = morton_keys(&mut rng, n, percent);
@@ -206,16 +203,16 @@ fn sentinels_sort_last_in_input_order() {
 #[test]
 fn out_of_range_keys_and_odd_digit_counts() {
     let Some(mut s) = Sorter::new() else { return };
-    let mut rng = Rng::new(4);
+    let mut rng = rng(4);
     for key_bits in [0, 3, 4, 12, 16, 19, 24, 27, 31] {
         let passes = sort::digit_passes(key_bits);
         assert_eq!(passes, (key_bits + 1).min(32).div_ceil(4));
         for n in [1000, 20_011] {
             let keys: Vec<u32> = (0..n)
-                .map(|_| match rng.below(10) {
+                .map(|_| match below(&mut rng, 10) {
                     0 => SENTINEL,
-                    1 => rng.next() | 1 << key_bits.min(31), // out of range, arbitrary low bits
-                    _ => (rng.next() >> (32 - key_bits.max(1))) & ((1u64 << key_bits) - 1) as u32,
+                    1 => rng.next_u32() | 1 << key_bits.min(31), // out of range, arbitrary low bits
+                    _ => (rng.next_u32() >> (32 - key_bits.max(1))) & ((1u64 << key_bits) - 1) as u32,
                 })
                 .collect();
             s.check(&format!("{key_bits}-bit keys, {passes} digit passes"), &keys, &indices(n), key_bits);
@@ -277,7 +274,7 @@ fn print_sort_time(width: usize, height: usize) {
     let n = width * height;
     let Some(mut s) = Sorter::new() else { return };
     s.runner.set_timing(Timing::PerPassSubmit);
-    let keys = morton_keys(&mut Rng::new(5), n, 10);
+    let keys = morton_keys(&mut rng(5), n, 10);
     let total = |t: &[PassTiming], prefix: &str| -> f64 {
         t.iter().filter(|p| p.name.starts_with(prefix)).filter_map(|p| p.wall_ms).sum()
     };

@@ -3,6 +3,7 @@
 use std::path::{Path, PathBuf};
 
 use leakless_scene::{Scene, SceneError};
+use rand_core::{RngCore, SeedableRng};
 
 fn repo(rel: &str) -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../..").join(rel)
@@ -75,23 +76,13 @@ fn every_prefix_of_a_glb_fails_cleanly() {
     assert!(load_bytes(&dir, "whole.glb", &glb).is_ok());
 }
 
-/// Seeded PCG (rand_pcg), so a failure reproduces.
-struct Rng(rand_pcg::Pcg64Mcg);
-impl Rng {
-    fn new(seed: u64) -> Self {
-        Rng(rand_core::SeedableRng::seed_from_u64(seed))
-    }
-    fn next(&mut self) -> u64 {
-        rand_core::RngCore::next_u64(&mut self.0)
-    }
-}
-
 #[test]
 fn random_bytes_and_mutations_never_panic() {
     let dir = scratch("fuzz");
-    let mut rng = Rng::new(0x9E37_79B9_7F4A_7C15);
+    // A seeded PCG (rand_pcg), so a failure reproduces.
+    let mut rng = rand_pcg::Pcg64Mcg::seed_from_u64(0x9E37_79B9_7F4A_7C15);
     for n in [0usize, 1, 4, 12, 20, 100, 4096] {
-        let bytes: Vec<u8> = (0..n).map(|_| rng.next() as u8).collect();
+        let bytes: Vec<u8> = (0..n).map(|_| rng.next_u64() as u8).collect();
         assert!(load_bytes(&dir, "random.gltf", &bytes).is_err());
         let mut glb = b"glTF".to_vec();
         glb.extend(&bytes);
@@ -107,13 +98,13 @@ fn random_bytes_and_mutations_never_panic() {
         let digits: Vec<usize> = (0..good.len()).filter(|&i| good[i].is_ascii_digit()).collect();
         for k in 0..iterations {
             let mut bad = good.clone();
-            for _ in 0..1 + rng.next() % 3 {
+            for _ in 0..1 + rng.next_u64() % 3 {
                 if k % 2 == 0 {
-                    let at = digits[(rng.next() % digits.len() as u64) as usize];
-                    bad[at] = b'0' + (rng.next() % 10) as u8;
+                    let at = digits[(rng.next_u64() % digits.len() as u64) as usize];
+                    bad[at] = b'0' + (rng.next_u64() % 10) as u8;
                 } else {
-                    let at = (rng.next() % bad.len() as u64) as usize;
-                    bad[at] = rng.next() as u8;
+                    let at = (rng.next_u64() % bad.len() as u64) as usize;
+                    bad[at] = rng.next_u64() as u8;
                 }
             }
             if let Err(e) = load_bytes(&dir, "mutated.glb", &bad) {
