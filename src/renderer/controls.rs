@@ -21,10 +21,7 @@ impl Renderer {
 
     /// Restarts accumulation: the next frame starts a new image.
     pub(super) fn restart(&mut self) {
-        self.accumulated = 0;
-        self.batches = 0;
-        self.image_is_mean = false;
-        self.image_is_reused = false;
+        self.accumulation.restart();
     }
 
     /// Changes any settings at once; validated first, and a change that needs a new backend
@@ -118,8 +115,8 @@ impl Renderer {
     /// still): photon frames, and reference frames of `spp` samples per batch, each at its own
     /// pixel jitter. A render accumulates `settings.frames` either way.
     pub fn set_progressive(&mut self, progressive: bool) {
-        if progressive != self.progressive {
-            self.progressive = progressive;
+        if progressive != self.accumulation.progressive {
+            self.accumulation.progressive = progressive;
             self.restart();
         }
     }
@@ -147,7 +144,7 @@ impl Renderer {
     /// what it holds stays within what `render` accepts (the app's captures record it as a
     /// command). At 60 frames a second a still view gets there in 18 minutes.
     pub fn accumulation_full(&self) -> bool {
-        accumulation_full(self.settings.method, self.accumulating(), self.accumulated)
+        accumulation_full(self.settings.method, self.accumulating(), self.accumulation.accumulated)
     }
 
     /// Whether the next frame adds to an accumulation of frames, each at its own pixel jitter
@@ -155,21 +152,21 @@ impl Renderer {
     /// then a whole image of `spp` samples per batch; otherwise a reference's frames add
     /// samples to one image at the pixel centres.
     pub fn accumulating(&self) -> bool {
-        self.progressive || self.settings.frames > 1
+        self.accumulation.progressive || self.settings.frames > 1
     }
 
     /// While paused, frames show the last image again without rendering anything new.
     pub fn set_paused(&mut self, paused: bool) {
-        self.paused = paused;
+        self.accumulation.paused = paused;
     }
 
     pub fn paused(&self) -> bool {
-        self.paused
+        self.accumulation.paused
     }
 
     /// Reference samples each frame adds (the app: 1, so frames stay short).
     pub fn set_samples_per_frame(&mut self, samples: u32) {
-        self.samples_per_frame = samples.max(1);
+        self.accumulation.samples_per_frame = samples.max(1);
     }
 }
 

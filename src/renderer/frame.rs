@@ -129,13 +129,13 @@ impl Renderer {
         let view =
             ViewInputs { frame: &frame, lights: &lights.lights, scene: &scene, trace: &trace, gbuffer: &gbuffer };
         let seen = display.is_some() || request.is_some();
-        stages::direct_light(&mut g, &stage, self.accumulated, seen, &view, &mut direct);
+        stages::direct_light(&mut g, &stage, self.accumulation.accumulated, seen, &view, &mut direct);
 
         // Indirect light: photons splatted and gathered, or path-traced samples accumulated.
         let (sums, counters) =
-            stages::indirect_light(&mut g, &stage, self.accumulated, splat.as_ref(), &view, &lights)?;
+            stages::indirect_light(&mut g, &stage, self.accumulation.accumulated, splat.as_ref(), &view, &lights)?;
         let (layers, gather_counts) = stages::compose_layers(&mut g, &stage, &frame, direct, sums, splat.is_some())?;
-        let mut layers = stages::accumulate_layers(&mut g, &stage, &frame, layers, self.image_is_mean)?;
+        let mut layers = stages::accumulate_layers(&mut g, &stage, &frame, layers, self.accumulation.image_is_mean)?;
 
         // Temporal reuse: the frames before, reprojected, with this frame (or, while nothing
         // moves, weighing into the accumulation's mean).
@@ -154,13 +154,13 @@ impl Renderer {
             };
             let (with_history, history, mode) = self.reuse.add(&mut g, &stage, input, layers)?;
             (layers, history_shown, reused) = (with_history, Some(history), Some(mode));
-        } else if !render && self.image_is_reused {
+        } else if !render && self.accumulation.image_is_reused {
             layers.indirect = layer(&mut g, extent, "reused indirect")?;
             layers.radiance = layer(&mut g, extent, "reused radiance")?;
         }
         if render {
-            self.image_is_mean = progressive;
-            self.image_is_reused = reuse;
+            self.accumulation.image_is_mean = progressive;
+            self.accumulation.image_is_reused = reuse;
         }
         let Layers { direct, indirect, leaked, radiance } = layers;
 
@@ -217,7 +217,7 @@ impl Renderer {
             method,
             started,
         });
-        (self.accumulated, self.batches) = (accumulated, batches);
+        (self.accumulation.accumulated, self.accumulation.batches) = (accumulated, batches);
         // Fresh photons for the next frame, unless it continues an accumulation's sequence.
         if self.advance_seed && method.splats() && render && !progressive {
             self.seed_offset = self.seed_offset.wrapping_add(1);
@@ -288,15 +288,15 @@ impl Renderer {
         };
         PlanState {
             method: self.settings.method,
-            paused: self.paused,
+            paused: self.accumulation.paused,
             full: self.accumulation_full(),
             accumulating: self.accumulating(),
-            accumulated: self.accumulated,
-            batches: self.batches,
+            accumulated: self.accumulation.accumulated,
+            batches: self.accumulation.batches,
             max_batches: self.settings.max_batches,
             batches_that_fit,
             spp: self.settings.spp,
-            samples_per_frame: self.samples_per_frame,
+            samples_per_frame: self.accumulation.samples_per_frame,
         }
     }
 

@@ -10,6 +10,7 @@
 //! * reading the layers back is an explicit request ([`Renderer::render`],
 //!   [`Renderer::read_layers`]).
 
+mod accumulation;
 mod budget;
 mod capture;
 mod controls;
@@ -136,27 +137,13 @@ pub struct Renderer {
     exposure: Option<f32>,
     /// Node-list entries per frame: grows after a frame that dropped entries, unless fixed.
     list_capacity: u32,
-    /// Samples (reference) or photon frames accumulated since the last change.
-    accumulated: u32,
-    /// Photon batches in those frames.
-    batches: u32,
-    /// The image is an accumulation's mean (the last frame that rendered was progressive): a
-    /// frame that renders nothing (paused, full) shows the mean layers again, not that frame's.
-    image_is_mean: bool,
-    /// The image's indirect light is temporal reuse's (the last frame that rendered ran it).
-    image_is_reused: bool,
+    /// What the image holds of the frames since the last change.
+    accumulation: accumulation::Accumulation,
     /// What temporal reuse remembers of its history's frame.
     reuse: reuse::ReuseState,
-    /// Reference samples each frame adds.
-    samples_per_frame: u32,
     /// Photon frames advance the seed unless frozen (a fixed seed fixes the frame).
     advance_seed: bool,
     seed_offset: u32,
-    /// Photon frames accumulate while nothing changes, with no end (the app), besides the
-    /// `settings.frames` a render asks for.
-    progressive: bool,
-    /// Frames only show the last image again (tonemap and overlay): the app's pause.
-    paused: bool,
     /// The frame-time budget, when one is set (`set_frame_budget`).
     budget: Option<budget::BudgetState>,
     /// The view's photon density, for the radius that follows the photon count.
@@ -207,16 +194,10 @@ impl Renderer {
             pipelines,
             view: ViewLayer::Final,
             exposure: None,
-            accumulated: 0,
-            batches: 0,
-            image_is_mean: false,
-            image_is_reused: false,
+            accumulation: Default::default(),
             reuse,
-            samples_per_frame: 1,
             advance_seed: false,
-            progressive: false,
             seed_offset: 0,
-            paused: false,
             budget: None,
             kernel: Default::default(),
             pending: VecDeque::new(),
@@ -298,7 +279,7 @@ impl Renderer {
 
     /// Samples (reference) or frames accumulated in the image since the last change.
     pub fn accumulated(&self) -> u32 {
-        self.accumulated
+        self.accumulation.accumulated
     }
 
     /// The newest completed frame's report.

@@ -92,13 +92,13 @@ impl Renderer {
         // submissions, far from the lost-device timeout. Each waits, to measure the next.
         let mut chunk = 1;
         let request = super::readback::ReadbackRequest { view: ViewLayer::Final, exposure: self.exposure };
-        while self.accumulated < total {
+        while self.accumulation.accumulated < total {
             let t = std::time::Instant::now();
-            let last = self.accumulated + chunk >= total;
-            self.set_samples_per_frame(chunk.min(total - self.accumulated));
+            let last = self.accumulation.accumulated + chunk >= total;
+            self.set_samples_per_frame(chunk.min(total - self.accumulation.accumulated));
             self.submit_frame(None, last.then_some(request))?;
             self.wait_idle()?;
-            if self.accumulated == 0 {
+            if self.accumulation.accumulated == 0 {
                 // The lists grew and the image restarted: its passes' times start again too.
                 timings = Timings::default();
                 gpu_span_ms = 0.0;
@@ -107,7 +107,7 @@ impl Renderer {
             let last = self.last.as_ref().expect("a frame completed");
             timings.add(&last.timings);
             gpu_span_ms += last.gpu_span_ms;
-            progress(self.accumulated.min(total), total);
+            progress(self.accumulation.accumulated.min(total), total);
             let per_sample = t.elapsed().as_secs_f64() * 1e3 / chunk as f64;
             // Photon frames go one per submission (a frame is one unit of accumulation).
             if self.settings.method == Method::Reference && frames == 1 {
