@@ -55,7 +55,7 @@ struct BvhInstance {
     uint pad1;
 };
 
-// Binding TRACE_BINDING + 2 was free; the scene's bindings (scene.glsl) follow at 20-23.
+// The top level's nodes at TRACE_BINDING + 2; the scene's bindings (scene.glsl) follow at 20-23.
 layout(set = 0, binding = TRACE_BINDING + 2, std430) readonly buffer BvhTop {
     BvhNode nodes[];
 } bvh_top;

@@ -13,12 +13,12 @@
 // that the few samples alone on their surface do not keep their neighbours' lanes waiting.
 //
 // Why: on detailed geometry (the basilica's columns, balusters and pews) the probes seldom land
-// on the sample's own triangle, so each direction costs up to five rays, and four directions a
-// sample were half of the frame. Inside a surface a sample now traces one direction, and its mass
-// averages up to 25 of them: less grain on narrow faces, where a noisy divisor made one frame look
-// like sandpaper. One angle for the frame rather than one per pixel: four directions a quarter
-// turn apart measure a straight edge through the sample exactly (a half disk is 0.5 every frame);
-// independent angles made the Cornell box's edges +5.6% bright in single frames (+3.9% now).
+// on the sample's own triangle, so each direction costs up to five rays, and four directions for
+// every sample would cost half of the frame. Inside a surface a sample traces one direction, and
+// its mass averages up to 25 of them: less grain on narrow faces, where a noisy divisor makes one
+// frame look like sandpaper. One angle for the frame rather than one per pixel: four directions a
+// quarter turn apart measure a straight edge through the sample exactly (a half disk is 0.5 every
+// frame), where independent angles leave single frames' edges brighter.
 // Each frame's tiles start elsewhere (params.tile_offset), so their edges leave no seam.
 //
 // One measurement serves both radii of a partial disk: the rays are drawn at the largest radius

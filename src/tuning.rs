@@ -164,9 +164,10 @@ impl DeviceTuning {
     /// A GPU's values: one path per thread, counters combined per subgroup where the device
     /// can, passes timed inside one submission. The rest is what the GPU report measured best
     /// on an H200 (docs/gpu.md): both orders on, and a 512-entry ray queue, whose longer batches
-    /// of visibility rays outweigh its 2 KiB of local memory a thread there. Branching stays 8
-    /// although 32 was 9% faster there: it changes which photons the capped method keeps and
-    /// the hierarchy's counts, which no tuning choice may (`tests/suite/tuning.rs`).
+    /// of visibility rays outweigh its 2 KiB of local memory a thread there. Branching is 8 on
+    /// every device, whatever is fastest on one: it decides which photons the capped method
+    /// keeps and the hierarchy's counts, which no tuning choice may change
+    /// (`tests/suite/tuning.rs`; the branching sweep is in docs/gpu.md).
     pub fn gpu(subgroup_arithmetic: bool) -> DeviceTuning {
         DeviceTuning {
             preset: Preset::Gpu,
