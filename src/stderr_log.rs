@@ -1,35 +1,11 @@
 //! Where the libraries' log records go in the binary and the tests: standard error, one line
-//! each (the device layer's validation messages, which tests also collect and fail on).
+//! each, as the records say them ("validation error: …"). Records of `warn` and above by
+//! default; `LEAKLESS_LOG` takes env_logger's filters (`info`, `leakless_device=debug`, …).
 
-/// Prints records of `warn` and above (`LEAKLESS_LOG=info|debug|trace` for more).
-struct StderrLog;
-
-impl log::Log for StderrLog {
-    fn enabled(&self, metadata: &log::Metadata<'_>) -> bool {
-        metadata.level() <= log::max_level()
-    }
-
-    fn log(&self, record: &log::Record<'_>) {
-        // The records say what they are ("validation error: …"): printed as they are.
-        if self.enabled(record.metadata()) {
-            eprintln!("{}", record.args());
-        }
-    }
-
-    fn flush(&self) {}
-}
-
-static LOG: StderrLog = StderrLog;
+use std::io::Write;
 
 /// Sends log records to standard error; a second call (another test) changes nothing.
 pub fn install() {
-    let level = match std::env::var("LEAKLESS_LOG").as_deref() {
-        Ok("info") => log::LevelFilter::Info,
-        Ok("debug") => log::LevelFilter::Debug,
-        Ok("trace") => log::LevelFilter::Trace,
-        _ => log::LevelFilter::Warn,
-    };
-    if log::set_logger(&LOG).is_ok() {
-        log::set_max_level(level);
-    }
+    let env = env_logger::Env::new().filter_or("LEAKLESS_LOG", "warn");
+    let _ = env_logger::Builder::from_env(env).format(|out, record| writeln!(out, "{}", record.args())).try_init();
 }
