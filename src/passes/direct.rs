@@ -7,11 +7,11 @@ use leakless_device::{gpu_struct, GpuStruct};
 use leakless_graph::{shader_bindings, Graph, ImageHandle, PassName};
 
 use crate::gpu_scene::{EmitterBindings, SceneBindings};
-use crate::passes::add::Threads;
 use crate::passes::gbuffer::GBufferBindings;
 use crate::passes::names::group;
 use crate::passes::{ViewBindings, ViewInputs};
 use crate::pipelines::ComputePassDef;
+use crate::pipelines::Threads;
 use crate::shaders;
 
 gpu_struct! {

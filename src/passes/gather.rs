@@ -9,7 +9,6 @@ use leakless_graph::{shader_bindings, BufferHandle, Fill, Graph, ImageHandle, Pa
 
 use crate::error::Result;
 use crate::gpu_scene::{SceneBindings, SceneHandles};
-use crate::passes::add::Threads;
 use crate::passes::gbuffer::{GBufferBindings, GBufferHandles};
 use crate::passes::hierarchy::{HierarchyHandles, Level, Shape};
 use crate::passes::names::group;
@@ -17,6 +16,7 @@ use crate::passes::photon_clearance::Clearance;
 use crate::passes::photons::Photon;
 use crate::passes::splat::{NodeListHandles, PhotonPosition};
 use crate::pipelines::ComputePassDef;
+use crate::pipelines::Threads;
 use crate::shaders;
 use crate::trace::TraceHandles;
 

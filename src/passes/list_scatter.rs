@@ -9,12 +9,12 @@ use leakless_device::{gpu_struct, GpuStruct};
 use leakless_graph::{shader_bindings, Graph, PassName};
 
 use crate::error::Result;
-use crate::passes::add::Threads;
 use crate::passes::names::group;
 use crate::passes::photon_dispatch::{self, PHOTON_WORKGROUP};
 use crate::passes::scan;
 use crate::passes::splat::{NodeListHandles, SplatCounters, SplatRecord};
 use crate::pipelines::ComputePassDef;
+use crate::pipelines::Threads;
 use crate::shaders;
 
 gpu_struct! {

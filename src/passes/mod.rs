@@ -3,7 +3,6 @@
 //! itself to the frame's graph with the resources it reads and writes in its signature.
 
 pub mod accumulate;
-pub mod add;
 pub mod compose;
 pub mod direct;
 pub mod disk_smooth;

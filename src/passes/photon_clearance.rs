@@ -8,11 +8,11 @@ use leakless_device::{gpu_struct, BufferDesc, GpuStruct, MemoryLocation};
 use leakless_graph::{shader_bindings, BufferHandle, Graph, PassName};
 
 use crate::error::Result;
-use crate::passes::add::Threads;
 use crate::passes::names::group;
 use crate::passes::photon_dispatch::{PhotonDispatch, PHOTON_WORKGROUP};
 use crate::passes::photons::{Photon, PhotonCounters};
 use crate::pipelines::ComputePassDef;
+use crate::pipelines::Threads;
 use crate::shaders;
 use crate::trace::{ComputeTrace, TraceHandles};
 

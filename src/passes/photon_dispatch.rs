@@ -12,9 +12,9 @@ use leakless_device::{gpu_struct, BufferDesc, GpuStruct, MemoryLocation};
 use leakless_graph::{shader_bindings, Access, Buf, BufferHandle, Graph, PassBuilder, PassName};
 
 use crate::error::Result;
-use crate::passes::add::Threads;
 use crate::passes::names::group;
 use crate::pipelines::ComputePassDef;
+use crate::pipelines::Threads;
 use crate::shaders;
 
 /// Threads per workgroup of every per-photon pass, checked when their pipelines are made

@@ -20,12 +20,12 @@ use leakless_graph::{shader_bindings, BufferHandle, Fill, Graph, PassName};
 use leakless_scene::Aabb;
 
 use crate::error::Result;
-use crate::passes::add::Threads;
 use crate::passes::names::group;
 use crate::passes::photon_dispatch::{PhotonDispatch, PHOTON_WORKGROUP};
 use crate::passes::photons::{Photon, PhotonCounters};
 use crate::passes::scan;
 use crate::pipelines::ComputePassDef;
+use crate::pipelines::Threads;
 use crate::shaders;
 
 /// Bits per axis of a cell index (`PHOTON_CELL_BITS` in photon_cell.glsl): 32 cells a side.

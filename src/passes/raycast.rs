@@ -6,9 +6,9 @@ use leakless_graph::{shader_bindings, BufferHandle, Graph, PassName, Stage};
 
 use crate::gpu_scene::{SceneBindings, SceneHandles};
 use crate::gpu_types::{GpuRay, RayHit};
-use crate::passes::add::Threads;
 use crate::passes::names::group;
 use crate::pipelines::ComputePassDef;
+use crate::pipelines::Threads;
 use crate::shaders;
 use crate::trace::TraceHandles;
 

@@ -6,10 +6,10 @@ use leakless_device::GpuStruct;
 use leakless_graph::{shader_bindings, BufferHandle, Graph, PassName};
 
 use crate::error::{RenderError, Result};
-use crate::passes::add::Threads;
 use crate::passes::names::group;
 use crate::passes::sort::{sort_pass, SortParams, RADIX, WORKGROUP_SIZE};
 use crate::pipelines::ComputePassDef;
+use crate::pipelines::Threads;
 use crate::shaders;
 
 shader_bindings! {

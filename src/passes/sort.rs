@@ -31,10 +31,10 @@ use leakless_device::{gpu_struct, BindingDecl, BufferDesc, GpuStruct, MemoryLoca
 use leakless_graph::{shader_bindings, BufferHandle, Graph, PassName};
 
 use crate::error::{RenderError, Result};
-use crate::passes::add::Threads;
 use crate::passes::names::group;
 use crate::passes::scan;
 use crate::pipelines::ComputePassDef;
+use crate::pipelines::Threads;
 use crate::shaders;
 
 /// Threads per workgroup of every sort shader (`SORT_WORKGROUP_SIZE` in sort.glsl, checked

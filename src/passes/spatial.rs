@@ -9,10 +9,10 @@ use leakless_graph::{shader_bindings, BufferHandle, Graph, ImageHandle, PassName
 
 use crate::error::Result;
 use crate::gpu_types::Frame;
-use crate::passes::add::Threads;
 use crate::passes::gbuffer::{self, GBufferBindings, GBufferHandles};
 use crate::passes::names::group;
 use crate::pipelines::ComputePassDef;
+use crate::pipelines::Threads;
 use crate::shaders;
 
 gpu_struct! {

@@ -9,12 +9,12 @@ use leakless_device::{gpu_struct, BufferDesc, GpuStruct, MemoryLocation};
 use leakless_graph::{shader_bindings, BufferHandle, Fill, Graph, PassName};
 
 use crate::error::Result;
-use crate::passes::add::Threads;
 use crate::passes::hierarchy::{HierarchyHandles, Level, Node, Shape};
 use crate::passes::names::group;
 use crate::passes::photon_dispatch::{PhotonDispatch, PHOTON_WORKGROUP};
 use crate::passes::photons::{Photon, PhotonCounters};
 use crate::pipelines::ComputePassDef;
+use crate::pipelines::Threads;
 use crate::shaders;
 
 gpu_struct! {

@@ -11,11 +11,11 @@ use leakless_graph::{shader_bindings, BufferHandle, Graph, History, ImageHandle,
 use crate::error::Result;
 use crate::gpu_scene::{SceneBindings, SceneHandles};
 use crate::gpu_types::Frame;
-use crate::passes::add::Threads;
 use crate::passes::gbuffer::{self, GBufferBindings, GBufferHandles};
 use crate::passes::lighting_level;
 use crate::passes::names::group;
 use crate::pipelines::ComputePassDef;
+use crate::pipelines::Threads;
 use crate::shaders;
 
 /// What the pass does with the history (`MODE_*` of temporal.comp).

@@ -6,10 +6,10 @@ use leakless_device::{gpu_struct, GpuStruct};
 use leakless_graph::{shader_bindings, Graph, ImageHandle, PassName};
 
 use super::{HierarchyHandles, Level, Node, Shape};
-use crate::passes::add::Threads;
 use crate::passes::gbuffer::{GBufferBindings, GBufferHandles};
 use crate::passes::names::group;
 use crate::pipelines::ComputePassDef;
+use crate::pipelines::Threads;
 use crate::shaders;
 
 gpu_struct! {

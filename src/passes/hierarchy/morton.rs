@@ -5,10 +5,10 @@ use leakless_device::GpuStruct;
 use leakless_graph::{shader_bindings, BufferHandle, Graph, PassName};
 
 use crate::gpu_types::Frame;
-use crate::passes::add::Threads;
 use crate::passes::gbuffer::{GBufferBindings, GBufferHandles};
 use crate::passes::names::group;
 use crate::pipelines::ComputePassDef;
+use crate::pipelines::Threads;
 use crate::shaders;
 
 shader_bindings! {

@@ -7,6 +7,10 @@
 //!
 //! [`passes::FRAME_PASSES`]: crate::passes::FRAME_PASSES
 
+mod add;
+
+pub use add::{OwnResources, Threads};
+
 use std::collections::HashMap;
 use std::rc::Rc;
 
