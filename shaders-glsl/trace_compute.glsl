@@ -3,7 +3,8 @@
 // defining Hit, NO_HIT and trace_alpha_pass.
 //
 // Bvh::traverse and intersect_triangle in crates/accel/src/bvh*.rs are this file's CPU twin,
-// operation for operation, and the tests there (brute force, watertightness) speak for it:
+// operation for operation (its single loop visits a ray's nodes in the order this file's nested
+// loops do), and the tests there (brute force, watertightness) speak for it:
 // change both together.
 #ifndef LEAKLESS_TRACE_COMPUTE_GLSL
 #define LEAKLESS_TRACE_COMPUTE_GLSL
@@ -159,12 +160,17 @@ bool trace_bvh_part(BvhRay ray, uint root, float tmin, bool any_hit, inout Hit h
     uint stack[BVH_STACK_SIZE];
     uint sp = 0u;
     uint node = root;
-    while (true) {
-        if (TRACE_COUNT_WORK) {
-            trace_nodes_visited++;
-        }
+    // While-while (Aila and Laine, 2009): each invocation descends through interior nodes until
+    // it holds a leaf, and only then tests triangles. Lanes that run together (a SIMD group on
+    // a CPU driver, a subgroup on a GPU) then test their leaves' triangles in one pass instead
+    // of one lane's leaf per iteration of a single loop. The order in which one ray visits
+    // nodes is the if-if loop's, so hits and counts are unchanged.
+    while (node != NO_HIT) {
         BvhNode n = bvh_nodes.nodes[node];
-        if (n.count == 0u) {
+        while (n.count == 0u) {
+            if (TRACE_COUNT_WORK) {
+                trace_nodes_visited++;
+            }
             uint left = n.left_or_first;
             float d0, d1;
             // hit.t shrinks as hits are found, culling everything behind the closest one.
@@ -176,34 +182,41 @@ bool trace_bvh_part(BvhRay ray, uint root, float tmin, bool any_hit, inout Hit h
                 stack[sp] = far;
                 sp++;
             }
-            if (next != NO_HIT) {
-                node = next;
-                continue;
-            }
-        } else {
-            for (uint i = n.left_or_first; i < n.left_or_first + n.count; i++) {
-                if (TRACE_COUNT_WORK) {
-                    trace_triangles_tested++;
+            if (next == NO_HIT) {
+                if (sp == 0u) {
+                    return false;
                 }
-                BvhTriangle tri = bvh_triangles.triangles[i];
-                float t;
-                vec2 barycentrics;
-                if (bvh_triangle(ray, tri, tmin, hit.t, t, barycentrics) && trace_alpha_pass(tri.triangle, barycentrics)) {
-                    hit.t = t;
-                    hit.triangle = tri.triangle;
-                    hit.barycentrics = barycentrics;
-                    slot = i;
-                    if (any_hit) {
-                        return true;
-                    }
+                sp--;
+                next = stack[sp];
+            }
+            node = next;
+            n = bvh_nodes.nodes[node];
+        }
+        if (TRACE_COUNT_WORK) {
+            trace_nodes_visited++;
+        }
+        for (uint i = n.left_or_first; i < n.left_or_first + n.count; i++) {
+            if (TRACE_COUNT_WORK) {
+                trace_triangles_tested++;
+            }
+            BvhTriangle tri = bvh_triangles.triangles[i];
+            float t;
+            vec2 barycentrics;
+            if (bvh_triangle(ray, tri, tmin, hit.t, t, barycentrics) && trace_alpha_pass(tri.triangle, barycentrics)) {
+                hit.t = t;
+                hit.triangle = tri.triangle;
+                hit.barycentrics = barycentrics;
+                slot = i;
+                if (any_hit) {
+                    return true;
                 }
             }
         }
-        if (sp == 0u) {
-            break;
+        node = NO_HIT;
+        if (sp > 0u) {
+            sp--;
+            node = stack[sp];
         }
-        sp--;
-        node = stack[sp];
     }
     return false;
 }
