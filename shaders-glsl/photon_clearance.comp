@@ -160,9 +160,9 @@ void main() {
                 node = left_near ? left : left + 1u;
                 continue;
             }
-            BvhInstance inst = bvh_instances.items[n.left_or_first];
-            if (inst.identity != 0u) {
-                best2 = static_distance2(q, ph, tau, inst.root, best2);
+            // Two fields of the record, not its 64 bytes (see bvh_part_ray).
+            if (bvh_instances.items[n.left_or_first].identity != 0u) {
+                best2 = static_distance2(q, ph, tau, bvh_instances.items[n.left_or_first].root, best2);
             } else {
                 best2 = min(best2, box_distance2(q, n));
             }

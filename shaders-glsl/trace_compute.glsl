@@ -122,16 +122,23 @@ void bvh_children(bool h0, bool h1, float d0, float d1, uint left, out uint next
     }
 }
 
-// A world ray in part `inst`'s space: the static part's is the world ray itself; an
+// A world ray in part `part`'s space: the static part's is the world ray itself; an
 // instance's origin and direction go through the inverse of its transform, which keeps the ray
 // parameter t, so hits in different parts compare.
-BvhRay bvh_part_ray(BvhInstance inst, BvhRay world, vec3 origin, vec3 dir) {
-    if (inst.identity != 0u) {
+//
+// The record is read field by field, its map only for an instance: read whole, its 64 bytes
+// would be loaded for every ray (the map's loads are not moved into the branch that uses
+// them), though a static scene's one part needs 4 of them.
+BvhRay bvh_part_ray(uint part, BvhRay world, vec3 origin, vec3 dir) {
+    if (bvh_instances.items[part].identity != 0u) {
         return world;
     }
+    vec4 m0 = bvh_instances.items[part].local_from_world0;
+    vec4 m1 = bvh_instances.items[part].local_from_world1;
+    vec4 m2 = bvh_instances.items[part].local_from_world2;
     vec4 o = vec4(origin, 1.0);
-    vec3 local_origin = vec3(dot(inst.local_from_world0, o), dot(inst.local_from_world1, o), dot(inst.local_from_world2, o));
-    vec3 local_dir = vec3(dot(inst.local_from_world0.xyz, dir), dot(inst.local_from_world1.xyz, dir), dot(inst.local_from_world2.xyz, dir));
+    vec3 local_origin = vec3(dot(m0, o), dot(m1, o), dot(m2, o));
+    vec3 local_dir = vec3(dot(m0.xyz, dir), dot(m1.xyz, dir), dot(m2.xyz, dir));
     return bvh_ray(local_origin, local_dir);
 }
 
@@ -258,9 +265,9 @@ Hit trace_bvh_slot(vec3 origin, vec3 dir, float tmin, float tmax, bool any_hit, 
                 continue;
             }
         } else {
-            BvhInstance inst = bvh_instances.items[n.left_or_first];
+            uint part = n.left_or_first;
             uint closest = slot.x;
-            bool done = trace_bvh_part(bvh_part_ray(inst, ray, origin, dir), inst.root, tmin, any_hit, hit, closest);
+            bool done = trace_bvh_part(bvh_part_ray(part, ray, origin, dir), bvh_instances.items[part].root, tmin, any_hit, hit, closest);
             if (closest != slot.x) {
                 slot = uvec2(closest, n.left_or_first);
             }
@@ -291,7 +298,7 @@ Hit trace_bvh(vec3 origin, vec3 dir, float tmin, float tmax, bool any_hit) {
 bool trace_bvh_occluded_cached(vec3 origin, vec3 dir, float tmin, float tmax, inout uvec2 cached_slot) {
     if (cached_slot.x != NO_HIT) {
         BvhTriangle tri = bvh_triangles.triangles[cached_slot.x];
-        BvhRay ray = bvh_part_ray(bvh_instances.items[cached_slot.y], bvh_ray(origin, dir), origin, dir);
+        BvhRay ray = bvh_part_ray(cached_slot.y, bvh_ray(origin, dir), origin, dir);
         float t;
         vec2 barycentrics;
         if (bvh_triangle(ray, tri, tmin, tmax, t, barycentrics)
