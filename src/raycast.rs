@@ -11,14 +11,14 @@ use crate::error::Result;
 use crate::gpu_scene::GpuScene;
 use crate::gpu_types::{GpuRay, RayHit};
 use crate::passes::names;
-use crate::passes::raycast::{self, RayWork, RAYCAST, RAYCAST_COUNTING};
-use crate::pipelines::{ComputePassDef, Pipelines};
+use crate::passes::raycast::{self, RayWork, RaycastBindings, RaycastParams, RAYCAST, RAYCAST_COUNTING};
+use crate::pipelines::{ComputePass, ComputePassDef, Pipelines};
 use crate::trace::{Backend, TraceScene};
 use crate::tuning::{DeviceTuning, TuningChoice};
 
 /// What a [`RayCaster`] runs: the timed pass, and in a set of its own the counting one.
-static PASSES: &[&ComputePassDef] = &[&RAYCAST];
-static COUNTING_PASSES: &[&ComputePassDef] = &[&RAYCAST_COUNTING];
+static PASSES: &[&ComputePassDef] = &[RAYCAST.def()];
+static COUNTING_PASSES: &[&ComputePassDef] = &[RAYCAST_COUNTING.def()];
 
 pub struct RayCaster<'g> {
     gpu: &'g Gpu,
@@ -94,7 +94,7 @@ impl<'g> RayCaster<'g> {
     /// and the pass's time.
     fn run(
         &mut self,
-        def: &ComputePassDef,
+        def: &ComputePass<RaycastBindings, RaycastParams>,
         rays: &[GpuRay],
         occlusion: bool,
     ) -> Result<(Vec<RayHit>, Vec<RayWork>, f64)> {

@@ -7,7 +7,7 @@ use leakless_graph::{shader_bindings, BufferHandle, Graph, ImageHandle, PassName
 
 use crate::gpu_types::Frame;
 use crate::passes::names::group;
-use crate::pipelines::ComputePassDef;
+use crate::pipelines::{compute_pass, ComputePass};
 use crate::shaders;
 
 gpu_struct! {
@@ -75,13 +75,10 @@ pub struct Accumulated {
     pub frame_batches: u32,
 }
 
-#[linkme::distributed_slice(crate::passes::FRAME_PASSES)]
-pub static ACCUMULATE: ComputePassDef = ComputePassDef::any(
-    PassName::new("accumulate", group::COMPOSE),
-    &shaders::ACCUMULATE_COMP,
-    &[AccumulateBindings::DECLS],
-)
-.push(AccumulateParams::LAYOUT);
+compute_pass! {
+    pub static ACCUMULATE in FRAME_PASSES: ComputePass<AccumulateBindings, AccumulateParams> =
+        ComputePass::any(PassName::new("accumulate", group::COMPOSE), &shaders::ACCUMULATE_COMP, &[]);
+}
 
 /// Adds frame number `count.frames` (1 for the first) of an accumulation to `sums` and
 /// writes the means: the direct layer's over frames, the photon layers' over batches.

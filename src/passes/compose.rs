@@ -7,7 +7,7 @@ use leakless_graph::{shader_bindings, BufferHandle, Graph, ImageHandle, PassName
 
 use crate::gpu_types::Frame;
 use crate::passes::names::group;
-use crate::pipelines::ComputePassDef;
+use crate::pipelines::{compute_pass, ComputePass};
 use crate::shaders;
 
 gpu_struct! {
@@ -37,10 +37,10 @@ shader_bindings! {
     pub struct ComposeResources;
 }
 
-#[linkme::distributed_slice(crate::passes::FRAME_PASSES)]
-pub static COMPOSE: ComputePassDef =
-    ComputePassDef::any(PassName::new("compose", group::COMPOSE), &shaders::COMPOSE_COMP, &[ComposeBindings::DECLS])
-        .push(ComposeParams::LAYOUT);
+compute_pass! {
+    pub static COMPOSE in FRAME_PASSES: ComputePass<ComposeBindings, ComposeParams> =
+        ComputePass::any(PassName::new("compose", group::COMPOSE), &shaders::COMPOSE_COMP, &[]);
+}
 
 /// The images compose reads and writes.
 pub struct ComposeImages<'a> {

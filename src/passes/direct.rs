@@ -3,15 +3,14 @@
 //! emission the camera sees (`direct.comp`).
 
 use bytemuck::{Pod, Zeroable};
-use leakless_device::{gpu_struct, GpuStruct};
+use leakless_device::gpu_struct;
 use leakless_graph::{shader_bindings, Graph, ImageHandle, PassName};
 
 use crate::gpu_scene::{EmitterBindings, SceneBindings};
 use crate::passes::gbuffer::GBufferBindings;
 use crate::passes::names::group;
 use crate::passes::{ViewBindings, ViewInputs};
-use crate::pipelines::ComputePassDef;
-use crate::pipelines::Threads;
+use crate::pipelines::{compute_pass, ComputePass, Threads};
 use crate::shaders;
 
 gpu_struct! {
@@ -46,13 +45,14 @@ shader_bindings! {
     pub struct DirectResources;
 }
 
-#[linkme::distributed_slice(crate::passes::FRAME_PASSES)]
-pub static DIRECT: ComputePassDef = ComputePassDef::traced(
-    PassName::new("direct", group::DIRECT),
-    (&shaders::DIRECT_COMP_RAYQUERY, &shaders::DIRECT_COMP_COMPUTE),
-    &[ViewBindings::DECLS, GBufferBindings::DECLS, SceneBindings::DECLS, EmitterBindings::DECLS, DirectBindings::DECLS],
-)
-.push(DirectParams::LAYOUT);
+compute_pass! {
+    pub static DIRECT in FRAME_PASSES: ComputePass<DirectBindings, DirectParams> =
+        ComputePass::traced(
+            PassName::new("direct", group::DIRECT),
+            (&shaders::DIRECT_COMP_RAYQUERY, &shaders::DIRECT_COMP_COMPUTE),
+            &[ViewBindings::DECLS, GBufferBindings::DECLS, SceneBindings::DECLS, EmitterBindings::DECLS],
+        );
+}
 
 pub fn add<'r>(graph: &mut Graph<'r>, params: DirectParams, view: &ViewInputs<'_>, direct: &mut ImageHandle) {
     let extent = direct.extent();

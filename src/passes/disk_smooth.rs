@@ -12,8 +12,7 @@ use leakless_graph::{shader_bindings, BufferHandle, Graph, ImageHandle, PassName
 use crate::gpu_types::Frame;
 use crate::passes::gbuffer::{GBufferBindings, GBufferHandles};
 use crate::passes::names::group;
-use crate::pipelines::ComputePassDef;
-use crate::pipelines::Threads;
+use crate::pipelines::{compute_pass, ComputePass, Threads};
 use crate::shaders;
 
 gpu_struct! {
@@ -38,13 +37,14 @@ shader_bindings! {
     pub struct DiskSmoothResources;
 }
 
-#[linkme::distributed_slice(crate::passes::FRAME_PASSES)]
-pub static DISK_SMOOTH: ComputePassDef = ComputePassDef::any(
-    PassName::new("disk smoothing", group::VISIBLE_DISK),
-    &shaders::DISK_SMOOTH_COMP,
-    &[DiskSmoothBindings::DECLS, GBufferBindings::DECLS],
-)
-.push(DiskSmoothParams::LAYOUT);
+compute_pass! {
+    pub static DISK_SMOOTH in FRAME_PASSES: ComputePass<DiskSmoothBindings, DiskSmoothParams> =
+        ComputePass::any(
+            PassName::new("disk smoothing", group::VISIBLE_DISK),
+            &shaders::DISK_SMOOTH_COMP,
+            &[GBufferBindings::DECLS],
+        );
+}
 
 /// Writes `measured` (the visible-disk pass's image), smoothed, into `disk_mass`.
 pub fn add<'r>(

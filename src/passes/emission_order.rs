@@ -9,13 +9,13 @@
 
 use ash::vk;
 use bytemuck::{Pod, Zeroable};
-use leakless_device::{gpu_struct, BufferDesc, GpuStruct, MemoryLocation};
+use leakless_device::{gpu_struct, BufferDesc, MemoryLocation};
 use leakless_graph::{shader_bindings, BufferHandle, Fill, Graph, PassName};
 
 use crate::error::Result;
 use crate::passes::names::group;
 use crate::passes::scan;
-use crate::pipelines::ComputePassDef;
+use crate::pipelines::{compute_pass, ComputePass};
 use crate::shaders;
 
 /// Bits per axis of a cell index (`EMISSION_CELL_BITS` in emission_cell.glsl).
@@ -52,21 +52,15 @@ shader_bindings! {
 pub const EMISSION_CELLS_CLEAR: PassName = PassName::new("emission cells clear", group::PHOTONS);
 pub const EMISSION_CELL_STARTS: PassName = PassName::new("emission cell starts", group::PHOTONS);
 
-#[linkme::distributed_slice(crate::passes::FRAME_PASSES)]
-pub static EMISSION_CELLS: ComputePassDef = ComputePassDef::any(
-    PassName::new("emission cells", group::PHOTONS),
-    &shaders::EMISSION_CELLS_COMP,
-    &[EmissionCellBindings::DECLS],
-)
-.push(EmissionOrderParams::LAYOUT);
+compute_pass! {
+    pub static EMISSION_CELLS in FRAME_PASSES: ComputePass<EmissionCellBindings, EmissionOrderParams> =
+        ComputePass::any(PassName::new("emission cells", group::PHOTONS), &shaders::EMISSION_CELLS_COMP, &[]);
+}
 
-#[linkme::distributed_slice(crate::passes::FRAME_PASSES)]
-pub static EMISSION_ORDER: ComputePassDef = ComputePassDef::any(
-    PassName::new("emission order", group::PHOTONS),
-    &shaders::EMISSION_ORDER_COMP,
-    &[EmissionOrderBindings::DECLS],
-)
-.push(EmissionOrderParams::LAYOUT);
+compute_pass! {
+    pub static EMISSION_ORDER in FRAME_PASSES: ComputePass<EmissionOrderBindings, EmissionOrderParams> =
+        ComputePass::any(PassName::new("emission order", group::PHOTONS), &shaders::EMISSION_ORDER_COMP, &[]);
+}
 
 /// Adds the passes that order the `params.paths` paths; returns the buffer of path indices
 /// in the order the photon pass takes them.

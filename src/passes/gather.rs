@@ -15,8 +15,7 @@ use crate::passes::names::group;
 use crate::passes::photon_clearance::Clearance;
 use crate::passes::photons::Photon;
 use crate::passes::splat::{NodeListHandles, PhotonPosition};
-use crate::pipelines::ComputePassDef;
-use crate::pipelines::Threads;
+use crate::pipelines::{compute_pass, ComputePass, Threads};
 use crate::shaders;
 use crate::trace::TraceHandles;
 
@@ -108,14 +107,14 @@ shader_bindings! {
 
 const GATHER_CLEAR: PassName = PassName::new("gather clear", group::GATHER);
 
-#[linkme::distributed_slice(crate::passes::FRAME_PASSES)]
-pub static GATHER: ComputePassDef = ComputePassDef::traced(
-    PassName::new("gather", group::GATHER),
-    (&shaders::GATHER_COMP_RAYQUERY, &shaders::GATHER_COMP_COMPUTE),
-    &[GatherBindings::DECLS, GBufferBindings::DECLS, SceneBindings::DECLS],
-)
-.push(GatherParams::LAYOUT)
-.specialize(crate::tuning::DeviceTuning::gather);
+compute_pass! {
+    pub static GATHER in FRAME_PASSES: ComputePass<GatherBindings, GatherParams> =
+        ComputePass::traced(
+            PassName::new("gather", group::GATHER),
+            (&shaders::GATHER_COMP_RAYQUERY, &shaders::GATHER_COMP_COMPUTE),
+            &[GBufferBindings::DECLS, SceneBindings::DECLS],
+        ).specialize(crate::tuning::DeviceTuning::gather);
+}
 
 /// The photons the gather reads, and how.
 pub struct GatherInputs<'a> {

@@ -11,7 +11,7 @@ use leakless_graph::{shader_bindings, Graph, GraphRunner, PassName, Stage};
 
 use crate::error::Result;
 use crate::passes::names::group;
-use crate::pipelines::ComputePassDef;
+use crate::pipelines::{compute_pass, ComputePass};
 use crate::shaders;
 
 shader_bindings! {
@@ -21,10 +21,11 @@ shader_bindings! {
     pub struct HangResources;
 }
 
-/// The spin, appended to the pass it stalls (its own name labels no pass).
-#[linkme::distributed_slice(crate::passes::TOOL_PASSES)]
-pub static HANG: ComputePassDef =
-    ComputePassDef::any(PassName::new("hang", group::TOOLS), &shaders::HANG_COMP, &[HangBindings::DECLS]);
+compute_pass! {
+    /// The spin, appended to the pass it stalls (its own name labels no pass).
+    pub static HANG in TOOL_PASSES: ComputePass<HangBindings, ()> =
+        ComputePass::any(PassName::new("hang", group::TOOLS), &shaders::HANG_COMP, &[]);
+}
 
 /// A stall armed for one named pass.
 pub struct HangPass {

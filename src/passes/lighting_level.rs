@@ -6,13 +6,13 @@
 
 use ash::vk;
 use bytemuck::{Pod, Zeroable};
-use leakless_device::{gpu_struct, BufferDesc, GpuStruct, ImageDesc, MemoryLocation};
+use leakless_device::{gpu_struct, BufferDesc, ImageDesc, MemoryLocation};
 use leakless_graph::{shader_bindings, BufferHandle, Graph, History, PassName};
 
 use crate::error::Result;
 use crate::passes::gbuffer;
 use crate::passes::names::group;
-use crate::pipelines::ComputePassDef;
+use crate::pipelines::{compute_pass, ComputePass};
 use crate::shaders;
 
 /// How many deviations of its own the ratio's running mean must stand out from 1 by before it
@@ -57,13 +57,10 @@ shader_bindings! {
     pub struct LevelResources;
 }
 
-#[linkme::distributed_slice(crate::passes::FRAME_PASSES)]
-pub static LIGHTING_LEVEL: ComputePassDef = ComputePassDef::any(
-    PassName::new("lighting level", group::REUSE),
-    &shaders::LIGHTING_LEVEL_COMP,
-    &[LevelBindings::DECLS],
-)
-.push(LevelParams::LAYOUT);
+compute_pass! {
+    pub static LIGHTING_LEVEL in FRAME_PASSES: ComputePass<LevelBindings, LevelParams> =
+        ComputePass::any(PassName::new("lighting level", group::REUSE), &shaders::LIGHTING_LEVEL_COMP, &[]);
+}
 
 /// The 1×1 history pair of the level: the factor, the ratio's mean and spread, its frames.
 pub fn history(graph: &mut Graph<'_>) -> Result<History> {

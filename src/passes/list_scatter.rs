@@ -13,8 +13,7 @@ use crate::passes::names::group;
 use crate::passes::photon_dispatch::{self, PHOTON_WORKGROUP};
 use crate::passes::scan;
 use crate::passes::splat::{NodeListHandles, SplatCounters, SplatRecord};
-use crate::pipelines::ComputePassDef;
-use crate::pipelines::Threads;
+use crate::pipelines::{compute_pass, ComputePass, Threads};
 use crate::shaders;
 
 gpu_struct! {
@@ -44,15 +43,15 @@ const LIST_SCAN: PassName = PassName::new("list scan", group::SPLAT);
 /// The scatter's workgroups, from the splat's count of records (photon_dispatch.comp).
 const LIST_DISPATCH: PassName = PassName::new("list dispatch", group::SPLAT);
 
-/// One thread per record, looping where the records outnumber the workgroups.
-#[linkme::distributed_slice(crate::passes::FRAME_PASSES)]
-pub static LIST_SCATTER: ComputePassDef = ComputePassDef::any(
-    PassName::new("list scatter", group::SPLAT),
-    &shaders::LIST_SCATTER_COMP,
-    &[ListScatterBindings::DECLS],
-)
-.push(ListScatterParams::LAYOUT)
-.workgroup([PHOTON_WORKGROUP, 1, 1]);
+compute_pass! {
+    /// One thread per record, looping where the records outnumber the workgroups.
+    pub static LIST_SCATTER in FRAME_PASSES: ComputePass<ListScatterBindings, ListScatterParams> =
+        ComputePass::any(
+            PassName::new("list scatter", group::SPLAT),
+            &shaders::LIST_SCATTER_COMP,
+            &[],
+        ).workgroup([PHOTON_WORKGROUP, 1, 1]);
+}
 
 /// Adds the scan, the dispatch and the scatter that lay out `lists` after the splat; the
 /// scatter runs at most `max_groups` workgroups (the device's maxComputeWorkGroupCount[0]).

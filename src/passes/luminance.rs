@@ -10,7 +10,7 @@ use leakless_graph::{shader_bindings, BufferHandle, Graph, ImageHandle, PassName
 
 use crate::error::Result;
 use crate::passes::names::group;
-use crate::pipelines::ComputePassDef;
+use crate::pipelines::{compute_pass, ComputePass};
 use crate::shaders;
 
 const TILE: u32 = 16;
@@ -101,21 +101,15 @@ pub struct LuminanceInputs<'a> {
     pub leaked: &'a ImageHandle,
 }
 
-#[linkme::distributed_slice(crate::passes::FRAME_PASSES)]
-pub static LUMINANCE_TILES: ComputePassDef = ComputePassDef::any(
-    PassName::new("luminance tiles", group::LUMINANCE),
-    &shaders::LUMINANCE_COMP,
-    &[TileBindings::DECLS],
-)
-.push(LuminanceParams::LAYOUT);
+compute_pass! {
+    pub static LUMINANCE_TILES in FRAME_PASSES: ComputePass<TileBindings, LuminanceParams> =
+        ComputePass::any(PassName::new("luminance tiles", group::LUMINANCE), &shaders::LUMINANCE_COMP, &[]);
+}
 
-#[linkme::distributed_slice(crate::passes::FRAME_PASSES)]
-pub static LUMINANCE_TOTAL: ComputePassDef = ComputePassDef::any(
-    PassName::new("luminance total", group::LUMINANCE),
-    &shaders::LUMINANCE_TOTAL_COMP,
-    &[TotalBindings::DECLS],
-)
-.push(TotalParams::LAYOUT);
+compute_pass! {
+    pub static LUMINANCE_TOTAL in FRAME_PASSES: ComputePass<TotalBindings, TotalParams> =
+        ComputePass::any(PassName::new("luminance total", group::LUMINANCE), &shaders::LUMINANCE_TOTAL_COMP, &[]);
+}
 
 /// Adds both stages; returns the [`LuminanceStats`] buffer (of the graph's pool).
 pub fn add<'r>(graph: &mut Graph<'r>, input: LuminanceInputs<'_>) -> Result<BufferHandle> {

@@ -40,20 +40,20 @@ use crate::pipelines::ComputePassDef;
 use crate::trace::{TraceBindings, TraceHandles};
 use gbuffer::{GBufferBindings, GBufferHandles};
 
-/// Every compute pass a frame may run, collected from their definitions
-/// (`#[linkme::distributed_slice(FRAME_PASSES)]` on each): the renderer's pipeline cache makes
+/// Every compute pass a frame may run, collected from their definitions (`compute_pass!`
+/// declares each into it): the renderer's pipeline cache makes
 /// them all, and the bindings test checks them all against their shaders on both backends.
 #[linkme::distributed_slice]
-pub static FRAME_PASSES: [ComputePassDef];
+pub static FRAME_PASSES: [&'static ComputePassDef];
 
 /// The compute passes of tools and tests, outside the frame: `bench rays` and the
 /// backend-agreement tests' ray casts, and fault injection's stall.
 #[linkme::distributed_slice]
-pub static TOOL_PASSES: [ComputePassDef];
+pub static TOOL_PASSES: [&'static ComputePassDef];
 
 /// The frame's passes, as a pipeline set takes them.
 pub fn frame_passes() -> Vec<&'static ComputePassDef> {
-    FRAME_PASSES.iter().collect()
+    FRAME_PASSES.to_vec()
 }
 
 /// What every pass that shades view samples reads: the frame, the lights, the G-buffer, the

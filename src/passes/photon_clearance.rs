@@ -11,8 +11,7 @@ use crate::error::Result;
 use crate::passes::names::group;
 use crate::passes::photon_dispatch::{PhotonDispatch, PHOTON_WORKGROUP};
 use crate::passes::photons::{Photon, PhotonCounters};
-use crate::pipelines::ComputePassDef;
-use crate::pipelines::Threads;
+use crate::pipelines::{compute_pass, ComputePass, Threads};
 use crate::shaders;
 use crate::trace::{ComputeTrace, TraceHandles};
 
@@ -66,15 +65,15 @@ pub enum Needed<'a> {
     Listed(&'a BufferHandle),
 }
 
-/// The clearance searches the scene's BVH on every backend (it needs distances, not hits).
-#[linkme::distributed_slice(crate::passes::FRAME_PASSES)]
-pub static PHOTON_CLEARANCE: ComputePassDef = ComputePassDef::any(
-    PassName::new("photon clearance", group::CLEARANCE),
-    &shaders::PHOTON_CLEARANCE_COMP,
-    &[ClearanceBindings::DECLS, ComputeTrace::DECLS],
-)
-.push(ClearanceParams::LAYOUT)
-.workgroup([PHOTON_WORKGROUP, 1, 1]);
+compute_pass! {
+    /// The clearance searches the scene's BVH on every backend (it needs distances, not hits).
+    pub static PHOTON_CLEARANCE in FRAME_PASSES: ComputePass<ClearanceBindings, ClearanceParams> =
+        ComputePass::any(
+            PassName::new("photon clearance", group::CLEARANCE),
+            &shaders::PHOTON_CLEARANCE_COMP,
+            &[ComputeTrace::DECLS],
+        ).workgroup([PHOTON_WORKGROUP, 1, 1]);
+}
 
 /// Computes the clearance of the `needed` stored photons (up to the dispatch's capacity) into
 /// `clearance`, searching up to `max_radius` (the longest segment the gather may trace);

@@ -13,8 +13,7 @@ use leakless_graph::{shader_bindings, Access, Buf, BufferHandle, Graph, PassBuil
 
 use crate::error::Result;
 use crate::passes::names::group;
-use crate::pipelines::ComputePassDef;
-use crate::pipelines::Threads;
+use crate::pipelines::{compute_pass, ComputePass, Threads};
 use crate::shaders;
 
 /// Threads per workgroup of every per-photon pass, checked when their pipelines are made
@@ -72,13 +71,10 @@ impl PhotonDispatch {
     }
 }
 
-#[linkme::distributed_slice(crate::passes::FRAME_PASSES)]
-pub static PHOTON_DISPATCH: ComputePassDef = ComputePassDef::any(
-    PassName::new("photon dispatch", group::PHOTONS),
-    &shaders::PHOTON_DISPATCH_COMP,
-    &[PhotonDispatchBindings::DECLS],
-)
-.push(PhotonDispatchParams::LAYOUT);
+compute_pass! {
+    pub static PHOTON_DISPATCH in FRAME_PASSES: ComputePass<PhotonDispatchBindings, PhotonDispatchParams> =
+        ComputePass::any(PassName::new("photon dispatch", group::PHOTONS), &shaders::PHOTON_DISPATCH_COMP, &[]);
+}
 
 /// Adds the pass that turns `photon_counters` (of a buffer of `capacity` photons) into the
 /// per-photon passes' dispatch. `limits::check` holds the photons within the workgroup limit.

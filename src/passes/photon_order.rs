@@ -15,7 +15,7 @@
 use ash::vk;
 use bytemuck::{Pod, Zeroable};
 use leakless_device::shader::ShaderInfo;
-use leakless_device::{gpu_struct, BindingDecl, BufferDesc, GpuStruct, MemoryLocation};
+use leakless_device::{gpu_struct, BufferDesc, GpuStruct, MemoryLocation};
 use leakless_graph::{shader_bindings, BufferHandle, Fill, Graph, PassName};
 use leakless_scene::Aabb;
 
@@ -24,9 +24,10 @@ use crate::passes::names::group;
 use crate::passes::photon_dispatch::{PhotonDispatch, PHOTON_WORKGROUP};
 use crate::passes::photons::{Photon, PhotonCounters};
 use crate::passes::scan;
-use crate::pipelines::ComputePassDef;
 use crate::pipelines::Threads;
+use crate::pipelines::{compute_pass, ComputePass};
 use crate::shaders;
+use leakless_graph::BindingGroup;
 
 /// Bits per axis of a cell index (`PHOTON_CELL_BITS` in photon_cell.glsl): 32 cells a side.
 /// At the default gather radius (5% of the scene's bounding radius) a cell is about 1.2 radii
@@ -82,26 +83,19 @@ shader_bindings! {
 }
 
 /// The two per-photon passes of the order.
-const fn order_pass(
-    name: PassName,
-    shader: &'static ShaderInfo,
-    bindings: &'static [&'static [BindingDecl]],
-) -> ComputePassDef {
-    ComputePassDef::any(name, shader, bindings).push(PhotonOrderParams::LAYOUT).workgroup([PHOTON_WORKGROUP, 1, 1])
+const fn order_pass<B: BindingGroup>(name: PassName, shader: &'static ShaderInfo) -> ComputePass<B, PhotonOrderParams> {
+    ComputePass::any(name, shader, &[]).workgroup([PHOTON_WORKGROUP, 1, 1])
 }
 
 const PHOTON_CELLS_CLEAR: PassName = PassName::new("photon cells clear", group::PHOTON_ORDER);
 const PHOTON_CELL_STARTS: PassName = PassName::new("photon cell starts", group::PHOTON_ORDER);
 
-#[linkme::distributed_slice(crate::passes::FRAME_PASSES)]
-pub static PHOTON_CELLS: ComputePassDef =
-    order_pass(PassName::new("photon cells", group::PHOTON_ORDER), &shaders::PHOTON_CELLS_COMP, &[CellBindings::DECLS]);
-#[linkme::distributed_slice(crate::passes::FRAME_PASSES)]
-pub static PHOTON_ORDER: ComputePassDef = order_pass(
-    PassName::new("photon order", group::PHOTON_ORDER),
-    &shaders::PHOTON_ORDER_COMP,
-    &[OrderBindings::DECLS],
-);
+compute_pass! {
+    pub static PHOTON_CELLS in FRAME_PASSES: ComputePass<CellBindings, PhotonOrderParams> =
+        order_pass(PassName::new("photon cells", group::PHOTON_ORDER), &shaders::PHOTON_CELLS_COMP);
+    pub static PHOTON_ORDER in FRAME_PASSES: ComputePass<OrderBindings, PhotonOrderParams> =
+        order_pass(PassName::new("photon order", group::PHOTON_ORDER), &shaders::PHOTON_ORDER_COMP);
+}
 
 /// Copies the stored photons of `photons` (at most the dispatch's capacity) into `ordered`,
 /// grouped by cell of a grid over `bounds`, and cells in Morton order.

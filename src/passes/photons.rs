@@ -23,7 +23,7 @@ use crate::passes::photon_clearance::{self, Clearance, Needed};
 use crate::passes::{photon_dispatch, scan};
 use crate::photon_lights::{upload_lights, LightHandles, LightTable};
 use crate::pipelines::Threads;
-use crate::pipelines::{ComputePassDef, Pipelines};
+use crate::pipelines::{compute_pass, ComputePass, ComputePassDef, Pipelines};
 use crate::shaders;
 use crate::trace::{Backend, TraceHandles, TraceScene};
 use crate::tuning::{DeviceTuning, TuningChoice};
@@ -172,14 +172,14 @@ pub const COUNTER_BUFFER_USAGE: vk::BufferUsageFlags = vk::BufferUsageFlags::fro
 
 const PHOTON_COUNTERS: PassName = PassName::new("photon counters", group::PHOTONS);
 
-#[linkme::distributed_slice(crate::passes::FRAME_PASSES)]
-pub static PHOTONS: ComputePassDef = ComputePassDef::traced(
-    PassName::new("photons", group::PHOTONS),
-    (&shaders::PHOTONS_COMP_RAYQUERY, &shaders::PHOTONS_COMP_COMPUTE),
-    &[PhotonBindings::DECLS, SceneBindings::DECLS, EmitterBindings::DECLS],
-)
-.push(PhotonPush::LAYOUT)
-.specialize(DeviceTuning::counters);
+compute_pass! {
+    pub static PHOTONS in FRAME_PASSES: ComputePass<PhotonBindings, PhotonPush> =
+        ComputePass::traced(
+            PassName::new("photons", group::PHOTONS),
+            (&shaders::PHOTONS_COMP_RAYQUERY, &shaders::PHOTONS_COMP_COMPUTE),
+            &[SceneBindings::DECLS, EmitterBindings::DECLS],
+        ).specialize(DeviceTuning::counters);
+}
 
 /// Adds two passes: "photon counters" zeroes `counters` (a transfer), then "photons"
 /// traces `params.paths` light paths, appending at most `capacity` photons to `photons`
@@ -280,12 +280,12 @@ const GUARD_WORD: u32 = 0xdead_beef;
 
 /// The passes a [`PhotonTracer`] runs (a pass `add` calls must be listed here too).
 static TRACER_PASSES: &[&ComputePassDef] = &[
-    &PHOTONS,
-    &emission_order::EMISSION_CELLS,
-    &scan::SCAN,
-    &emission_order::EMISSION_ORDER,
-    &photon_dispatch::PHOTON_DISPATCH,
-    &photon_clearance::PHOTON_CLEARANCE,
+    PHOTONS.def(),
+    emission_order::EMISSION_CELLS.def(),
+    scan::SCAN.def(),
+    emission_order::EMISSION_ORDER.def(),
+    photon_dispatch::PHOTON_DISPATCH.def(),
+    photon_clearance::PHOTON_CLEARANCE.def(),
 ];
 
 /// A self-contained photon tracer on one backend (tests, benchmarks): uploads the scene,

@@ -7,8 +7,7 @@ use leakless_graph::{shader_bindings, BufferHandle, Graph, PassName, Stage};
 use crate::gpu_scene::{SceneBindings, SceneHandles};
 use crate::gpu_types::{GpuRay, RayHit};
 use crate::passes::names::group;
-use crate::pipelines::ComputePassDef;
-use crate::pipelines::Threads;
+use crate::pipelines::{compute_pass, ComputePass, Threads};
 use crate::shaders;
 use crate::trace::TraceHandles;
 
@@ -45,30 +44,30 @@ shader_bindings! {
     pub struct RaycastResources;
 }
 
-#[linkme::distributed_slice(crate::passes::TOOL_PASSES)]
-pub static RAYCAST: ComputePassDef = ComputePassDef::traced(
-    PassName::new("raycast", group::TOOLS),
-    (&shaders::RAYCAST_COMP_RAYQUERY, &shaders::RAYCAST_COMP_COMPUTE),
-    &[RaycastBindings::DECLS, SceneBindings::DECLS],
-)
-.push(RaycastParams::LAYOUT);
+compute_pass! {
+    pub static RAYCAST in TOOL_PASSES: ComputePass<RaycastBindings, RaycastParams> =
+        ComputePass::traced(
+            PassName::new("raycast", group::TOOLS),
+            (&shaders::RAYCAST_COMP_RAYQUERY, &shaders::RAYCAST_COMP_COMPUTE),
+            &[SceneBindings::DECLS],
+        );
+}
 
 /// The same pass counting the compute traversal's work per ray (`TRACE_COUNT_WORK`), in a
 /// pipeline set of its own (one definition per module in a set): `bench rays` times
 /// [`RAYCAST`] and counts with this one. The compute backend's only: ray queries count nothing.
-pub static RAYCAST_COUNTING: ComputePassDef = ComputePassDef::traced(
+pub static RAYCAST_COUNTING: ComputePass<RaycastBindings, RaycastParams> = ComputePass::traced(
     PassName::new("raycast counting", group::TOOLS),
     (&shaders::RAYCAST_COMP_RAYQUERY, &shaders::RAYCAST_COMP_COMPUTE),
-    &[RaycastBindings::DECLS, SceneBindings::DECLS],
+    &[SceneBindings::DECLS],
 )
-.push(RaycastParams::LAYOUT)
 .specialize(|_| Specialization::new().with("TRACE_COUNT_WORK", 1));
 
 /// Traces `rays` with `def` ([`RAYCAST`], or [`RAYCAST_COUNTING`], which also writes `work`).
 #[allow(clippy::too_many_arguments)]
 pub fn add<'r>(
     graph: &mut Graph<'r>,
-    def: &ComputePassDef,
+    def: &ComputePass<RaycastBindings, RaycastParams>,
     (ray_count, occlusion): (u32, bool),
     scene: &SceneHandles,
     trace: &TraceHandles,

@@ -2,15 +2,14 @@
 //! running sum (`reference.comp`).
 
 use bytemuck::{Pod, Zeroable};
-use leakless_device::{gpu_struct, GpuStruct};
+use leakless_device::gpu_struct;
 use leakless_graph::{shader_bindings, Graph, ImageHandle, PassName};
 
 use crate::gpu_scene::{EmitterBindings, SceneBindings};
 use crate::passes::gbuffer::GBufferBindings;
 use crate::passes::names::group;
 use crate::passes::{ViewBindings, ViewInputs};
-use crate::pipelines::ComputePassDef;
-use crate::pipelines::Threads;
+use crate::pipelines::{compute_pass, ComputePass, Threads};
 use crate::shaders;
 
 gpu_struct! {
@@ -42,19 +41,14 @@ shader_bindings! {
     pub struct ReferenceResources;
 }
 
-#[linkme::distributed_slice(crate::passes::FRAME_PASSES)]
-pub static REFERENCE: ComputePassDef = ComputePassDef::traced(
-    PassName::new("reference", group::REFERENCE),
-    (&shaders::REFERENCE_COMP_RAYQUERY, &shaders::REFERENCE_COMP_COMPUTE),
-    &[
-        ViewBindings::DECLS,
-        GBufferBindings::DECLS,
-        SceneBindings::DECLS,
-        EmitterBindings::DECLS,
-        ReferenceBindings::DECLS,
-    ],
-)
-.push(ReferenceParams::LAYOUT);
+compute_pass! {
+    pub static REFERENCE in FRAME_PASSES: ComputePass<ReferenceBindings, ReferenceParams> =
+        ComputePass::traced(
+            PassName::new("reference", group::REFERENCE),
+            (&shaders::REFERENCE_COMP_RAYQUERY, &shaders::REFERENCE_COMP_COMPUTE),
+            &[ViewBindings::DECLS, GBufferBindings::DECLS, SceneBindings::DECLS, EmitterBindings::DECLS],
+        );
+}
 
 /// Adds `params.sample_count` samples per view sample to `accumulated` (overwrites it
 /// when `params.restart` is 1), in passes of about [`PATHS_PER_PASS`] paths each (see

@@ -8,8 +8,7 @@ use leakless_graph::{shader_bindings, BufferHandle, Graph, PassName};
 use crate::error::{RenderError, Result};
 use crate::passes::names::group;
 use crate::passes::sort::{sort_pass, SortParams, RADIX, WORKGROUP_SIZE};
-use crate::pipelines::ComputePassDef;
-use crate::pipelines::Threads;
+use crate::pipelines::{compute_pass, ComputePass, Threads};
 use crate::shaders;
 
 shader_bindings! {
@@ -19,10 +18,11 @@ shader_bindings! {
     pub struct ScanResources;
 }
 
-/// The scan is one workgroup of the sort's size.
-#[linkme::distributed_slice(crate::passes::FRAME_PASSES)]
-pub static SCAN: ComputePassDef =
-    sort_pass(PassName::new("sort scan", group::HIERARCHY), &shaders::SORT_SCAN_COMP, &[ScanBindings::DECLS]);
+compute_pass! {
+    /// The scan is one workgroup of the sort's size.
+    pub static SCAN in FRAME_PASSES: ComputePass<ScanBindings, SortParams> =
+        sort_pass(PassName::new("sort scan", group::HIERARCHY), &shaders::SORT_SCAN_COMP);
+}
 
 /// Adds a pass named `name` (number `index` of a repeated pass) that turns the first
 /// `words` counts of `counts` into exclusive prefix sums. The scan walks counts in groups of

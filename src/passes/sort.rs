@@ -27,15 +27,16 @@
 use ash::vk;
 use bytemuck::{Pod, Zeroable};
 use leakless_device::shader::ShaderInfo;
-use leakless_device::{gpu_struct, BindingDecl, BufferDesc, GpuStruct, MemoryLocation};
+use leakless_device::{gpu_struct, BufferDesc, GpuStruct, MemoryLocation};
 use leakless_graph::{shader_bindings, BufferHandle, Graph, PassName};
 
 use crate::error::{RenderError, Result};
 use crate::passes::names::group;
 use crate::passes::scan;
-use crate::pipelines::ComputePassDef;
 use crate::pipelines::Threads;
+use crate::pipelines::{compute_pass, ComputePass};
 use crate::shaders;
+use leakless_graph::BindingGroup;
 
 /// Threads per workgroup of every sort shader (`SORT_WORKGROUP_SIZE` in sort.glsl, checked
 /// against reflection).
@@ -135,26 +136,21 @@ fn key_limit(key_bits: u32) -> u32 {
 }
 
 /// A pass of the sort (or its scan): one workgroup size, the sort's push constants.
-pub(crate) const fn sort_pass(
+pub(crate) const fn sort_pass<B: BindingGroup>(
     name: PassName,
     shader: &'static ShaderInfo,
-    bindings: &'static [&'static [BindingDecl]],
-) -> ComputePassDef {
-    ComputePassDef::any(name, shader, bindings).push(SortParams::LAYOUT).workgroup([WORKGROUP_SIZE, 1, 1])
+) -> ComputePass<B, SortParams> {
+    ComputePass::any(name, shader, &[]).workgroup([WORKGROUP_SIZE, 1, 1])
 }
 
-#[linkme::distributed_slice(crate::passes::FRAME_PASSES)]
-pub static SORT_HISTOGRAM: ComputePassDef = sort_pass(
-    PassName::new("sort histogram", group::HIERARCHY),
-    &shaders::SORT_HISTOGRAM_COMP,
-    &[HistogramBindings::DECLS],
-);
-#[linkme::distributed_slice(crate::passes::FRAME_PASSES)]
-pub static SORT_SCATTER: ComputePassDef =
-    sort_pass(PassName::new("sort scatter", group::HIERARCHY), &shaders::SORT_SCATTER_COMP, &[ScatterBindings::DECLS]);
-#[linkme::distributed_slice(crate::passes::FRAME_PASSES)]
-pub static SORT_COPY: ComputePassDef =
-    sort_pass(PassName::new("sort copy", group::HIERARCHY), &shaders::SORT_COPY_COMP, &[CopyBindings::DECLS]);
+compute_pass! {
+    pub static SORT_HISTOGRAM in FRAME_PASSES: ComputePass<HistogramBindings, SortParams> =
+        sort_pass(PassName::new("sort histogram", group::HIERARCHY), &shaders::SORT_HISTOGRAM_COMP);
+    pub static SORT_SCATTER in FRAME_PASSES: ComputePass<ScatterBindings, SortParams> =
+        sort_pass(PassName::new("sort scatter", group::HIERARCHY), &shaders::SORT_SCATTER_COMP);
+    pub static SORT_COPY in FRAME_PASSES: ComputePass<CopyBindings, SortParams> =
+        sort_pass(PassName::new("sort copy", group::HIERARCHY), &shaders::SORT_COPY_COMP);
+}
 
 /// Sorts the first `len` (key, value) pairs of `keys` / `values` by key, stably, and leaves
 /// them there (elements past `len` are untouched). Keys at or above `2^key_bits` sort last,

@@ -11,8 +11,7 @@ use crate::error::Result;
 use crate::gpu_types::Frame;
 use crate::passes::gbuffer::{self, GBufferBindings, GBufferHandles};
 use crate::passes::names::group;
-use crate::pipelines::ComputePassDef;
-use crate::pipelines::Threads;
+use crate::pipelines::{compute_pass, ComputePass, Threads};
 use crate::shaders;
 
 gpu_struct! {
@@ -52,13 +51,14 @@ shader_bindings! {
     pub struct SpatialResources;
 }
 
-#[linkme::distributed_slice(crate::passes::FRAME_PASSES)]
-pub static SPATIAL: ComputePassDef = ComputePassDef::any(
-    PassName::new("spatial reuse", group::REUSE),
-    &shaders::SPATIAL_COMP,
-    &[SpatialBindings::DECLS, GBufferBindings::DECLS],
-)
-.push(SpatialParams::LAYOUT);
+compute_pass! {
+    pub static SPATIAL in FRAME_PASSES: ComputePass<SpatialBindings, SpatialParams> =
+        ComputePass::any(
+            PassName::new("spatial reuse", group::REUSE),
+            &shaders::SPATIAL_COMP,
+            &[GBufferBindings::DECLS],
+        );
+}
 
 /// The filter's two working images (pool images by name); the result is in `result`.
 pub struct SpatialImages {

@@ -13,8 +13,7 @@ use crate::passes::hierarchy::{HierarchyHandles, Level, Node, Shape};
 use crate::passes::names::group;
 use crate::passes::photon_dispatch::{PhotonDispatch, PHOTON_WORKGROUP};
 use crate::passes::photons::{Photon, PhotonCounters};
-use crate::pipelines::ComputePassDef;
-use crate::pipelines::Threads;
+use crate::pipelines::{compute_pass, ComputePass, Threads};
 use crate::shaders;
 
 gpu_struct! {
@@ -160,13 +159,13 @@ pub struct SplatInputs<'a> {
 
 const SPLAT_CLEAR: PassName = PassName::new("splat clear", group::SPLAT);
 
-/// The splat: one thread per stored photon.
-#[linkme::distributed_slice(crate::passes::FRAME_PASSES)]
-pub static SPLAT: ComputePassDef =
-    ComputePassDef::any(PassName::new("splat", group::SPLAT), &shaders::SPLAT_COMP, &[SplatBindings::DECLS])
-        .push(SplatParams::LAYOUT)
-        .workgroup([PHOTON_WORKGROUP, 1, 1])
-        .specialize(crate::tuning::DeviceTuning::counters);
+compute_pass! {
+    /// The splat: one thread per stored photon.
+    pub static SPLAT in FRAME_PASSES: ComputePass<SplatBindings, SplatParams> =
+        ComputePass::any(PassName::new("splat", group::SPLAT), &shaders::SPLAT_COMP, &[])
+            .workgroup([PHOTON_WORKGROUP, 1, 1])
+            .specialize(crate::tuning::DeviceTuning::counters);
+}
 
 pub fn add<'r>(
     graph: &mut Graph<'r>,

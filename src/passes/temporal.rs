@@ -14,8 +14,7 @@ use crate::gpu_types::Frame;
 use crate::passes::gbuffer::{self, GBufferBindings, GBufferHandles};
 use crate::passes::lighting_level;
 use crate::passes::names::group;
-use crate::pipelines::ComputePassDef;
-use crate::pipelines::Threads;
+use crate::pipelines::{compute_pass, ComputePass, Threads};
 use crate::shaders;
 
 /// What the pass does with the history (`MODE_*` of temporal.comp).
@@ -109,13 +108,14 @@ shader_bindings! {
     pub struct TemporalResources;
 }
 
-#[linkme::distributed_slice(crate::passes::FRAME_PASSES)]
-pub static TEMPORAL: ComputePassDef = ComputePassDef::any(
-    PassName::new("temporal reuse", group::REUSE),
-    &shaders::TEMPORAL_COMP,
-    &[TemporalBindings::DECLS, GBufferBindings::DECLS, SceneBindings::DECLS],
-)
-.push(TemporalParams::LAYOUT);
+compute_pass! {
+    pub static TEMPORAL in FRAME_PASSES: ComputePass<TemporalBindings, TemporalParams> =
+        ComputePass::any(
+            PassName::new("temporal reuse", group::REUSE),
+            &shaders::TEMPORAL_COMP,
+            &[GBufferBindings::DECLS, SceneBindings::DECLS],
+        );
+}
 
 /// The pass's history pairs: demodulated irradiance (.a: frames held), the surface each pixel
 /// saw (position with triangle + 1, normal), and the long means whose ratio is the spatial

@@ -16,8 +16,7 @@ use crate::gpu_scene::{SceneBindings, SceneHandles};
 use crate::gpu_types::Frame;
 use crate::passes::gbuffer::{self, GBufferBindings, GBufferHandles};
 use crate::passes::names::group;
-use crate::pipelines::ComputePassDef;
-use crate::pipelines::Threads;
+use crate::pipelines::{compute_pass, ComputePass, Threads};
 use crate::shaders;
 use crate::trace::TraceHandles;
 
@@ -88,13 +87,14 @@ fn mass_image(graph: &mut Graph<'_>, extent: vk::Extent2D, name: &'static str) -
     })?)
 }
 
-#[linkme::distributed_slice(crate::passes::FRAME_PASSES)]
-pub static VISIBLE_DISK: ComputePassDef = ComputePassDef::traced(
-    PassName::new("visible disk", group::VISIBLE_DISK),
-    (&shaders::VISIBLE_DISK_COMP_RAYQUERY, &shaders::VISIBLE_DISK_COMP_COMPUTE),
-    &[VisibleDiskBindings::DECLS, GBufferBindings::DECLS, SceneBindings::DECLS],
-)
-.push(VisibleDiskParams::LAYOUT);
+compute_pass! {
+    pub static VISIBLE_DISK in FRAME_PASSES: ComputePass<VisibleDiskBindings, VisibleDiskParams> =
+        ComputePass::traced(
+            PassName::new("visible disk", group::VISIBLE_DISK),
+            (&shaders::VISIBLE_DISK_COMP_RAYQUERY, &shaders::VISIBLE_DISK_COMP_COMPUTE),
+            &[GBufferBindings::DECLS, SceneBindings::DECLS],
+        );
+}
 
 /// Writes each sample's mass and radius into `disk_mass` (mass 1 and the frame's radius
 /// everywhere when `params.enabled` is 0).

@@ -9,14 +9,15 @@
 
 mod add;
 
-pub use add::{OwnResources, Threads};
+pub use add::Threads;
 
 use std::collections::HashMap;
+use std::marker::PhantomData;
 use std::rc::Rc;
 
 use leakless_device::shader::ShaderInfo;
-use leakless_device::{BindingDecl, ComputePipeline, Gpu, RustLayout, Specialization};
-use leakless_graph::{PassName, PipelineTable};
+use leakless_device::{BindingDecl, ComputePipeline, Gpu, PushConstants, RustLayout, Specialization};
+use leakless_graph::{BindingGroup, PassName, PipelineTable};
 
 use crate::error::{RenderError, Result};
 use crate::trace::Backend;
@@ -31,15 +32,19 @@ pub enum PassShader {
     PerBackend { rayquery: &'static ShaderInfo, compute: &'static ShaderInfo },
 }
 
-/// What pipeline creation, the bindings test and the timing tables know of a compute pass.
+/// What pipeline creation, the bindings test and the timing tables know of a compute pass,
+/// whatever its types: the collections hold these ([`ComputePass::def`]).
 #[derive(Debug)]
 pub struct ComputePassDef {
     /// The pass's name in the graph (some defs run under several names, as the scan does).
     pub name: PassName,
     pub shader: PassShader,
-    /// Its binding groups, matched with the shader by name in any order; a pass whose shader
-    /// traces also binds its backend's trace structures.
-    pub bindings: &'static [&'static [BindingDecl]],
+    /// Its own binding group, the one the resources it is added with declare.
+    pub own: &'static [BindingDecl],
+    /// The groups it shares with other passes (the G-buffer, the scene), declared where it is
+    /// added; bindings are matched with the shader by name in any order, and a pass whose
+    /// shader traces also binds its backend's trace structures.
+    pub shared: &'static [&'static [BindingDecl]],
     pub push: Option<RustLayout>,
     /// The workgroup size the pass's dispatch arithmetic assumes, checked when the pipeline is
     /// made; `None` when it adapts to the shader's.
@@ -49,44 +54,107 @@ pub struct ComputePassDef {
     pub specialize: Option<fn(&DeviceTuning) -> Specialization>,
 }
 
-impl ComputePassDef {
-    /// A pass that traces no rays, running `shader` on every backend.
-    pub const fn any(name: PassName, shader: &'static ShaderInfo, bindings: &'static [&'static [BindingDecl]]) -> Self {
-        ComputePassDef {
+/// A compute pass's definition, typed by its own group's bindings `B` and its push constants
+/// `P`: the pass is added with resources that declare `B` and a `P`, which the compiler checks
+/// ([`ComputePass::add`]). Declared with [`compute_pass!`], which also collects it.
+///
+/// ```
+/// use leakless::passes::scan::{ScanResources, SCAN};
+/// fn add<'r>(graph: &mut leakless_graph::Graph<'r>, histograms: &'r mut leakless_graph::BufferHandle) {
+///     SCAN.add(graph, ScanResources { histograms }, Default::default(), [1, 1, 1]);
+/// }
+/// ```
+///
+/// The same call with another pass's definition does not compile:
+///
+/// ```compile_fail
+/// use leakless::passes::{compose::COMPOSE, scan::ScanResources};
+/// fn add<'r>(graph: &mut leakless_graph::Graph<'r>, histograms: &'r mut leakless_graph::BufferHandle) {
+///     COMPOSE.add(graph, ScanResources { histograms }, Default::default(), [1, 1, 1]);
+/// }
+/// ```
+pub struct ComputePass<B, P> {
+    def: ComputePassDef,
+    types: PhantomData<fn(B, P)>,
+}
+
+impl<B: BindingGroup, P: PushConstants> ComputePass<B, P> {
+    const fn new(name: PassName, shader: PassShader, shared: &'static [&'static [BindingDecl]]) -> Self {
+        let def = ComputePassDef {
             name,
-            shader: PassShader::Any(shader),
-            bindings,
-            push: None,
+            shader,
+            own: B::DECLS,
+            shared,
+            push: P::PUSH_LAYOUT,
             workgroup: None,
             specialize: None,
-        }
+        };
+        ComputePass { def, types: PhantomData }
+    }
+
+    /// A pass that traces no rays, running `shader` on every backend.
+    pub const fn any(name: PassName, shader: &'static ShaderInfo, shared: &'static [&'static [BindingDecl]]) -> Self {
+        Self::new(name, PassShader::Any(shader), shared)
     }
 
     /// A pass that traces rays, with one module per backend (`rayquery`, `compute`).
     pub const fn traced(
         name: PassName,
         (rayquery, compute): (&'static ShaderInfo, &'static ShaderInfo),
-        bindings: &'static [&'static [BindingDecl]],
+        shared: &'static [&'static [BindingDecl]],
     ) -> Self {
-        let shader = PassShader::PerBackend { rayquery, compute };
-        ComputePassDef { name, shader, bindings, push: None, workgroup: None, specialize: None }
-    }
-
-    /// With a push-constant block of this layout.
-    pub const fn push(self, layout: RustLayout) -> Self {
-        ComputePassDef { push: Some(layout), ..self }
+        Self::new(name, PassShader::PerBackend { rayquery, compute }, shared)
     }
 
     /// Checked to have this workgroup size when its pipeline is made.
     pub const fn workgroup(self, size: [u32; 3]) -> Self {
-        ComputePassDef { workgroup: Some(size), ..self }
+        let ComputePass { def, types } = self;
+        ComputePass { def: ComputePassDef { workgroup: Some(size), ..def }, types }
     }
 
     /// Specialized per device tuning by `specialize`.
     pub const fn specialize(self, specialize: fn(&DeviceTuning) -> Specialization) -> Self {
-        ComputePassDef { specialize: Some(specialize), ..self }
+        let ComputePass { def, types } = self;
+        ComputePass { def: ComputePassDef { specialize: Some(specialize), ..def }, types }
     }
+}
 
+impl<B, P> ComputePass<B, P> {
+    /// The definition without its types, as the collections hold it.
+    pub const fn def(&'static self) -> &'static ComputePassDef {
+        &self.def
+    }
+}
+
+impl<B, P> std::ops::Deref for ComputePass<B, P> {
+    type Target = ComputePassDef;
+    fn deref(&self) -> &ComputePassDef {
+        &self.def
+    }
+}
+
+/// Declares compute passes: each `NAME`, a [`ComputePass`], is collected into
+/// `passes::SLICE` (`FRAME_PASSES` or `TOOL_PASSES`), so no list names it again.
+///
+/// ```ignore
+/// compute_pass! {
+///     pub static COMPOSE in FRAME_PASSES: ComputePass<ComposeBindings, ComposeParams> =
+///         ComputePass::any(PassName::new("compose", group::COMPOSE), &shaders::COMPOSE_COMP, &[]);
+/// }
+/// ```
+macro_rules! compute_pass {
+    ($($(#[$attr:meta])* $vis:vis static $name:ident in $slice:ident: $ty:ty = $def:expr;)+) => {$(
+        $(#[$attr])*
+        $vis static $name: $ty = $def;
+        const _: () = {
+            #[linkme::distributed_slice($crate::passes::$slice)]
+            static DEF: &$crate::pipelines::ComputePassDef = $name.def();
+        };
+    )+};
+}
+pub(crate) use compute_pass;
+
+impl ComputePassDef {
     /// Its specialization under `tuning`.
     pub fn specialization(&self, tuning: &DeviceTuning) -> Specialization {
         self.specialize.map_or_else(Specialization::new, |f| f(tuning))
@@ -106,7 +174,7 @@ impl ComputePassDef {
             PassShader::Any(_) => &[],
             PassShader::PerBackend { .. } => backend.bindings(),
         };
-        self.bindings.iter().copied().chain([trace]).flatten().copied().collect()
+        [self.own].into_iter().chain(self.shared.iter().copied()).chain([trace]).flatten().copied().collect()
     }
 
     /// Makes the pass's pipeline for `backend` under `tuning`, its bindings checked against

@@ -29,7 +29,8 @@ fn below(rng: &mut Pcg32, n: u32) -> u32 {
 }
 
 /// The sort's passes (it traces nothing: any backend).
-static SORT_PASSES: &[&ComputePassDef] = &[&sort::SORT_HISTOGRAM, &scan::SCAN, &sort::SORT_SCATTER, &sort::SORT_COPY];
+static SORT_PASSES: &[&ComputePassDef] =
+    &[sort::SORT_HISTOGRAM.def(), scan::SCAN.def(), sort::SORT_SCATTER.def(), sort::SORT_COPY.def()];
 
 struct Sorter {
     gpu: Gpu,

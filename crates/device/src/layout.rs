@@ -17,6 +17,20 @@ pub trait GpuStruct: bytemuck::Pod {
     const LAYOUT: RustLayout;
 }
 
+/// A pass's push-constant block as a type: a [`GpuStruct`], or `()` for a pass without one.
+pub trait PushConstants: bytemuck::NoUninit {
+    /// The block's layout, checked against reflection; `None` for no block.
+    const PUSH_LAYOUT: Option<RustLayout>;
+}
+
+impl PushConstants for () {
+    const PUSH_LAYOUT: Option<RustLayout> = None;
+}
+
+impl<T: GpuStruct> PushConstants for T {
+    const PUSH_LAYOUT: Option<RustLayout> = Some(T::LAYOUT);
+}
+
 /// A plain `uint` element (`uint keys[]`).
 impl GpuStruct for u32 {
     const LAYOUT: RustLayout = RustLayout { size: 4, members: &[] };

@@ -33,7 +33,7 @@ pub use cmd::Cmd;
 pub use commands::{CommandSlot, Semaphore, SubmitSync};
 pub use error::{DeviceError, Result};
 pub use gpu::{Capabilities, Gpu, GpuOptions, RawVulkan, WindowHandles};
-pub use layout::{GpuStruct, RustLayout};
+pub use layout::{GpuStruct, PushConstants, RustLayout};
 pub use memory::{Buffer, BufferDesc, Image, ImageDesc, MemoryLocation};
 pub use pipeline::{ColorTarget, ComputePipeline, GraphicsDesc, GraphicsPipeline, Specialization, VertexLayout};
 pub use query::TimestampPool;

@@ -59,6 +59,12 @@ pub trait DeclareBindings {
     fn declare_on(self, pass: &mut crate::PassBuilder<'_, '_>, stage: Stage) -> Self::Bindings;
 }
 
+/// A [`shader_bindings!`] group's bindings struct: what a typed pass definition names as its
+/// own group.
+pub trait BindingGroup: Bindings {
+    const DECLS: &'static [leakless_device::BindingDecl];
+}
+
 /// Several groups bound together, in order.
 macro_rules! tuple_bindings {
     ($($g:ident),+) => {
@@ -234,6 +240,9 @@ macro_rules! shader_bindings {
             fn bind<'a>(&self, res: $crate::Resolved<'a>, out: &mut Vec<(&'static str, $crate::Bound<'a>)>) {
                 $(out.push((stringify!($field), $crate::shader_bindings!(@bound res, self.$field, $kind)));)*
             }
+        }
+        impl $crate::BindingGroup for $name {
+            const DECLS: &'static [$crate::BindingDecl] = $name::DECLS;
         }
         impl $crate::DeclareBindings for $resources<'_> {
             type Bindings = $name;

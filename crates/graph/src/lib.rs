@@ -19,7 +19,7 @@ mod pipelines;
 mod pool;
 mod runner;
 
-pub use bindings::{Bindings, DeclareBindings, PassContext, Resolved, Stage};
+pub use bindings::{BindingGroup, Bindings, DeclareBindings, PassContext, Resolved, Stage};
 pub use fill::Fill;
 pub use graph::{Buf, BufferHandle, Graph, Handle, ImageHandle, Img, PassBuilder};
 pub use history::History;

@@ -8,8 +8,7 @@ use leakless_graph::{shader_bindings, Graph, ImageHandle, PassName};
 use super::{HierarchyHandles, Level, Node, Shape};
 use crate::passes::gbuffer::{GBufferBindings, GBufferHandles};
 use crate::passes::names::group;
-use crate::pipelines::ComputePassDef;
-use crate::pipelines::Threads;
+use crate::pipelines::{compute_pass, ComputePass, Threads};
 use crate::shaders;
 
 gpu_struct! {
@@ -34,13 +33,14 @@ shader_bindings! {
     pub struct BuildResources;
 }
 
-#[linkme::distributed_slice(crate::passes::FRAME_PASSES)]
-pub static HIERARCHY_LEVEL: ComputePassDef = ComputePassDef::any(
-    PassName::new("hierarchy level", group::HIERARCHY),
-    &shaders::HIERARCHY_BUILD_COMP,
-    &[BuildBindings::DECLS, GBufferBindings::DECLS],
-)
-.push(BuildParams::LAYOUT);
+compute_pass! {
+    pub static HIERARCHY_LEVEL in FRAME_PASSES: ComputePass<BuildBindings, BuildParams> =
+        ComputePass::any(
+            PassName::new("hierarchy level", group::HIERARCHY),
+            &shaders::HIERARCHY_BUILD_COMP,
+            &[GBufferBindings::DECLS],
+        );
+}
 
 pub fn add<'r>(
     graph: &mut Graph<'r>,

@@ -7,8 +7,7 @@ use leakless_graph::{shader_bindings, BufferHandle, Graph, PassName};
 use crate::gpu_types::Frame;
 use crate::passes::gbuffer::{GBufferBindings, GBufferHandles};
 use crate::passes::names::group;
-use crate::pipelines::ComputePassDef;
-use crate::pipelines::Threads;
+use crate::pipelines::{compute_pass, ComputePass, Threads};
 use crate::shaders;
 
 shader_bindings! {
@@ -21,12 +20,10 @@ shader_bindings! {
     pub struct MortonResources;
 }
 
-#[linkme::distributed_slice(crate::passes::FRAME_PASSES)]
-pub static MORTON: ComputePassDef = ComputePassDef::any(
-    PassName::new("morton", group::HIERARCHY),
-    &shaders::MORTON_COMP,
-    &[MortonBindings::DECLS, GBufferBindings::DECLS],
-);
+compute_pass! {
+    pub static MORTON in FRAME_PASSES: ComputePass<MortonBindings, ()> =
+        ComputePass::any(PassName::new("morton", group::HIERARCHY), &shaders::MORTON_COMP, &[GBufferBindings::DECLS]);
+}
 
 pub fn add<'r>(
     graph: &mut Graph<'r>,

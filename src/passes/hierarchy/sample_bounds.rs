@@ -7,8 +7,7 @@ use leakless_graph::{shader_bindings, BufferHandle, Fill, Graph, PassName};
 use crate::gpu_types::Frame;
 use crate::passes::gbuffer::{GBufferBindings, GBufferHandles};
 use crate::passes::names::group;
-use crate::pipelines::ComputePassDef;
-use crate::pipelines::Threads;
+use crate::pipelines::{compute_pass, ComputePass, Threads};
 use crate::shaders;
 
 shader_bindings! {
@@ -21,12 +20,14 @@ shader_bindings! {
 
 const SAMPLE_BOUNDS_CLEAR: PassName = PassName::new("sample bounds clear", group::HIERARCHY);
 
-#[linkme::distributed_slice(crate::passes::FRAME_PASSES)]
-pub static SAMPLE_BOUNDS: ComputePassDef = ComputePassDef::any(
-    PassName::new("sample bounds", group::HIERARCHY),
-    &shaders::SAMPLE_BOUNDS_COMP,
-    &[SampleBoundsBindings::DECLS, GBufferBindings::DECLS],
-);
+compute_pass! {
+    pub static SAMPLE_BOUNDS in FRAME_PASSES: ComputePass<SampleBoundsBindings, ()> =
+        ComputePass::any(
+            PassName::new("sample bounds", group::HIERARCHY),
+            &shaders::SAMPLE_BOUNDS_COMP,
+            &[GBufferBindings::DECLS],
+        );
+}
 
 pub fn add<'r>(graph: &mut Graph<'r>, frame: &BufferHandle, gbuffer: &GBufferHandles, bounds: &mut BufferHandle) {
     // Start from an empty box: min keys all ones, max keys all zeros.
