@@ -28,6 +28,21 @@ pub mod trace;
 pub mod tuning;
 
 pub use error::{RenderError, Result};
+
+/// Lets clap parse, list and complete an option's enum from its `ALL` and `name()`, so the
+/// names are written once, in `name()`.
+macro_rules! value_enum {
+    ($t:ty) => {
+        impl clap::ValueEnum for $t {
+            fn value_variants<'a>() -> &'a [Self] {
+                &Self::ALL
+            }
+            fn to_possible_value(&self) -> Option<clap::builder::PossibleValue> {
+                Some(clap::builder::PossibleValue::new(self.name()))
+            }
+        }
+    };
+}
 pub use leakless_device::{Gpu, GpuOptions};
 pub use leakless_scene::Scene;
 pub use passes::tonemap::ViewLayer;
@@ -35,3 +50,4 @@ pub use renderer::{Capture, DisplayTarget, FrameReport, Overlay, RenderedFrame, 
 pub use settings::{Method, RenderSettings, SplatSettings};
 pub use trace::{Backend, BackendChoice, ResolvedBackend};
 pub use tuning::{DeviceTuning, TuningChoice};
+pub(crate) use value_enum;

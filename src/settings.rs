@@ -67,10 +67,7 @@ impl Method {
     pub const ALL: [Method; 5] =
         [Method::Direct, Method::Splat, Method::LeakLessCapped, Method::LeakLess, Method::Reference];
 
-    pub fn parse(s: &str) -> Option<Self> {
-        Self::ALL.into_iter().find(|m| m.name() == s)
-    }
-
+    /// What `--method` calls it.
     pub fn name(self) -> &'static str {
         match self {
             Method::Direct => "direct",
@@ -86,6 +83,8 @@ impl Method {
         matches!(self, Method::Splat | Method::LeakLessCapped | Method::LeakLess)
     }
 }
+
+crate::value_enum!(Method);
 
 impl Default for RenderSettings {
     fn default() -> Self {

@@ -42,14 +42,7 @@ pub enum Backend {
 }
 
 impl BackendChoice {
-    pub fn parse(s: &str) -> Option<Self> {
-        match s {
-            "auto" => Some(Self::Auto),
-            "rayquery" => Some(Self::RayQuery),
-            "compute" => Some(Self::Compute),
-            _ => None,
-        }
-    }
+    pub const ALL: [BackendChoice; 3] = [Self::Auto, Self::RayQuery, Self::Compute];
 
     /// Whether the device must be opened with ray tracing enabled.
     pub fn wants_ray_queries(self) -> bool {
@@ -90,7 +83,13 @@ impl BackendChoice {
     }
 }
 
+crate::value_enum!(BackendChoice);
+crate::value_enum!(Backend);
+
 impl Backend {
+    pub const ALL: [Backend; 2] = [Backend::RayQuery, Backend::Compute];
+
+    /// What `--backend` calls it.
     pub fn name(self) -> &'static str {
         match self {
             Backend::RayQuery => "rayquery",

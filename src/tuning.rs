@@ -30,16 +30,12 @@ pub enum TuningChoice {
     Gpu,
 }
 
-impl TuningChoice {
-    pub fn parse(s: &str) -> Option<Self> {
-        match s {
-            "auto" => Some(Self::Auto),
-            "cpu" => Some(Self::Cpu),
-            "gpu" => Some(Self::Gpu),
-            _ => None,
-        }
-    }
+crate::value_enum!(TuningChoice);
 
+impl TuningChoice {
+    pub const ALL: [TuningChoice; 3] = [Self::Auto, Self::Cpu, Self::Gpu];
+
+    /// What `--tuning` calls it.
     pub fn name(self) -> &'static str {
         match self {
             Self::Auto => "auto",

@@ -38,7 +38,7 @@ pub enum BenchCommand {
         #[arg(long)]
         radius: Option<f32>,
         /// Trace backend.
-        #[arg(long, default_value = "auto", value_parser = crate::parse_backend)]
+        #[arg(long, default_value = "auto")]
         backend: BackendChoice,
         /// Timed frames per configuration after a warm-up frame (the fastest counts).
         #[arg(long, default_value_t = 3, value_parser = clap::value_parser!(u32).range(1..=100))]
@@ -59,7 +59,7 @@ pub enum BenchCommand {
         #[arg(long, default_value_t = 10_000)]
         paths: u32,
         /// Trace backend.
-        #[arg(long, default_value = "auto", value_parser = crate::parse_backend)]
+        #[arg(long, default_value = "auto")]
         backend: BackendChoice,
         /// Frames of the accumulation whose changes are printed (from frame 2, the first change).
         #[arg(long, default_value_t = 32, value_parser = clap::value_parser!(u32).range(2..=MAX_FRAMES as i64))]
@@ -109,7 +109,7 @@ pub enum BenchCommand {
         #[arg(long, default_value_t = 0, value_parser = clap::value_parser!(u32).range(0..=65_536))]
         truth_spp: u32,
         /// Trace backend.
-        #[arg(long, default_value = "auto", value_parser = crate::parse_backend)]
+        #[arg(long, default_value = "auto")]
         backend: BackendChoice,
         /// Also write each frame's errors to this CSV (error against frame index).
         #[arg(long)]
@@ -135,7 +135,7 @@ pub enum BenchCommand {
         #[arg(long, default_value_t = 2, value_parser = clap::value_parser!(u32).range(1..=100))]
         repeats: u32,
         /// Trace backend (`auto`: both where the device has ray queries).
-        #[arg(long, default_value = "auto", value_parser = crate::parse_backend)]
+        #[arg(long, default_value = "auto")]
         backend: BackendChoice,
         /// Also write the figures to this CSV.
         #[arg(long)]

@@ -26,7 +26,7 @@ pub struct ChartArgs {
     pub(crate) max_bounces: u32,
     /// Methods to chart, comma-separated [default: splat, leakless-capped, leakless — those
     /// this build has]. Series: of splat, leakless and reference [default: all three].
-    #[arg(long, value_delimiter = ',', value_parser = parse_method)]
+    #[arg(long, value_delimiter = ',')]
     pub(crate) methods: Option<Vec<Method>>,
     /// Light paths per frame, comma-separated (`k` = thousand) [default: 5k,20k,80k].
     #[arg(long, value_delimiter = ',', value_parser = parse_count)]
@@ -46,7 +46,7 @@ pub struct ChartArgs {
     pub(crate) kernel_photons: Option<Vec<f32>>,
     /// Trace backends, comma-separated: rayquery, compute [default: every one the device has].
     /// Series: one backend [default: the device's choice].
-    #[arg(long, value_delimiter = ',', value_parser = parse_backend)]
+    #[arg(long, value_delimiter = ',')]
     pub(crate) backends: Option<Vec<Backend>>,
     /// Timed frames per setting after the warm-up frame; the fastest counts (lavapipe's
     /// times vary by tens of percent from frame to frame). Series: runs of every series, the
@@ -94,21 +94,6 @@ impl ChartArgs {
                 .or(given("--frame-paths", self.frame_paths.is_some()))
                 .or(given("--truth-frames", self.truth_frames.is_some()))
         }
-    }
-}
-
-fn parse_method(s: &str) -> Result<Method, String> {
-    Method::parse(s).ok_or_else(|| {
-        let known: Vec<_> = Method::ALL.iter().filter(|m| **m != Method::Reference).map(|m| m.name()).collect();
-        format!("{s:?} is not a method ({})", known.join(", "))
-    })
-}
-
-fn parse_backend(s: &str) -> Result<Backend, String> {
-    match s {
-        "rayquery" => Ok(Backend::RayQuery),
-        "compute" => Ok(Backend::Compute),
-        _ => Err(format!("{s:?} is not rayquery or compute")),
     }
 }
 

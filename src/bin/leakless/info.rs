@@ -6,10 +6,10 @@ use leakless::{BackendChoice, Gpu, GpuOptions};
 #[derive(clap::Args)]
 pub struct InfoArgs {
     /// Which backend to report on (`auto` shows what a render would use).
-    #[arg(long, default_value = "auto", value_parser = crate::parse_backend)]
+    #[arg(long, default_value = "auto")]
     backend: BackendChoice,
     /// Which tuning to report on (`auto`: the device's own).
-    #[arg(long, default_value = "auto", value_parser = crate::parse_tuning)]
+    #[arg(long, default_value = "auto")]
     tuning: leakless::TuningChoice,
 }
 

@@ -96,14 +96,6 @@ pub fn parse_size(s: &str) -> Result<(u32, u32), String> {
 }
 
 /// `auto|rayquery|compute`.
-pub fn parse_backend(s: &str) -> Result<leakless::BackendChoice, String> {
-    leakless::BackendChoice::parse(s).ok_or_else(|| format!("{s:?} is not auto, rayquery or compute"))
-}
-
-pub fn parse_tuning(s: &str) -> Result<leakless::TuningChoice, String> {
-    leakless::TuningChoice::parse(s).ok_or_else(|| format!("{s:?} is not auto, cpu or gpu"))
-}
-
 /// Opens the device the way a backend choice needs it (ray tracing unless `compute`).
 pub fn open_gpu(backend: leakless::BackendChoice) -> anyhow::Result<leakless::Gpu> {
     use anyhow::Context;

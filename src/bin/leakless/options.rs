@@ -17,8 +17,8 @@ pub struct RenderOptions {
     /// `leakless` (ours: splatting with a visibility ray to every photon), `leakless-capped`
     /// (the thesis: no trivial accept, at most --cap photons per pixel), `splat` (Moreau et
     /// al., leaks), `reference` (path-traced indirect light) or `direct` (direct light only).
-    #[arg(long, default_value = "leakless", value_parser = ["leakless", "leakless-capped", "splat", "reference", "direct"])]
-    pub method: String,
+    #[arg(long, default_value = "leakless")]
+    pub method: Method,
     /// Photons gathered per pixel at most by `leakless-capped` (the thesis used 25).
     #[arg(long)]
     pub cap: Option<u32>,
@@ -60,11 +60,11 @@ pub struct RenderOptions {
     pub list_capacity: Option<u32>,
     /// Trace backend: ray queries, the compute-shader BVH, or `auto` (the compute BVH on CPU
     /// devices, ray queries on GPUs that have them).
-    #[arg(long, default_value = "auto", value_parser = crate::parse_backend)]
+    #[arg(long, default_value = "auto")]
     pub backend: BackendChoice,
     /// Device tuning: the device's own (`auto`), or the `cpu` or `gpu` preset (`leakless info`
     /// prints what each sets; `gpu` on lavapipe runs the GPU's code paths).
-    #[arg(long, default_value = "auto", value_parser = crate::parse_tuning)]
+    #[arg(long, default_value = "auto")]
     pub tuning: leakless::TuningChoice,
     /// Photon frames to average (progressive photon mapping: fresh photons further along one
     /// sequence, a shrinking radius, jittered pixels); `reference`: jittered frames of --spp
@@ -204,7 +204,7 @@ impl RenderOptions {
             height,
             backend: self.backend,
             tuning: self.tuning,
-            method: Method::parse(&self.method).expect("clap checked the value"),
+            method: self.method,
             spp: self.spp,
             max_bounces: self.max_bounces,
             light_samples: self.light_samples,

@@ -31,7 +31,7 @@ pub use metrics::Errors;
 
 /// The methods charted by default: those of docs/architecture.md §2 that this build knows.
 pub fn default_methods() -> Vec<Method> {
-    ["splat", "leakless-capped", "leakless"].into_iter().filter_map(Method::parse).collect()
+    vec![Method::Splat, Method::LeakLessCapped, Method::LeakLess]
 }
 
 /// A radius as the renderer takes it: fixed (scene units), or `None` and photons a kernel.
