@@ -12,13 +12,12 @@
 //! runs on. On another device (a GPU) the canary differs and every reference is rendered
 //! live, which is as fast there as reading it.
 
-use std::fmt::Write as _;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
+use leakless::output::exr::{self, ExrLayer};
 use leakless::{RenderSettings, RenderedFrame};
 
 const DIR: &str = "tests/fixtures/references";
-const MAGIC: &str = "leakless recorded reference v1";
 
 /// FNV-1a, 64 bits, over the float bits of the canary's layers.
 fn hash(frame: &RenderedFrame) -> u64 {
@@ -33,9 +32,9 @@ fn canary(settings: &RenderSettings) -> RenderSettings {
     RenderSettings { spp: (settings.spp / 32).max(1), frames: settings.frames.min(2), ..settings.clone() }
 }
 
-fn path(dir: &std::path::Path, label: &str, s: &RenderSettings) -> PathBuf {
+fn path(dir: &Path, label: &str, s: &RenderSettings) -> PathBuf {
     let name = format!(
-        "{label}-{}x{}-{}spp-{}f-{}b-seed{}-{:?}.bin",
+        "{label}-{}x{}-{}spp-{}f-{}b-seed{}-{:?}.exr",
         s.width, s.height, s.spp, s.frames, s.max_bounces, s.seed, s.backend
     );
     dir.join(name.to_lowercase())
@@ -54,7 +53,7 @@ pub fn reference(
 
 /// [`reference`], with its fixtures in `dir`; `record`: render it and write the fixture.
 pub fn reference_in(
-    dir: &std::path::Path,
+    dir: &Path,
     record: bool,
     label: &str,
     settings: RenderSettings,
@@ -72,7 +71,7 @@ pub fn reference_in(
     let start = std::time::Instant::now();
     let frame = render(settings.clone())?;
     if record {
-        write(&file, &settings, canary_hash, &frame);
+        write(&file, &format!("{settings:?}"), canary_hash, &frame);
         eprintln!("recorded {} ({:.1} s)", file.display(), start.elapsed().as_secs_f64());
     } else {
         eprintln!(
@@ -83,53 +82,45 @@ pub fn reference_in(
     Some(frame)
 }
 
-fn write(file: &PathBuf, settings: &RenderSettings, canary_hash: u64, frame: &RenderedFrame) {
-    let mut header = String::new();
-    writeln!(header, "{MAGIC}").unwrap();
-    writeln!(
-        header,
-        "{:016x} {} {} {} {} {}",
-        canary_hash, frame.width, frame.height, frame.accumulated, frame.batches, frame.seed
-    )
-    .unwrap();
-    // For a reader: what it was rendered with (the canary, not this line, decides validity).
-    writeln!(header, "{settings:?}").unwrap();
-    let mut bytes = header.into_bytes();
-    bytes.push(0);
-    for layer in [&frame.radiance, &frame.direct, &frame.indirect] {
-        bytes.extend(layer.iter().flatten().flat_map(|v| v.to_le_bytes()));
-    }
+/// A fixture is a layered EXR (the renderer's own format, `output::exr`: any EXR viewer shows
+/// it), its light layers losslessly, and in its header the canary's hash, the counts a frame
+/// reports and, for a reader, the settings it was rendered with (the canary, not these,
+/// decides whether it is still valid).
+fn write(file: &Path, settings: &str, canary_hash: u64, frame: &RenderedFrame) {
+    let layers = [
+        ExrLayer { name: "", pixels: &frame.radiance },
+        ExrLayer { name: "direct", pixels: &frame.direct },
+        ExrLayer { name: "indirect", pixels: &frame.indirect },
+    ];
+    let attributes = [
+        ("canary", format!("{canary_hash:016x}")),
+        ("accumulated", frame.accumulated.to_string()),
+        ("batches", frame.batches.to_string()),
+        ("seed", frame.seed.to_string()),
+        ("settings", settings.to_string()),
+    ];
     std::fs::create_dir_all(file.parent().unwrap()).expect("fixture directory");
-    std::fs::write(file, bytes).unwrap_or_else(|e| panic!("writing {}: {e}", file.display()));
+    exr::write(file, frame.width, frame.height, &layers, &attributes)
+        .unwrap_or_else(|e| panic!("writing {}: {e}", file.display()));
 }
 
 /// The canary's hash and the frame (its three light layers and counts) of a fixture.
-fn read(file: &PathBuf) -> Option<(u64, RenderedFrame)> {
-    let bytes = std::fs::read(file).ok()?;
-    let end = bytes.iter().position(|&b| b == 0)?;
-    let header = std::str::from_utf8(&bytes[..end]).ok()?;
-    let mut lines = header.lines();
-    if lines.next()? != MAGIC {
-        return None;
-    }
-    let fields: Vec<&str> = lines.next()?.split(' ').collect();
-    let [canary, width, height, accumulated, batches, seed] = fields[..] else { return None };
-    let number = |s: &str| s.parse::<u32>().ok();
-    let (width, height) = (number(width)?, number(height)?);
-    let floats: Vec<f32> =
-        bytes[end + 1..].chunks_exact(4).map(|c| f32::from_le_bytes(c.try_into().unwrap())).collect();
-    let pixels = (width * height) as usize;
-    if floats.len() != 9 * pixels {
-        return None;
-    }
-    let layer =
-        |k: usize| floats[3 * k * pixels..3 * (k + 1) * pixels].chunks_exact(3).map(|p| [p[0], p[1], p[2]]).collect();
+fn read(file: &Path) -> Option<(u64, RenderedFrame)> {
+    let image = exr::read(file).ok()?;
+    let pixels = (image.width * image.height) as usize;
+    let layer = |name: &str| -> Option<Vec<[f32; 3]>> {
+        let prefix = if name.is_empty() { String::new() } else { format!("{name}.") };
+        let [r, g, b] = ["R", "G", "B"].map(|c| image.channel(&format!("{prefix}{c}")));
+        let (r, g, b) = (r?, g?, b?);
+        (r.len() == pixels).then(|| (0..pixels).map(|i| [r[i], g[i], b[i]]).collect())
+    };
+    let number = |key: &str| image.attribute(key)?.parse::<u32>().ok();
     let frame = RenderedFrame {
-        width,
-        height,
-        radiance: layer(0),
-        direct: layer(1),
-        indirect: layer(2),
+        width: image.width,
+        height: image.height,
+        radiance: layer("")?,
+        direct: layer("direct")?,
+        indirect: layer("indirect")?,
         leaked: vec![[0.0; 3]; pixels],
         surface: Vec::new(),
         display: Vec::new(),
@@ -137,23 +128,22 @@ fn read(file: &PathBuf) -> Option<(u64, RenderedFrame)> {
         gpu_span_ms: 0.0,
         wall_ms: 0.0,
         splat: None,
-        accumulated: number(accumulated)?,
-        batches: number(batches)?,
-        seed: number(seed)?,
+        accumulated: number("accumulated")?,
+        batches: number("batches")?,
+        seed: number("seed")?,
     };
-    Some((u64::from_str_radix(canary, 16).ok()?, frame))
+    Some((u64::from_str_radix(image.attribute("canary")?, 16).ok()?, frame))
 }
 
 /// Makes `file`'s recorded canary hash wrong, as a change to the renderer would: for the test
 /// of the mechanism.
-pub fn spoil_canary(file: &std::path::Path) {
-    let mut bytes = std::fs::read(file).expect("a recorded reference");
-    let at = MAGIC.len() + 1; // the canary's first hex digit
-    bytes[at] = if bytes[at] == b'0' { b'1' } else { b'0' };
-    std::fs::write(file, bytes).expect("rewriting the reference");
+pub fn spoil_canary(file: &Path) {
+    let (canary, frame) = read(file).expect("a recorded reference");
+    let settings = exr::read(file).expect("a recorded reference").attribute("settings").unwrap_or_default().to_string();
+    write(file, &settings, canary ^ 1, &frame);
 }
 
 /// The fixture files in `dir`.
-pub fn files(dir: &std::path::Path) -> Vec<PathBuf> {
+pub fn files(dir: &Path) -> Vec<PathBuf> {
     std::fs::read_dir(dir).map(|d| d.map(|e| e.unwrap().path()).collect()).unwrap_or_default()
 }
