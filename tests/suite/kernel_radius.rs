@@ -1,4 +1,4 @@
-//! The radius that follows the photon count (docs/architecture.md §3): where `--radius` is not
+//! The radius that follows the photon count (docs/architecture.md §1.15): where `--radius` is not
 //! given, a kernel holds about K photons on every shipped scene at 10k and 80k paths, the
 //! radius shrinks as √(1/paths), a given radius is the radius, and a sealed room lit next door
 //! stays exactly black at the count's radius with a frame budget, on both backends.
