@@ -86,6 +86,11 @@ impl std::fmt::Display for SourceError {
     }
 }
 
+/// Standard base64 (RFC 4648 alphabet, `=` padding optional).
+fn base64(s: &str) -> Option<Vec<u8>> {
+    base64::decode(s).ok()
+}
+
 /// RFC 3986 percent-decoding to a UTF-8 path; `None` for malformed escapes or bytes
 /// that are not UTF-8.
 fn percent_decode(s: &str) -> Option<String> {
@@ -105,40 +110,13 @@ fn percent_decode(s: &str) -> Option<String> {
     String::from_utf8(out).ok()
 }
 
-/// Standard base64 (RFC 4648 alphabet, optional `=` padding).
-fn base64(s: &str) -> Option<Vec<u8>> {
-    fn value(c: u8) -> Option<u32> {
-        Some(match c {
-            b'A'..=b'Z' => c - b'A',
-            b'a'..=b'z' => c - b'a' + 26,
-            b'0'..=b'9' => c - b'0' + 52,
-            b'+' => 62,
-            b'/' => 63,
-            _ => return None,
-        } as u32)
-    }
-    let s = s.trim_end_matches('=').as_bytes();
-    if s.len() % 4 == 1 {
-        return None;
-    }
-    let mut out = Vec::with_capacity(s.len() / 4 * 3 + 2);
-    for chunk in s.chunks(4) {
-        let mut acc = 0u32;
-        for (k, &c) in chunk.iter().enumerate() {
-            acc |= value(c)? << (18 - 6 * k);
-        }
-        let bytes = acc.to_be_bytes();
-        out.extend_from_slice(&bytes[1..chunk.len()]);
-    }
-    Some(out)
-}
-
 #[cfg(test)]
 mod tests {
     #[test]
     fn base64_round_trips_known_vectors() {
         assert_eq!(super::base64("").unwrap(), b"");
         assert_eq!(super::base64("Zg==").unwrap(), b"f");
+        assert_eq!(super::base64("Zg").unwrap(), b"f");
         assert_eq!(super::base64("Zm8=").unwrap(), b"fo");
         assert_eq!(super::base64("Zm9v").unwrap(), b"foo");
         assert_eq!(super::base64("Zm9vYmFy").unwrap(), b"foobar");

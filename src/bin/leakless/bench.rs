@@ -86,66 +86,11 @@ pub enum BenchCommand {
     /// frame by frame with reuse on, on without its spatial filter, and off, against the path
     /// tracer at each frame: mean relMSE and HDR-FLIP, flicker on the screen and on the
     /// surfaces, the dark band beside lit regions, frame time, and the references' own noise.
-    Motion {
-        /// The scenes (.gltf or .glb).
-        #[arg(required = true)]
-        scenes: Vec<PathBuf>,
-        #[arg(long, default_value = "256x144", value_parser = crate::parse_size)]
-        size: (u32, u32),
-        #[arg(long, default_value_t = 10_000)]
-        paths: u32,
-        /// Frames rendered, from time 0.
-        #[arg(long, default_value_t = 24, value_parser = clap::value_parser!(u32).range(2..=10_000))]
-        frames: u32,
-        /// Frames per second of the animation's clock.
-        #[arg(long, default_value_t = 30.0)]
-        fps: f32,
-        /// Samples per pixel of each frame's reference, in two halves of two seeds (an odd count is rounded up).
-        #[arg(long, default_value_t = 64, value_parser = clap::value_parser!(u32).range(1..=65_536))]
-        spp: u32,
-        /// Also judge each scene's last frame against one reference of this many samples per
-        /// pixel (0: none): a near-truth, for scenes whose per-frame references are noisier than
-        /// the frames they judge.
-        #[arg(long, default_value_t = 0, value_parser = clap::value_parser!(u32).range(0..=65_536))]
-        truth_spp: u32,
-        /// Trace backend.
-        #[arg(long, default_value = "auto")]
-        backend: BackendChoice,
-        /// Also write each frame's errors to this CSV (error against frame index).
-        #[arg(long)]
-        csv: Option<PathBuf>,
-        /// Also chart each frame's errors against its index: an SVG, and a PNG beside it.
-        #[arg(long)]
-        chart: Option<PathBuf>,
-        #[command(flatten)]
-        fixed: crate::options::FixedRadius,
-    },
+    Motion(crate::bench_motion::MotionBench),
     /// Scene size, per scene (the same scene tessellated finer: `tools/gen-scenes --basilica
     /// DETAIL`): triangles, the load, each backend's setup and trace-structure build, the
     /// device memory held and a leakless frame.
-    Scale {
-        /// The scenes (.gltf or .glb), e.g. the basilica at several details.
-        #[arg(required = true)]
-        scenes: Vec<PathBuf>,
-        #[arg(long, default_value = "320x240", value_parser = crate::parse_size)]
-        size: (u32, u32),
-        #[arg(long, default_value_t = 10_000)]
-        paths: u32,
-        /// Timed frames per scene and backend after a warm-up frame (the fastest counts).
-        #[arg(long, default_value_t = 2, value_parser = clap::value_parser!(u32).range(1..=100))]
-        repeats: u32,
-        /// Trace backend (`auto`: both where the device has ray queries).
-        #[arg(long, default_value = "auto")]
-        backend: BackendChoice,
-        /// Also write the figures to this CSV.
-        #[arg(long)]
-        csv: Option<PathBuf>,
-        /// Also chart them: this SVG and a PNG beside it.
-        #[arg(long)]
-        chart: Option<PathBuf>,
-        #[command(flatten)]
-        fixed: crate::options::FixedRadius,
-    },
+    Scale(crate::bench_scale::ScaleBench),
     /// Photon splatting: per-pass times, hierarchy tests against brute force, growth with
     /// paths and resolution, and the branching factor B.
     Splat {
@@ -170,37 +115,8 @@ pub fn run(cmd: BenchCommand) -> anyhow::Result<()> {
         BenchCommand::Animation { scene, size, paths, frames, fixed } => {
             crate::bench_animation::run(&scene, size, paths, frames, fixed)
         }
-        BenchCommand::Motion { scenes, size, paths, frames, fps, spp, truth_spp, backend, csv, chart, fixed } => {
-            if !(fps > 0.0 && fps <= 1000.0) {
-                anyhow::bail!("--fps {fps} must be within (0, 1000]");
-            }
-            let bench = crate::bench_motion::MotionBench {
-                scenes,
-                size,
-                paths,
-                frames,
-                fps,
-                spp,
-                truth_spp,
-                backend,
-                csv,
-                chart,
-                fixed,
-            };
-            crate::bench_motion::run(&bench)
-        }
-        BenchCommand::Scale { scenes, size, paths, repeats, backend, csv, chart, fixed } => {
-            crate::bench_scale::run(&crate::bench_scale::ScaleBench {
-                scenes,
-                size,
-                paths,
-                repeats,
-                backend,
-                csv,
-                chart,
-                fixed,
-            })
-        }
+        BenchCommand::Motion(bench) => crate::bench_motion::run(&bench),
+        BenchCommand::Scale(bench) => crate::bench_scale::run(&bench),
         BenchCommand::Leak { scenes, size, paths, radius, backend, repeats, fixed } => {
             crate::bench_leak::run(&scenes, size, paths, (radius, fixed), backend, repeats)
         }

@@ -16,24 +16,38 @@ use crate::measure::chart::motion_plot::{plot_motion, MotionRun};
 use crate::measure::csv_table::CsvTable;
 use crate::measure::motion::{DarkBand, ScreenFlicker, SeenFrame, SurfaceFlicker, BAND_PIXELS, DARK};
 
-/// What the bench renders.
+/// What the bench renders (`leakless bench motion`'s options). Its CSV holds each frame's
+/// errors (`scene,reuse,frame,time,relmse,flip,relmse_less_noise`), its chart them against the
+/// frame index.
+#[derive(clap::Args)]
 pub struct MotionBench {
+    /// The scenes (.gltf or .glb).
+    #[arg(required = true)]
     pub scenes: Vec<PathBuf>,
+    #[arg(long, default_value = "256x144", value_parser = crate::parse_size)]
     pub size: (u32, u32),
+    #[arg(long, default_value_t = 10_000)]
     pub paths: u32,
+    /// Frames rendered, from time 0.
+    #[arg(long, default_value_t = 24, value_parser = clap::value_parser!(u32).range(2..=10_000))]
     pub frames: u32,
+    /// Frames per second of the animation's clock.
+    #[arg(long, default_value_t = 30.0)]
     pub fps: f32,
-    /// Samples per pixel of each frame's reference.
+    /// Samples per pixel of each frame's reference, in two halves of two seeds (an odd count is rounded up).
+    #[arg(long, default_value_t = 64, value_parser = clap::value_parser!(u32).range(1..=65_536))]
     pub spp: u32,
-    /// Samples per pixel of the last frame's near-truth (0: none).
+    /// Also judge each scene's last frame against one reference of this many samples per
+    /// pixel (0: none): a near-truth, for scenes whose per-frame references are noisier than
+    /// the frames they judge.
+    #[arg(long, default_value_t = 0, value_parser = clap::value_parser!(u32).range(0..=65_536))]
     pub truth_spp: u32,
+    /// Trace backend.
+    #[arg(long, default_value = "auto")]
     pub backend: BackendChoice,
-    /// Each frame's errors, as CSV (`scene,reuse,frame,time,relmse,flip,relmse_less_noise`): the
-    /// error against
-    /// frame index.
-    pub csv: Option<PathBuf>,
-    /// The chart of each frame's errors (an SVG; a PNG beside it).
-    pub chart: Option<PathBuf>,
+    #[command(flatten)]
+    pub out: crate::options::FigureFiles,
+    #[command(flatten)]
     pub fixed: crate::options::FixedRadius,
 }
 
@@ -74,6 +88,9 @@ fn place(r: &mut Renderer, scene: &Scene, k: u32, bench: &MotionBench, start: &C
 }
 
 pub fn run(bench: &MotionBench) -> anyhow::Result<()> {
+    if !(bench.fps > 0.0 && bench.fps <= 1000.0) {
+        anyhow::bail!("--fps {} must be within (0, 1000]", bench.fps);
+    }
     let (w, h) = bench.size;
     // Each frame's reference is the mean of two halves of its samples (below).
     let half_spp = bench.spp.div_ceil(2);
@@ -302,11 +319,11 @@ pub fn run(bench: &MotionBench) -> anyhow::Result<()> {
             "", screen.on, screen.off, screen.ratio, surface.on, surface.off, surface.ratio,
         );
     }
-    if let Some(path) = &bench.csv {
+    if let Some(path) = &bench.out.csv {
         csv.write(path)?;
         println!("wrote {}", path.display());
     }
-    if let Some(svg) = &bench.chart {
+    if let Some(svg) = &bench.out.chart {
         let png = svg.with_extension("png");
         let caption = format!(
             "{} · leakless {w}×{h}, {} paths a frame, {} fps, history {} frames; references 2 × {half_spp} spp · `leakless bench motion`",

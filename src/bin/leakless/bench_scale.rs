@@ -11,14 +11,25 @@ use leakless::{Backend, BackendChoice, Method, RenderSettings, Renderer, Scene, 
 use crate::measure::chart::scale_plot::{plot_scale, ScalePoint};
 use crate::measure::csv_table::CsvTable;
 
+/// What the bench renders (`leakless bench scale`'s options).
+#[derive(clap::Args)]
 pub struct ScaleBench {
+    /// The scenes (.gltf or .glb), e.g. the basilica at several details.
+    #[arg(required = true)]
     pub scenes: Vec<PathBuf>,
+    #[arg(long, default_value = "320x240", value_parser = crate::parse_size)]
     pub size: (u32, u32),
+    #[arg(long, default_value_t = 10_000)]
     pub paths: u32,
+    /// Timed frames per scene and backend after a warm-up frame (the fastest counts).
+    #[arg(long, default_value_t = 2, value_parser = clap::value_parser!(u32).range(1..=100))]
     pub repeats: u32,
+    /// Trace backend (`auto`: both where the device has ray queries).
+    #[arg(long, default_value = "auto")]
     pub backend: BackendChoice,
-    pub csv: Option<PathBuf>,
-    pub chart: Option<PathBuf>,
+    #[command(flatten)]
+    pub out: crate::options::FigureFiles,
+    #[command(flatten)]
     pub fixed: crate::options::FixedRadius,
 }
 
@@ -98,11 +109,11 @@ pub fn run(bench: &ScaleBench) -> anyhow::Result<()> {
             points.push(point);
         }
     }
-    if let Some(csv) = &bench.csv {
+    if let Some(csv) = &bench.out.csv {
         write_csv(csv, &points)?;
         println!("wrote {}", csv.display());
     }
-    if let Some(svg) = &bench.chart {
+    if let Some(svg) = &bench.out.chart {
         let png = svg.with_extension("png");
         plot_scale(&points, &device, bench.size, svg, &png).with_context(|| format!("writing {}", svg.display()))?;
         println!("wrote {} and {}", svg.display(), png.display());

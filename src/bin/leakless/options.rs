@@ -281,6 +281,17 @@ mod tests {
     }
 }
 
+/// Where a benchmark also writes its figures.
+#[derive(clap::Args)]
+pub struct FigureFiles {
+    /// Also write the figures to this CSV.
+    #[arg(long)]
+    pub csv: Option<std::path::PathBuf>,
+    /// Also chart them: this SVG and a PNG beside it.
+    #[arg(long)]
+    pub chart: Option<std::path::PathBuf>,
+}
+
 /// Which radius a benchmark gathers at where it sets none.
 #[derive(clap::Args, Clone, Copy, Debug, Default)]
 pub struct FixedRadius {

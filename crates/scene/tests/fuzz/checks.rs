@@ -232,9 +232,17 @@ impl Runner {
         }
     }
 
+    /// Reports a failure: saves the case ([`Runner::save`]), says so on stderr and returns the
+    /// line the test's verdict lists.
+    pub(crate) fn report(&self, case: &Case, why: &str) -> String {
+        let saved = self.save(case, why);
+        eprintln!("fuzz: FAILURE {why}\n      input saved to {}\n      recipe: {}", saved.display(), case.recipe);
+        format!("{why} ({})", saved.display())
+    }
+
     /// Copies case `id`'s directory to `target/fuzz-failures/seed<S>-case<N>` with
     /// a note of what happened, and returns that path.
-    pub(crate) fn save(&self, case: &Case, why: &str) -> PathBuf {
+    fn save(&self, case: &Case, why: &str) -> PathBuf {
         let out = failures_dir().join(format!("seed{}-case{}", self.seed, case.id));
         let _ = std::fs::remove_dir_all(&out);
         let _ = std::fs::create_dir_all(&out);

@@ -156,13 +156,7 @@ fn fuzz_scene_load() {
                         }
                     }
                     Verdict::Failed(why) => {
-                        let saved = runner.save(&case, &why);
-                        eprintln!(
-                            "fuzz: FAILURE {why}\n      input saved to {}\n      recipe: {}",
-                            saved.display(),
-                            case.recipe
-                        );
-                        failures.push(format!("{why} ({})", saved.display()));
+                        failures.push(runner.report(&case, &why));
                         if failures.len() >= 20 {
                             break;
                         }
@@ -171,13 +165,7 @@ fn fuzz_scene_load() {
             }
             Err(Hung) => {
                 let why = format!("no result within {:?}: a hang", runner.limit);
-                let saved = runner.save(&case, &why);
-                eprintln!(
-                    "fuzz: FAILURE {why}\n      input saved to {}\n      recipe: {}",
-                    saved.display(),
-                    case.recipe
-                );
-                failures.push(format!("{why} ({})", saved.display()));
+                failures.push(runner.report(&case, &why));
                 hung = true;
                 break;
             }
