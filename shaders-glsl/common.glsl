@@ -1,5 +1,5 @@
 // Types and constants shared by every leakless shader. Each struct here has a #[repr(C)] twin
-// in src/gpu_types.rs; build-time reflection and check_bindings compare sizes and offsets.
+// in crates/renderer/src/gpu_types.rs; build-time reflection and check_bindings compare sizes and offsets.
 #ifndef LEAKLESS_COMMON_GLSL
 #define LEAKLESS_COMMON_GLSL
 

@@ -7,7 +7,7 @@
 // handed out in another order, which nothing downstream depends on (the gather's sums are
 // order-independent).
 //
-// Atomics take a buffer member, not a function argument, hence macros. naga, which build.rs
+// Atomics take a buffer member, not a function argument, hence macros. naga, which crates/renderer/build.rs
 // reflects buffer layouts with, parses no subgroup operation: under LEAKLESS_REFLECTION (a
 // twin compiled for reflection only) the subgroup branches are left out.
 #ifndef LEAKLESS_COUNTERS_GLSL

@@ -4,7 +4,7 @@
 #ifndef LEAKLESS_DISPLAY_GLSL
 #define LEAKLESS_DISPLAY_GLSL
 
-// Display modes (`ViewLayer` in src/passes/tonemap.rs): a radiance layer, or a heat map of
+// Display modes (`ViewLayer` in crates/renderer/src/passes/tonemap.rs): a radiance layer, or a heat map of
 // one channel of the gather's per-pixel counts.
 const uint DISPLAY_RADIANCE = 0u;
 const uint DISPLAY_CANDIDATES = 1u;   // photons examined per pixel

@@ -1,4 +1,4 @@
-// The cells the emission order groups light paths by (src/passes/emission_order.rs): a 256×256
+// The cells the emission order groups light paths by (crates/renderer/src/passes/emission_order.rs): a 256×256
 // grid over the emission sample's square (dimensions 0 and 1 of the path's low-discrepancy
 // emission sample: where on a directional light's disk, or which direction from a point or
 // spot light), numbered in Morton order so that consecutive cells are neighbours.
@@ -8,7 +8,7 @@
 #include "common.glsl"
 #include "lowdiscrepancy.glsl"
 
-// Mirrored in src/passes/emission_order.rs (CELL_BITS).
+// Mirrored in crates/renderer/src/passes/emission_order.rs (CELL_BITS).
 #define EMISSION_CELL_BITS 8u
 
 #define EMISSION_ORDER_PARAMS_BLOCK layout(push_constant) uniform EmissionOrderParams { \

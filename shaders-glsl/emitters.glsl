@@ -1,4 +1,4 @@
-// Emissive triangles as area lights (src/emitters.rs): picking one by power, a point on it,
+// Emissive triangles as area lights (crates/renderer/src/emitters.rs): picking one by power, a point on it,
 // what it emits, and the densities MIS needs. Needs scene.glsl included before it (the shadow
 // rays are area_light.glsl's).
 #ifndef LEAKLESS_EMITTERS_GLSL

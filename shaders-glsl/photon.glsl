@@ -1,5 +1,5 @@
 // A stored photon and the node lists the splat builds. Rust twins: `Photon` in
-// src/passes/photons.rs, `SplatRecord` in src/passes/splat.rs.
+// crates/renderer/src/passes/photons.rs, `SplatRecord` in crates/renderer/src/passes/splat.rs.
 #ifndef LEAKLESS_PHOTON_GLSL
 #define LEAKLESS_PHOTON_GLSL
 

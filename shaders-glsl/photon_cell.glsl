@@ -1,11 +1,11 @@
-// The cells the photon order groups photons by (src/passes/photon_order.rs): a 32³ grid over
+// The cells the photon order groups photons by (crates/renderer/src/passes/photon_order.rs): a 32³ grid over
 // the scene's bounds, numbered in Morton order so that consecutive cells are neighbours.
 #ifndef LEAKLESS_PHOTON_CELL_GLSL
 #define LEAKLESS_PHOTON_CELL_GLSL
 
 #include "common.glsl"
 
-// Mirrored in src/passes/photon_order.rs (CELL_BITS).
+// Mirrored in crates/renderer/src/passes/photon_order.rs (CELL_BITS).
 #define PHOTON_CELL_BITS 5u
 const uint PHOTON_CELL_SIDE = 1u << PHOTON_CELL_BITS;
 

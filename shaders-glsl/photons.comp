@@ -1,7 +1,7 @@
 #version 460
 // Photon tracing (docs/architecture.md §1): each thread traces light paths, taking the next
 // untraced one when its path ends (one path per thread on a GPU). A light is chosen in
-// proportion to its emitted power (CDF from src/photon_lights.rs), a direction (and for
+// proportion to its emitted power (CDF from crates/renderer/src/photon_lights.rs), a direction (and for
 // directional lights an origin) is drawn from Owen-scrambled Sobol points, and the path bounces
 // Lambertian-ly. The first hit is direct light and is not stored (unless `store_direct`, a
 // diagnostic); every later hit appends a photon carrying the flux that arrives there, up to
@@ -16,7 +16,7 @@
 
 layout(local_size_x = 64) in;
 
-// One light's entry in the power CDF. Twin: `PhotonLight` in src/passes/photons.rs.
+// One light's entry in the power CDF. Twin: `PhotonLight` in crates/renderer/src/passes/photons.rs.
 struct PhotonLight {
     vec3 flux;  // power_rgb / p(light): a path from this light carries flux / paths; for an
                 // emissive triangle 1 / p, times the power it emits where the path starts

@@ -1,9 +1,9 @@
-// Shared by the radix-sort passes (src/passes/sort.rs): an LSD radix sort of (key, value) u32
+// Shared by the radix-sort passes (crates/renderer/src/passes/sort.rs): an LSD radix sort of (key, value) u32
 // pairs, 4-bit digits, one histogram / scan / scatter triple of dispatches per digit.
 #ifndef LEAKLESS_SORT_GLSL
 #define LEAKLESS_SORT_GLSL
 
-// Mirrored in src/passes/sort.rs (WORKGROUP_SIZE, ITEMS_PER_THREAD); the workgroup size is
+// Mirrored in crates/renderer/src/passes/sort.rs (WORKGROUP_SIZE, ITEMS_PER_THREAD); the workgroup size is
 // checked against reflection when the pipelines are built.
 #define SORT_WORKGROUP_SIZE 256
 #define SORT_ITEMS 16

@@ -4,7 +4,7 @@
 // output position of those elements: all smaller digits everywhere, plus digit d in the
 // workgroups before g. The workgroup walks the counts in tiles of SORT_WORKGROUP_SIZE *
 // SCAN_ITEMS, carrying the running total from tile to tile, so it handles any number of
-// counts; its cost grows linearly with them (see MAX_LEN in src/passes/sort.rs).
+// counts; its cost grows linearly with them (see MAX_LEN in crates/renderer/src/passes/sort.rs).
 #include "sort.glsl"
 
 layout(local_size_x = SORT_WORKGROUP_SIZE) in;

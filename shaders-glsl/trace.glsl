@@ -1,6 +1,6 @@
 // The one trace interface of leakless (docs/architecture.md §3): traceClosest and traceOccluded, on
 // GL_EXT_ray_query against a TLAS (TRACE_RAYQUERY) or on a stack-based traversal of a BVH in
-// storage buffers (TRACE_COMPUTE). build.rs compiles every shader including this file in both
+// storage buffers (TRACE_COMPUTE). crates/renderer/build.rs compiles every shader including this file in both
 // variants. Include it first, right after #version: it may enable an extension.
 #ifndef LEAKLESS_TRACE_GLSL
 #define LEAKLESS_TRACE_GLSL
@@ -74,7 +74,7 @@ Hit trace_backend(vec3 origin, vec3 dir, float tmin, float tmax, bool any_hit) {
 }
 
 #else
-#error "trace.glsl needs TRACE_RAYQUERY or TRACE_COMPUTE (build.rs defines one)"
+#error "trace.glsl needs TRACE_RAYQUERY or TRACE_COMPUTE (crates/renderer/build.rs defines one)"
 #endif
 
 Hit traceClosest(vec3 origin, vec3 dir, float tmin, float tmax) {

@@ -69,7 +69,7 @@ fn a_wrong_declaration_names_shader_binding_and_pass() {
 
 #[test]
 fn every_module_is_spirv_and_reflected() {
-    // Ray-query modules too: naga cannot parse them, so build.rs scans them and takes their
+    // Ray-query modules too: naga cannot parse them, so crates/renderer/build.rs scans them and takes their
     // buffer layouts (and push constants) from the compute twin; none may be left unchecked.
     for s in shaders::ALL {
         assert_eq!(s.spirv.first(), Some(&0x0723_0203), "{} is not SPIR-V", s.name);

@@ -150,11 +150,15 @@ fn the_layout_table_names_what_exists() {
     }
     // The passes collect themselves (passes::FRAME_PASSES): a new one needs no line here. What
     // the row names must exist.
-    let passes = rows.iter().find(|(p, _)| p == "`src/passes/`").map(|(_, w)| w.clone()).expect("a src/passes row");
+    let passes = rows
+        .iter()
+        .find(|(p, _)| p == "`crates/renderer/src/passes/`")
+        .map(|(_, w)| w.clone())
+        .expect("a crates/renderer/src/passes row");
     let mut stale = Vec::new();
     for name in passes.split('`').skip(1).step_by(2).filter(|n| !n.contains(' ') && !n.contains("::")) {
         let name = name.trim_end_matches('/').trim_end_matches(".rs");
-        let exists = ["src/passes", "src/passes/hierarchy"].iter().any(|dir| {
+        let exists = ["crates/renderer/src/passes", "crates/renderer/src/passes/hierarchy"].iter().any(|dir| {
             let base = root.join(dir).join(name);
             base.with_extension("rs").exists() || base.is_dir()
         });
@@ -162,7 +166,7 @@ fn the_layout_table_names_what_exists() {
             stale.push(name.to_string());
         }
     }
-    assert!(stale.is_empty(), "README's src/passes row names passes that do not exist: {stale:?}");
+    assert!(stale.is_empty(), "README's crates/renderer/src/passes row names passes that do not exist: {stale:?}");
     assert!(missing.is_empty(), "README's layout table does not mention:\n{}", missing.join("\n"));
 }
 

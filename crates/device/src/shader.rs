@@ -1,7 +1,7 @@
 //! Shader modules embedded at build time, with what reflection found in them, and the check
 //! of a pass's declared bindings against that reflection.
 //!
-//! `build.rs` (root package) compiles `shaders-glsl/` with glslang, reflects each module with
+//! `crates/renderer/build.rs` compiles `shaders-glsl/` with glslang, reflects each module with
 //! naga and generates one `ShaderInfo` static per module. A pass declares, once, what it binds
 //! by name (`BindingDecl`); `check_bindings` compares both sides so that a renamed, retyped or
 //! resized resource fails with a message naming shader, binding and pass.

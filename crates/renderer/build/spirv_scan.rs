@@ -1,4 +1,4 @@
-//! A minimal SPIR-V reader for build.rs: the descriptor bindings of a module (name, set,
+//! A minimal SPIR-V reader for crates/renderer/build.rs: the descriptor bindings of a module (name, set,
 //! binding, kind, access qualifiers), its specialization constants and its workgroup size, read straight from the words. It covers what naga
 //! cannot: modules naga's SPIR-V front end rejects (ray queries), and combined image samplers,
 //! which naga folds into the image type. Buffer layouts are left to naga.

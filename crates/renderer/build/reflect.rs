@@ -116,14 +116,16 @@ pub(crate) fn reflect(spirv: &[u32], stage: Stage, file: &str) -> Result<Info, S
     let ids = |bs: &[Binding]| bs.iter().map(|b| format!("{:?}", b.id())).collect::<Vec<_>>().join(", ");
     if ids(&bindings) != ids(&scanned) {
         return Err(format!(
-            "{DIR}/{file}: build.rs bug: the SPIR-V scan (build/spirv_scan.rs) disagrees with naga:\n  \
+            "{DIR}/{file}: crates/renderer/build.rs bug: the SPIR-V scan (crates/renderer/build/spirv_scan.rs) disagrees with naga:\n  \
              scan: {}\n  naga: {}",
             ids(&scanned),
             ids(&bindings)
         ));
     }
     if push_constants.is_some() != scan.push_constants {
-        return Err(format!("{DIR}/{file}: build.rs bug: the SPIR-V scan and naga disagree on push constants"));
+        return Err(format!(
+            "{DIR}/{file}: crates/renderer/build.rs bug: the SPIR-V scan and naga disagree on push constants"
+        ));
     }
     let has_push_constants = scan.push_constants;
     Ok(Info { workgroup_size, spec_constants, bindings, naga_error: None, has_push_constants, push_constants })

@@ -1,4 +1,4 @@
-//! Include expansion for build.rs: `#include "x.glsl"` inlined with `#line` markers, so that
+//! Include expansion for crates/renderer/build.rs: `#include "x.glsl"` inlined with `#line` markers, so that
 //! glslang's `<string>:<line>` errors map back to the file and line they came from, and the
 //! include graph tells which modules trace.
 

@@ -1,13 +1,13 @@
 //! Every shader module of `shaders-glsl/`, compiled to SPIR-V at build time.
 //!
-//! `build.rs` compiles each `.vert` / `.frag` / `.comp` with glslang (GLSL 460, Vulkan 1.3,
+//! `crates/renderer/build.rs` compiles each `.vert` / `.frag` / `.comp` with glslang (GLSL 460, Vulkan 1.3,
 //! SPIR-V 1.3 so that naga can reflect it; 1.6 for ray-query variants). A module that includes
 //! `trace.glsl` is compiled twice, as `<file>:rayquery` (`TRACE_RAYQUERY` defined) and
 //! `<file>:compute` (`TRACE_COMPUTE`), with statics suffixed `_RAYQUERY` / `_COMPUTE`. Each
 //! module is reflected with naga, and one [`ShaderInfo`] static is generated per module
 //! (`GBUFFER_VERT`, `COMPOSE_COMP`, `DIRECT_COMP_RAYQUERY`, ...), plus [`ALL`].
 //!
-//! naga cannot parse ray-query modules: a small SPIR-V scan (`build/spirv_scan.rs`) finds
+//! naga cannot parse ray-query modules: a small SPIR-V scan (`crates/renderer/build/spirv_scan.rs`) finds
 //! their names, sets, bindings and kinds, and buffer layouts come from the `:compute` twin
 //! (the build fails if the twins disagree on a binding they share). The scan also checks
 //! naga's result on every module naga does parse.
@@ -100,7 +100,7 @@ mod tests {
         assert!(ALL.iter().all(|s| s.spirv.len() > 5 && s.spirv[0] == 0x0723_0203));
     }
 
-    /// A ray-query variant, which naga cannot parse, is reflected by build.rs's SPIR-V scan:
+    /// A ray-query variant, which naga cannot parse, is reflected by crates/renderer/build.rs's SPIR-V scan:
     /// it has `tlas` where its compute twin has the BVH buffers (both levels), and every binding the two
     /// share (buffer layouts included, taken from the twin) is the twin's.
     #[test]

@@ -1,10 +1,10 @@
 //! Compiles every `.vert` / `.frag` / `.comp` in `shaders-glsl/` to SPIR-V with glslang
 //! (`glslangValidator`, Debian's `glslang-tools`: building glslang from source was a third of
 //! a clean build's CPU time on two cores),
-//! reflects each module and writes `$OUT_DIR/shaders.rs` (included by `src/shaders.rs`): one
+//! reflects each module and writes `$OUT_DIR/shaders.rs` (included by `crates/renderer/src/shaders.rs`): one
 //! `ShaderInfo` static per module plus `ALL`.
 //!
-//! Reflection: naga gives buffer layouts; a small SPIR-V scan (`build/spirv_scan.rs`) gives
+//! Reflection: naga gives buffer layouts; a small SPIR-V scan (`crates/renderer/build/spirv_scan.rs`) gives
 //! names, sets, bindings and kinds of every module, including those naga cannot parse (ray
 //! queries), and must agree with naga on the others. A `:rayquery` variant takes its buffer
 //! layouts from its `:compute` twin, by binding name.
@@ -34,7 +34,8 @@ use glslang::{compile, Compiler};
 use includes::expand;
 use reflect::{take_twin_layouts, Info};
 
-const DIR: &str = "shaders-glsl";
+/// Where the shaders are, from this package's directory (build scripts run there).
+const DIR: &str = "../../shaders-glsl";
 
 /// The compiler: `glslangValidator` on the PATH, or the one `LEAKLESS_GLSLANG` names.
 const GLSLANG: &str = "glslangValidator";
