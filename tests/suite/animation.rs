@@ -4,8 +4,8 @@
 
 use crate::common;
 
-use leakless::metrics;
 use leakless::{BackendChoice, Method, RenderSettings, RenderedFrame, Renderer, Scene};
+use leakless_measure::metrics;
 
 fn settings(method: Method, backend: BackendChoice) -> RenderSettings {
     common::photon_settings(method, backend, 20_000, 0.2)

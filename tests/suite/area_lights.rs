@@ -10,7 +10,7 @@ use leakless::{BackendChoice, Method, RenderSettings, RenderedFrame, Scene};
 use common::render_chosen as render;
 
 fn luminance_mean(layer: &[[f32; 3]]) -> f64 {
-    leakless::metrics::rgb_luminance(common::mean(layer))
+    leakless_measure::metrics::rgb_luminance(common::mean(layer))
 }
 
 /// A closed cube whose every inner face emits Le and reflects ρ: every pixel sees
@@ -164,7 +164,7 @@ fn resampled_emitter_samples_are_less_noisy_than_plain_ones() {
                 render(scene, settings)
             })
             .collect();
-        let lum = |p: [f32; 3]| leakless::metrics::luminance(&p);
+        let lum = |p: [f32; 3]| leakless_measure::metrics::luminance(&p);
         let (mut std_sum, mut mean_sum) = (0.0, 0.0);
         for i in 0..frames[0].direct.len() {
             let v: Vec<f64> = frames.iter().map(|f| lum(f.direct[i])).collect();

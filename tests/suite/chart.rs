@@ -1,6 +1,6 @@
 //! `leakless chart` end to end at a tiny size, through the command line: every file written,
 //! bad flags refused in one line. The measuring itself is unit-tested in the binary
-//! (`src/bin/leakless/measure/chart/tests.rs`), the metrics exactly in `metrics.rs` there.
+//! (`crates/measure/src/chart/tests.rs`), the metrics exactly in `metrics.rs` there.
 
 use crate::common;
 

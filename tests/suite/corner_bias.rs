@@ -4,9 +4,9 @@
 
 use crate::common;
 
-use leakless::metrics::luminance as pixel_luminance;
-use leakless::{flicker, metrics};
 use leakless::{Method, RenderSettings, RenderedFrame, Renderer, SplatSettings};
+use leakless_measure::metrics::luminance as pixel_luminance;
+use leakless_measure::{flicker, metrics};
 
 const WIDTH: u32 = 64;
 const HEIGHT: u32 = 48;
@@ -37,7 +37,7 @@ fn reference(path: &str, (width, height): (u32, u32), spp: u32) -> Option<Render
 
 /// Mean luminance of a layer.
 fn luminance(layer: &[[f32; 3]]) -> f64 {
-    leakless::metrics::rgb_luminance(common::mean(layer))
+    leakless_measure::metrics::rgb_luminance(common::mean(layer))
 }
 
 /// The mean over `seeds` single frames (fresh photons each) of the indirect layer's mean

@@ -3,8 +3,8 @@
 
 use crate::common;
 
-use leakless::metrics;
 use leakless::{BackendChoice, Method, RenderSettings, RenderedFrame, Scene};
+use leakless_measure::metrics;
 use leakless_scene::LightKind;
 
 use common::render_chosen as render;

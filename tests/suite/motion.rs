@@ -178,7 +178,7 @@ fn reuse_halves_the_error_of_a_moving_camera() {
             mean
         })
         .collect();
-    let eps = leakless::metrics::epsilon(&truth[0].radiance);
+    let eps = leakless_measure::metrics::epsilon(&truth[0].radiance);
     // (relMSE, mean ratio, change): means over frames 8..24; the change is |ΔY| between a frame
     // and the one two before it, of the same view, over the mean Y: the image's own unrest.
     let run = |reuse, filter| {
@@ -189,11 +189,13 @@ fn reuse_halves_the_error_of_a_moving_camera() {
         for k in 0..24 {
             r.set_camera(views[k % 2].clone());
             let frame = r.capture_frame().expect("a moving frame");
-            luminance.push(frame.radiance.iter().map(leakless::metrics::luminance).collect());
+            luminance.push(frame.radiance.iter().map(leakless_measure::metrics::luminance).collect());
             if k >= 8 {
                 let t = &truth[k % 2].radiance;
-                error += leakless::metrics::rel_mse(&frame.radiance, t, None, eps).expect("pixels") / 16.0;
-                ratio += leakless::metrics::mean_value(&frame.radiance) / leakless::metrics::mean_value(t) / 16.0;
+                error += leakless_measure::metrics::rel_mse(&frame.radiance, t, None, eps).expect("pixels") / 16.0;
+                ratio += leakless_measure::metrics::mean_value(&frame.radiance)
+                    / leakless_measure::metrics::mean_value(t)
+                    / 16.0;
                 let (now, before) = (&luminance[k], &luminance[k - 2]);
                 let diff: f64 = now.iter().zip(before).map(|(a, b)| (a - b).abs()).sum();
                 change += diff / now.iter().sum::<f64>() / 16.0;
@@ -268,7 +270,8 @@ fn a_light_that_jumps_is_followed_at_once() {
             r.capture_frame().expect("a frame before the jump");
         }
         r.set_time(3.0).expect("a time");
-        let mean = leakless::metrics::mean_value(&r.capture_frame().expect("the frame after the jump").indirect);
+        let mean =
+            leakless_measure::metrics::mean_value(&r.capture_frame().expect("the frame after the jump").indirect);
         r.gpu().check_validation().expect("validation clean");
         mean
     };
@@ -300,7 +303,7 @@ fn a_light_that_moves_slowly_is_followed() {
             r.set_time(k as f32 / 30.0).expect("a time");
             let frame = r.capture_frame().expect("a frame");
             if k >= 8 {
-                sum += leakless::metrics::mean_value(&frame.indirect) / 16.0;
+                sum += leakless_measure::metrics::mean_value(&frame.indirect) / 16.0;
             }
         }
         r.gpu().check_validation().expect("validation clean");

@@ -2,8 +2,8 @@
 
 use crate::common;
 
-use leakless::metrics::luminance;
 use leakless::output::exr;
+use leakless_measure::metrics::luminance;
 
 #[test]
 fn exr_layers_and_attributes_round_trip() {

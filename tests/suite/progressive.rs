@@ -6,8 +6,8 @@ use crate::common;
 
 use std::f64::consts::PI;
 
-use leakless::metrics;
 use leakless::{Method, RenderSettings, RenderedFrame, Renderer, SplatSettings};
+use leakless_measure::metrics;
 
 fn settings(width: u32, height: u32, paths: u32, radius: f32, max_bounces: u32, frames: u32) -> RenderSettings {
     RenderSettings {
@@ -171,7 +171,7 @@ fn a_reset_gives_the_single_frame_bit_for_bit() {
 /// 9–16, 17–32).
 #[test]
 fn leakless_flickers_no_more_than_splat_and_accumulation_settles() {
-    use leakless::flicker::{accumulation_changes, flicker, FLICKER_FRAMES};
+    use leakless_measure::flicker::{accumulation_changes, flicker, FLICKER_FRAMES};
     for path in ["scenes/doorway.gltf", "scenes/two-rooms.gltf", "scenes/atrium.gltf"] {
         // The default paths and radius, as `bench flicker` measures it (the kernel, not the
         // resolution, sets a pixel's noise).

@@ -5,9 +5,9 @@
 
 use crate::common;
 
-use leakless::extras::in_dark_box;
-use leakless::metrics::mean_luminance as image_luminance;
 use leakless::{Backend, BackendChoice, Method, RenderSettings, RenderedFrame, Renderer, Scene, SplatSettings};
+use leakless_measure::extras::in_dark_box;
+use leakless_measure::metrics::mean_luminance as image_luminance;
 
 const METHODS: [Method; 5] =
     [Method::Direct, Method::Splat, Method::LeakLessCapped, Method::LeakLess, Method::Reference];

@@ -7,9 +7,9 @@ use std::f32::consts::PI;
 
 use glam::Vec3;
 use leakless::gpu_types::{GpuRay, RayHit};
-use leakless::raycast::RayCaster;
-use leakless::raygen;
 use leakless::{Backend, BackendChoice, Method, RenderSettings, RenderedFrame};
+use leakless_measure::raycast::RayCaster;
+use leakless_measure::raygen;
 
 const MISS: u32 = u32::MAX;
 

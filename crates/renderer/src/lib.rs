@@ -5,19 +5,14 @@
 
 pub mod emitters;
 pub mod error;
-pub mod extras;
-pub mod flicker;
 pub mod frame_budget;
 pub mod gpu_scene;
 pub mod gpu_types;
 pub mod limits;
-pub mod metrics;
 pub mod output;
 pub mod passes;
 pub mod photon_lights;
 pub mod pipelines;
-pub mod raycast;
-pub mod raygen;
 pub mod renderer;
 pub mod scene_pose;
 pub mod settings;

@@ -30,7 +30,11 @@ use crate::gpu_scene::gpu_light;
 use crate::gpu_types::{Light, LIGHT_DIRECTIONAL, LIGHT_POINT, LIGHT_SPOT};
 use crate::passes::photons::PhotonLight;
 
-pub use crate::metrics::rgb_luminance as luminance;
+/// Rec. 709 luminance of linear RGB: how lights are weighed against each other, and what
+/// the measures of images (`leakless_measure::metrics`) weigh pixels by.
+pub fn luminance(rgb: [f64; 3]) -> f64 {
+    0.2126 * rgb[0] + 0.7152 * rgb[1] + 0.0722 * rgb[2]
+}
 
 /// The falloff's Δ = c_inner − c_outer as `light.glsl` and `photons.comp` compute it (in f32,
 /// at least 1e-4).

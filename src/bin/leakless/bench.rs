@@ -1,8 +1,8 @@
 //! `leakless bench`: ratios measured in one process, printed, never asserted.
 
-use crate::measure::bench::{self, Measured};
 use leakless::passes::names::group;
 use leakless::passes::photon_clearance::PHOTON_CLEARANCE;
+use leakless_measure::bench::{self, Measured};
 use std::path::PathBuf;
 
 use anyhow::Context;
@@ -182,7 +182,7 @@ fn splat(path: PathBuf, (w, h): (u32, u32), paths: u32) -> anyhow::Result<()> {
         ..Default::default()
     };
     let gpu = open()?;
-    let (gpu_name, timing) = (gpu.report().name.clone(), crate::measure::bench::timing_phrase(&gpu));
+    let (gpu_name, timing) = (gpu.report().name.clone(), leakless_measure::bench::timing_phrase(&gpu));
     drop(gpu);
     println!("bench splat {} on {gpu_name}; {timing}, second frame", path.display());
 

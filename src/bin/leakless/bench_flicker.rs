@@ -4,8 +4,10 @@
 use std::path::PathBuf;
 
 use anyhow::Context;
-use leakless::flicker::{accumulation_changes, flicker_of, grain_of, noise_grain_of, single_frames, FLICKER_FRAMES};
 use leakless::{BackendChoice, Method, RenderSettings, Renderer, Scene, SplatSettings};
+use leakless_measure::flicker::{
+    accumulation_changes, flicker_of, grain_of, noise_grain_of, single_frames, FLICKER_FRAMES,
+};
 
 pub fn run(
     scenes: &[PathBuf],

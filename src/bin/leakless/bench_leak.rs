@@ -6,9 +6,9 @@ use leakless::passes::names::group;
 use leakless::passes::photon_clearance::PHOTON_CLEARANCE;
 use std::path::PathBuf;
 
-use crate::measure::bench::{Measured, RayRate};
 use anyhow::Context;
 use leakless::{Backend, BackendChoice, Method, RenderSettings, Scene, SplatSettings};
+use leakless_measure::bench::{Measured, RayRate};
 
 /// One scene's outcome, for the summary table.
 struct Row {
@@ -49,7 +49,7 @@ pub fn run(
         report.name,
         resolved.backend.name(),
         resolved.why,
-        crate::measure::bench::timing_phrase(&gpu)
+        leakless_measure::bench::timing_phrase(&gpu)
     );
     let mut rows = Vec::new();
     for path in scenes {
@@ -180,7 +180,7 @@ fn one_scene(
     let vis_rate = (vis_ms > 0.1 * splat.gather_ms() && vis_ms > 0.0)
         .then(|| ours.stats().visibility_rays as f64 / (vis_ms * 1e3));
     let photon_rate = ours.stats().photon_rays as f64 / (ours.photons_ms().max(1e-3) * 1e3);
-    let rates = crate::measure::bench::rays(gpu, scene, w, h, repeats)?;
+    let rates = leakless_measure::bench::rays(gpu, scene, w, h, repeats)?;
     let limit = |query: &str| find(&rates, resolved, "incoherent", query);
     let (closest, occluded) = (limit("closest"), limit("occluded"));
     let pct = |rate: f64, lim: Option<f64>| {

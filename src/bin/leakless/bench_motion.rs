@@ -7,14 +7,14 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 use anyhow::Context;
-use leakless::metrics;
 use leakless::{BackendChoice, Method, RenderSettings, Renderer, Scene, SplatSettings};
+use leakless_measure::metrics;
 use leakless_scene::Camera;
 
-use crate::measure::chart::flip;
-use crate::measure::chart::motion_plot::{plot_motion, MotionRun};
-use crate::measure::csv_table::CsvTable;
-use crate::measure::motion::{DarkBand, ScreenFlicker, SeenFrame, SurfaceFlicker, BAND_PIXELS, DARK};
+use leakless_measure::chart::flip;
+use leakless_measure::chart::motion_plot::{plot_motion, MotionRun};
+use leakless_measure::csv_table::CsvTable;
+use leakless_measure::motion::{DarkBand, ScreenFlicker, SeenFrame, SurfaceFlicker, BAND_PIXELS, DARK};
 
 /// What the bench renders (`leakless bench motion`'s options). Its CSV holds each frame's
 /// errors (`scene,reuse,frame,time,relmse,flip,relmse_less_noise`), its chart them against the

@@ -8,8 +8,8 @@ use std::time::Instant;
 use anyhow::Context;
 use leakless::{Backend, BackendChoice, Method, RenderSettings, Renderer, Scene, SplatSettings};
 
-use crate::measure::chart::scale_plot::{plot_scale, ScalePoint};
-use crate::measure::csv_table::CsvTable;
+use leakless_measure::chart::scale_plot::{plot_scale, ScalePoint};
+use leakless_measure::csv_table::CsvTable;
 
 /// What the bench renders (`leakless bench scale`'s options).
 #[derive(clap::Args)]
@@ -140,5 +140,5 @@ fn write_csv(path: &Path, points: &[ScalePoint]) -> anyhow::Result<()> {
             format!("{:.2}", p.frame_ms),
         ])?;
     }
-    table.write(path)
+    Ok(table.write(path)?)
 }

@@ -2,9 +2,9 @@
 
 use std::path::PathBuf;
 
-use crate::measure::chart::{self, ChartConfig, Radii};
 use anyhow::Context;
 use leakless::{Backend, Method, Scene};
+use leakless_measure::chart::{self, ChartConfig, Radii};
 
 #[derive(clap::Args)]
 pub struct ChartArgs {

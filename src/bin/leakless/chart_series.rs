@@ -3,13 +3,13 @@
 
 use std::time::Duration;
 
-use crate::measure::chart::series::{
-    measure_series, write_series_csv, SceneSeries, SeriesConfig, SERIES_METHODS, SHADED_FRACTION,
-};
-use crate::measure::chart::series_plot::{plot_series, SeriesMetric};
-use crate::measure::chart::{drawing, file_stem};
 use anyhow::Context;
 use leakless::{Backend, BackendChoice, Method, Scene};
+use leakless_measure::chart::series::{
+    measure_series, write_series_csv, SceneSeries, SeriesConfig, SERIES_METHODS, SHADED_FRACTION,
+};
+use leakless_measure::chart::series_plot::{plot_series, SeriesMetric};
+use leakless_measure::chart::{drawing, file_stem};
 
 use crate::chart::ChartArgs;
 

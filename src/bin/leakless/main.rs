@@ -11,7 +11,6 @@ mod chart;
 mod chart_series;
 mod gpu_report;
 mod info;
-mod measure;
 mod options;
 mod render;
 mod sequence;

@@ -4,11 +4,11 @@
 use std::fmt::Write as _;
 use std::path::PathBuf;
 
-use crate::measure::chart::thickness::{plot_thickness, ThicknessPoint};
-use crate::measure::csv_table::CsvTable;
-use crate::measure::stability::{measure, SceneStability, StabilityConfig};
 use anyhow::Context;
 use leakless::{Backend, Method, Scene};
+use leakless_measure::chart::thickness::{plot_thickness, ThicknessPoint};
+use leakless_measure::csv_table::CsvTable;
+use leakless_measure::stability::{measure, SceneStability, StabilityConfig};
 
 #[derive(clap::Args)]
 pub struct StabilityArgs {

@@ -1,5 +1,5 @@
 use super::*;
-use crate::raygen::SeededRng;
+use rand_core::{RngCore, SeedableRng};
 
 /// A device whose frames take `fixed + per_path·p` ms, times (1 ± `jitter`) uniformly, and
 /// report their photon share only every `timed_every` frames (lavapipe's app times its passes
@@ -9,17 +9,17 @@ struct Device {
     per_path: f64,
     jitter: f64,
     timed_every: u32,
-    rng: SeededRng,
+    rng: rand_pcg::Pcg64Mcg,
     frame: u32,
 }
 
 impl Device {
     fn new(fixed: f64, per_path: f64, jitter: f64) -> Device {
-        Device { fixed, per_path, jitter, timed_every: 1, rng: SeededRng::new(7), frame: 0 }
+        Device { fixed, per_path, jitter, timed_every: 1, rng: rand_pcg::Pcg64Mcg::seed_from_u64(7), frame: 0 }
     }
 
     fn frame(&mut self, paths: u32) -> FrameTime {
-        let noise = 1.0 + self.jitter * (2.0 * self.rng.next_f32() as f64 - 1.0);
+        let noise = 1.0 + self.jitter * (2.0 * (self.rng.next_u64() >> 40) as f64 / (1u64 << 24) as f64 - 1.0);
         let photons = self.per_path * paths as f64;
         let ms = (self.fixed + photons) * noise;
         self.frame += 1;

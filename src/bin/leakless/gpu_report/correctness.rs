@@ -10,9 +10,9 @@ use std::path::{Path, PathBuf};
 use anyhow::Context;
 use serde::Serialize;
 
-use leakless::metrics;
 use leakless::output::exr::{self, ExrLayer};
 use leakless::{BackendChoice, Method, RenderSettings, Renderer, Scene, SplatSettings};
+use leakless_measure::metrics;
 
 use super::Report;
 

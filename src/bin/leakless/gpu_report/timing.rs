@@ -12,7 +12,7 @@ use leakless::passes::names::group;
 use leakless::{DeviceTuning, Method, RenderSettings, Renderer, Scene, SplatSettings, TuningChoice};
 
 use super::{Matrix, Report};
-use crate::measure::bench::{self, Measured};
+use leakless_measure::bench::{self, Measured};
 
 /// One measured frame.
 #[derive(Serialize, Clone)]

@@ -82,7 +82,7 @@ fn markdown(r: &Report) -> anyhow::Result<String> {
 
 fn timing(r: &Report) -> &'static str {
     let timing = r.tuning.as_ref().map_or(leakless_graph::Timing::PerPassSubmit, |t| t.timing);
-    crate::measure::bench::timing_words(timing)
+    leakless_measure::bench::timing_words(timing)
 }
 
 /// The line the README quotes: the 1080p leakless frame against splat and Moreau et al.

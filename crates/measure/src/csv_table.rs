@@ -4,7 +4,7 @@
 
 use std::path::Path;
 
-use anyhow::Context;
+use leakless::{RenderError, Result};
 
 /// One CSV table being written.
 pub struct CsvTable {
@@ -20,12 +20,16 @@ impl CsvTable {
     }
 
     /// Adds a row; its fields must be as many as the header's.
-    pub fn row<S: AsRef<str>>(&mut self, fields: impl IntoIterator<Item = S>) -> anyhow::Result<()> {
+    pub fn row<S: AsRef<str>>(&mut self, fields: impl IntoIterator<Item = S>) -> Result<()> {
         let fields: Vec<String> = fields.into_iter().map(|f| f.as_ref().to_string()).collect();
         if fields.len() != self.columns {
-            anyhow::bail!("a CSV row of {} fields under a header of {}: {fields:?}", fields.len(), self.columns);
+            return Err(RenderError::Settings(format!(
+                "a CSV row of {} fields under a header of {}: {fields:?}",
+                fields.len(),
+                self.columns
+            )));
         }
-        self.writer.write_record(&fields).context("writing a CSV row")
+        self.writer.write_record(&fields).map_err(|e| RenderError::Settings(format!("writing a CSV row: {e}")))
     }
 
     /// The table as text.
@@ -35,8 +39,9 @@ impl CsvTable {
     }
 
     /// Writes the table to `path`.
-    pub fn write(self, path: &Path) -> anyhow::Result<()> {
-        std::fs::write(path, self.text()).with_context(|| format!("writing {}", path.display()))
+    pub fn write(self, path: &Path) -> Result<()> {
+        std::fs::write(path, self.text())
+            .map_err(|e| RenderError::Output { path: path.display().to_string(), message: e.to_string() })
     }
 }
 

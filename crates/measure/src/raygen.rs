@@ -4,8 +4,8 @@
 use glam::{Vec2, Vec3};
 use leakless_scene::{Camera, Scene};
 
-use crate::gpu_types::{GpuRay, RayHit};
 use crate::raycast::offset_ray;
+use leakless::gpu_types::{GpuRay, RayHit};
 
 /// The seeded generator of test and benchmark rays (a PCG of rand_pcg): the same rays for a
 /// seed on every run.
@@ -69,7 +69,7 @@ pub fn facing_normal(scene: &Scene, t: usize, dir: Vec3) -> Vec3 {
 /// the ray's side of the surface: incoherent secondary rays, starting on surfaces.
 pub fn hemisphere_rays(scene: &Scene, primary: &[GpuRay], hits: &[RayHit], seed: u64) -> Vec<GpuRay> {
     let mut rng = SeededRng::new(seed);
-    let scale = crate::trace::scene_scale(scene);
+    let scale = leakless::trace::scene_scale(scene);
     primary
         .iter()
         .zip(hits)

@@ -11,11 +11,11 @@ use std::time::{Duration, Instant};
 use leakless_device::Gpu;
 use leakless_scene::Scene;
 
-use super::{flip, output_error};
-use crate::measure::csv_table::CsvTable;
+use super::flip;
+use crate::csv_table::CsvTable;
+use crate::flicker::{flicker, FLICKER_FRAMES};
+use crate::metrics;
 use leakless::error::Result;
-use leakless::flicker::{flicker, FLICKER_FRAMES};
-use leakless::metrics;
 use leakless::settings::MAX_FRAMES;
 use leakless::trace::BackendChoice;
 use leakless::{Method, RenderSettings, RenderedFrame, Renderer, SplatSettings};
@@ -82,7 +82,7 @@ pub struct SeriesPoint {
     pub shaded_relmse: Option<f64>,
     pub rmse: Option<f64>,
     pub flip: f64,
-    /// Flicker of the method's single frames ([`leakless::flicker`]), the same on every row of a
+    /// Flicker of the method's single frames ([`crate::flicker`]), the same on every row of a
     /// method; `None` for the reference.
     pub flicker: Option<f64>,
 }
@@ -349,9 +349,9 @@ pub fn write_series_csv(series: &SceneSeries, path: &Path) -> Result<()> {
             float(Some(p.flip)),
             float(p.flicker),
         ];
-        table.row(fields).map_err(|e| output_error(path, e))?;
+        table.row(fields)?;
     }
-    table.write(path).map_err(|e| output_error(path, e))
+    table.write(path)
 }
 
 #[cfg(test)]

@@ -7,14 +7,14 @@ use leakless_device::{Buffer, BufferDesc, Gpu, MemoryLocation};
 use leakless_graph::GraphRunner;
 use leakless_scene::Scene;
 
-use crate::error::Result;
-use crate::gpu_scene::GpuScene;
-use crate::gpu_types::{GpuRay, RayHit};
-use crate::passes::names;
-use crate::passes::raycast::{self, RayWork, RaycastBindings, RaycastParams, RAYCAST, RAYCAST_COUNTING};
-use crate::pipelines::{ComputePass, ComputePassDef, Pipelines};
-use crate::trace::{Backend, TraceScene};
-use crate::tuning::{DeviceTuning, TuningChoice};
+use leakless::error::Result;
+use leakless::gpu_scene::GpuScene;
+use leakless::gpu_types::{GpuRay, RayHit};
+use leakless::passes::names;
+use leakless::passes::raycast::{self, RayWork, RaycastBindings, RaycastParams, RAYCAST, RAYCAST_COUNTING};
+use leakless::pipelines::{ComputePass, ComputePassDef, Pipelines};
+use leakless::trace::{Backend, TraceScene};
+use leakless::tuning::{DeviceTuning, TuningChoice};
 
 /// What a [`RayCaster`] runs: the timed pass, and in a set of its own the counting one.
 static PASSES: &[&ComputePassDef] = &[RAYCAST.def()];
@@ -25,7 +25,7 @@ pub struct RayCaster<'g> {
     scene: GpuScene,
     trace: TraceScene,
     /// The scene at t = 0 (these tools do not play animations).
-    pose: crate::scene_pose::ScenePose,
+    pose: leakless::scene_pose::ScenePose,
     pipelines: Pipelines,
     /// The compute backend's counting pass (`None` on ray queries, which count nothing).
     counting: Option<Pipelines>,
@@ -51,7 +51,7 @@ const HITS_LOCATION: MemoryLocation = MemoryLocation::GpuOnly;
 impl<'g> RayCaster<'g> {
     pub fn new(gpu: &'g Gpu, scene: &Scene, backend: Backend) -> Result<Self> {
         let gpu_scene = GpuScene::upload(gpu, scene)?;
-        let pose = crate::scene_pose::ScenePose::new(scene, &gpu_scene.bvh.bvh);
+        let pose = leakless::scene_pose::ScenePose::new(scene, &gpu_scene.bvh.bvh);
         let trace = TraceScene::build(gpu, scene, &gpu_scene, &pose, backend)?;
         let tuning = DeviceTuning::choose(gpu.report(), TuningChoice::Auto);
         let mut runner = GraphRunner::new(gpu, 1)?;

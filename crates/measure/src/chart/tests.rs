@@ -9,7 +9,7 @@ use super::plot::Metric;
 use super::{ChartConfig, Radii, CSV_COLUMNS};
 
 fn scene() -> Scene {
-    Scene::load(&Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/cornell-box.gltf")).expect("the Cornell box")
+    Scene::load(&Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/cornell-box.gltf")).expect("the Cornell box")
 }
 
 /// A device as the tests open one: validation on unless LEAKLESS_VALIDATION=0.

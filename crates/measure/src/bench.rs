@@ -5,12 +5,12 @@ use leakless_device::Gpu;
 use leakless_graph::PassName;
 use leakless_scene::Scene;
 
+use crate::raycast::RayCaster;
+use crate::raygen;
 use leakless::error::Result;
 use leakless::gpu_types::GpuRay;
 use leakless::passes::names::group;
 use leakless::passes::photons::PHOTONS;
-use leakless::raycast::RayCaster;
-use leakless::raygen;
 use leakless::trace::Backend;
 
 /// Rays per second of one backend on one ray set and query.

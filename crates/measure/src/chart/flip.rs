@@ -8,7 +8,7 @@
 //! here as the paper describes it. The 8-bit quantisation of each exposure adds at most half a
 //! code value of difference, far below the errors measured.
 
-use leakless::metrics::luminance;
+use crate::metrics::luminance;
 
 /// The ACES fit FLIP tone-maps with: t(x) = (a x² + b x + c) / (d x² + e x + f), with the 0.6
 /// pre-exposure of the fit folded in (as in FLIP's own coefficient table).

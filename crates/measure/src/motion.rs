@@ -2,8 +2,8 @@
 //! flickers, on the screen and on the surfaces, and how much light lands in the dark beside lit
 //! regions.
 
+use crate::metrics::luminance;
 use glam::{Mat4, Vec3, Vec4Swizzles};
-use leakless::metrics::luminance;
 
 /// Flicker as the screen sees it: the mean over frames, from the `settle`th on, of |ΔY| between
 /// successive frames over the frame's mean Y. It counts the change the moving view makes too:

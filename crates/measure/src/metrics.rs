@@ -29,11 +29,7 @@ pub fn epsilon(reference: &[[f32; 3]]) -> f64 {
     EPSILON_SCALE * mean_value(reference).powi(2)
 }
 
-/// Rec.709 (sRGB primaries) luminance of linear RGB: the one definition on the CPU (the
-/// shaders' is `dot(c, vec3(0.2126, 0.7152, 0.0722))`).
-pub fn rgb_luminance(rgb: [f64; 3]) -> f64 {
-    0.2126 * rgb[0] + 0.7152 * rgb[1] + 0.0722 * rgb[2]
-}
+pub use leakless::photon_lights::luminance as rgb_luminance;
 
 /// Luminance of a linear RGB pixel.
 pub fn luminance(p: &[f32; 3]) -> f64 {

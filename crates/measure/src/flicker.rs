@@ -1,9 +1,9 @@
 //! Temporal stability of a still view (docs/architecture.md §5): how much it flickers when
 //! every frame traces fresh photons, and how quickly an accumulation settles.
 
-use crate::error::Result;
 use crate::metrics::luminance;
-use crate::Renderer;
+use leakless::error::Result;
+use leakless::Renderer;
 
 /// Frames the flicker metric looks at.
 pub const FLICKER_FRAMES: u32 = 16;

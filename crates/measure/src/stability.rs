@@ -5,13 +5,13 @@
 use leakless_device::Gpu;
 use leakless_scene::Scene;
 
-use crate::measure::bench::Measured;
-use crate::measure::chart::flip;
+use crate::bench::Measured;
+use crate::chart::flip;
+use crate::extras::{extras, in_dark_box};
+use crate::flicker::{flicker, FLICKER_FRAMES};
+use crate::metrics;
+use crate::metrics::{luminance, mean_luminance};
 use leakless::error::Result;
-use leakless::extras::{extras, in_dark_box};
-use leakless::flicker::{flicker, FLICKER_FRAMES};
-use leakless::metrics;
-use leakless::metrics::{luminance, mean_luminance};
 use leakless::trace::{Backend, BackendChoice};
 use leakless::{Method, RenderSettings, RenderedFrame, Renderer, SplatSettings};
 
@@ -129,7 +129,7 @@ pub fn measure(
                 backend,
                 dark_radiance: dark_radiance(frame, &in_dark),
                 energy: (reference_mean > 0.0).then(|| mean_luminance(&frame.radiance) / reference_mean),
-                leaked_fraction: frame.splat.as_ref().and_then(crate::measure::chart::leaked_fraction),
+                leaked_fraction: frame.splat.as_ref().and_then(crate::chart::leaked_fraction),
                 relmse: metrics::rel_mse(&frame.radiance, &reference.radiance, None, eps),
                 rmse: metrics::rmse(&frame.radiance, &reference.radiance, None),
                 flip: flip::hdr_flip(&frame.radiance, &reference.radiance, frame.width, frame.height),

@@ -17,7 +17,7 @@ use leakless::error::{RenderError, Result};
 use leakless::Method;
 
 /// DejaVu Sans, cut down to the characters a chart uses (`assets/README.md`).
-static FONT: &[u8] = include_bytes!("../../../../../assets/DejaVuSans-subset.ttf");
+static FONT: &[u8] = include_bytes!("../../../../assets/DejaVuSans-subset.ttf");
 pub(super) const FAMILY: &str = "sans-serif";
 
 pub(super) fn register_font() {

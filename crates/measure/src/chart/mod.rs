@@ -21,8 +21,8 @@ use leakless_scene::Scene;
 
 use leakless::error::{RenderError, Result};
 
-use crate::measure::csv_table::CsvTable;
-use leakless::metrics;
+use crate::csv_table::CsvTable;
+use crate::metrics;
 use leakless::splatting::SplatStats;
 use leakless::trace::{Backend, BackendChoice};
 use leakless::{Method, RenderSettings, Renderer, SplatSettings};
@@ -317,8 +317,7 @@ pub fn measure_with_progress(
                     ..Default::default()
                 };
                 let opener = || open(backend == Backend::RayQuery);
-                let measured =
-                    crate::measure::bench::Measured::best_of(&opener, scene, method.name(), &render, config.repeats)?;
+                let measured = crate::bench::Measured::best_of(&opener, scene, method.name(), &render, config.repeats)?;
                 let (frame, frame_ms) = (&measured.frame, measured.frame_ms());
                 let stats = frame.splat.as_ref();
                 points.push(Point {
@@ -413,14 +412,9 @@ pub fn write_csv(points: &[Point], path: &Path) -> Result<()> {
             opt(p.kernel_photons.map(|v| format!("{v}"))),
             opt(p.photons_per_kernel.map(|v| format!("{v:.2}"))),
         ];
-        table.row(fields).map_err(|e| output_error(path, e))?;
+        table.row(fields)?;
     }
-    table.write(path).map_err(|e| output_error(path, e))
-}
-
-/// A CSV file that could not be written, as the library's output error.
-pub(crate) fn output_error(path: &Path, e: anyhow::Error) -> RenderError {
-    RenderError::Output { path: path.display().to_string(), message: format!("{e:#}") }
+    table.write(path)
 }
 
 /// A scene name as a file-name part: letters, digits, `-`, `_` and `.` kept, the rest `-`.
