@@ -4,8 +4,9 @@
 
 use crate::common;
 
-use leakless::passes::photons::{PhotonParams, PhotonTracer};
+use leakless::passes::photons::PhotonParams;
 use leakless::{BackendChoice, Method, RenderSettings, RenderedFrame, Scene};
+use leakless_measure::photon_tracer::PhotonTracer;
 
 use common::render_chosen as render;
 

@@ -9,9 +9,10 @@ use std::f64::consts::PI;
 
 use glam::{DVec3, Vec3};
 use leakless::gpu_types::{Light, LIGHT_DIRECTIONAL, LIGHT_POINT, LIGHT_SPOT};
-use leakless::passes::photons::{canonical_order, Photon, PhotonParams, PhotonTrace, PhotonTracer};
+use leakless::passes::photons::{Photon, PhotonParams};
 use leakless::photon_lights::{luminance, spot_falloff, spot_solid_angle, LightTable};
 use leakless::{Backend, Gpu, Scene};
+use leakless_measure::photon_tracer::{canonical_order, PhotonTrace, PhotonTracer};
 use leakless_scene::Aabb;
 
 fn v(a: [f32; 3]) -> DVec3 {

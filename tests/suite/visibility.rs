@@ -6,8 +6,9 @@ use crate::common;
 
 use glam::DVec3;
 use leakless::passes::photon_clearance::Clearance;
-use leakless::passes::photons::{Photon, PhotonParams, PhotonTracer};
+use leakless::passes::photons::{Photon, PhotonParams};
 use leakless::{Backend, BackendChoice, Method, RenderSettings, RenderedFrame, Renderer, Scene, SplatSettings};
+use leakless_measure::photon_tracer::PhotonTracer;
 
 fn leakless_settings(backend: BackendChoice, radius: Option<f32>, prove_clear: bool) -> RenderSettings {
     RenderSettings {
