@@ -5,21 +5,42 @@
 //
 // Bottom level (built once): every part's BVH in bvh_nodes / bvh_triangles, the static part in
 // world space, each animated instance in its mesh space. Top level (uploaded every frame):
-// bvh_top over the parts' world boxes, one part per leaf (left_or_first = part index), and
-// bvh_instances, per part, the map from world into its space and its bottom-level root.
+// bvh_top over the parts' world boxes, one part per leaf (the leaf's one "triangle" is the
+// part's index), and bvh_instances, per part, the map from world into its space and its
+// bottom-level root.
 #ifndef LEAKLESS_BVH_GLSL
 #define LEAKLESS_BVH_GLSL
 
 #include "offset.glsl"
 
-// count == 0: interior node, children left_or_first and left_or_first + 1; count > 0: a leaf
-// with triangles left_or_first .. left_or_first + count - 1. The root is node 0.
+// An interior node with its two children's boxes, so that a traversal step is one load
+// (crates/accel/src/bvh/nodes.rs says why). child0 and child1 are child references: an interior
+// node's index, or a leaf's triangles (bvh_is_leaf and below). The root is node 0, a part's root
+// its BvhInstance's `root`; a tree that is one leaf has a root whose second child is empty.
 struct BvhNode {
-    vec3 bounds_min;
-    uint left_or_first;
-    vec3 bounds_max;
-    uint count;
+    vec3 min0;
+    uint child0;
+    vec3 max0;
+    uint child1;
+    vec3 min1;
+    uint pad0;
+    vec3 max1;
+    uint pad1;
 };
+
+// A leaf reference is BVH_LEAF | (count - 1) << 27 | first: triangles first .. first + count - 1.
+// None equals BVH_NO_CHILD, which is trace.glsl's NO_HIT (ChildRef in crates/accel/src/bvh/nodes.rs).
+#define BVH_LEAF 0x80000000u
+#define BVH_NO_CHILD 0xffffffffu
+bool bvh_is_leaf(uint child) {
+    return (child & BVH_LEAF) != 0u;
+}
+uint bvh_leaf_first(uint child) {
+    return child & 0x7ffffffu;
+}
+uint bvh_leaf_count(uint child) {
+    return ((child & ~BVH_LEAF) >> 27u) + 1u;
+}
 
 // Raw vertices (in the part's space), since the watertight test needs them, and the original
 // scene triangle index, which is what a Hit reports (triangles are stored in BVH order). Packed

@@ -34,9 +34,9 @@ layout(push_constant) uniform ClearanceParams {
 
 #define STACK_SIZE 64
 
-// Squared distance from q to the box (0 inside).
-float box_distance2(vec3 q, BvhNode node) {
-    vec3 d = max(max(node.bounds_min - q, q - node.bounds_max), vec3(0.0));
+// Squared distance from q to the box lo..hi (0 inside).
+float box_distance2(vec3 q, vec3 lo, vec3 hi) {
+    vec3 d = max(max(lo - q, q - hi), vec3(0.0));
     return dot(d, d);
 }
 
@@ -81,34 +81,60 @@ bool below(vec3 v, vec3 p, vec3 n, float tau) {
     return dot(v - p, n) <= tau;
 }
 
-// Whether the whole box lies on or under that plane (its highest corner does).
-bool box_below(BvhNode node, vec3 p, vec3 n, float tau) {
-    vec3 center = 0.5 * (node.bounds_min + node.bounds_max);
-    vec3 half_extent = 0.5 * (node.bounds_max - node.bounds_min);
+// Whether the whole box lo..hi lies on or under that plane (its highest corner does).
+bool box_below(vec3 lo, vec3 hi, vec3 p, vec3 n, float tau) {
+    vec3 center = 0.5 * (lo + hi);
+    vec3 half_extent = 0.5 * (hi - lo);
     return dot(center - p, n) + dot(half_extent, abs(n)) <= 0.5 * tau;
+}
+
+// The squared distance to a child's box where the search enters it, or -1 where it need not: the
+// box is no nearer than the best so far, or lies wholly under the plane. Boxes are compared with
+// a little slack, so that rounding never culls a closer triangle.
+float enter_distance2(vec3 q, vec3 lo, vec3 hi, Photon ph, float tau, float best2) {
+    float d2 = box_distance2(q, lo, hi);
+    return d2 * 0.999 < best2 && !box_below(lo, hi, ph.position, ph.normal, tau) ? d2 : -1.0;
+}
+
+// One step of a search at interior node `n`: the child to enter now (`next`, BVH_NO_CHILD: none) and
+// the one to enter later (`far`), nearer first, with their boxes' squared distances.
+void search_step(vec3 q, BvhNode n, Photon ph, float tau, float best2, out uint next, out float next_d2, out uint far, out float far_d2) {
+    float d0 = enter_distance2(q, n.min0, n.max0, ph, tau, best2);
+    float d1 = enter_distance2(q, n.min1, n.max1, ph, tau, best2);
+    // Nearer child first: what it finds may cull the other.
+    bool near0 = d1 < 0.0 || (d0 >= 0.0 && d0 <= d1);
+    next = near0 ? n.child0 : n.child1;
+    next_d2 = near0 ? d0 : d1;
+    far = near0 ? n.child1 : n.child0;
+    far_d2 = near0 ? d1 : d0;
+    next = next_d2 < 0.0 ? BVH_NO_CHILD : next;
+    far = far_d2 < 0.0 ? BVH_NO_CHILD : far;
 }
 
 // The nearest triangle of the static part (bottom level from `root`, world space) not wholly
 // under the plane, within sqrt(best2).
 float static_distance2(vec3 q, Photon ph, float tau, uint root, float best2) {
     uint stack[STACK_SIZE];
+    float stack_d2[STACK_SIZE];
     uint sp = 0u;
-    uint node = root;
+    uint node = root;  // a child reference: the root is interior
     while (true) {
-        BvhNode n = bvh_nodes.nodes[node];
-        if (box_distance2(q, n) * 0.999 < best2 && !box_below(n, ph.position, ph.normal, tau)) {
-            if (n.count == 0u) {
-                // Nearer child first: what it finds may cull the other.
-                uint left = n.left_or_first;
-                bool left_near = box_distance2(q, bvh_nodes.nodes[left]) <= box_distance2(q, bvh_nodes.nodes[left + 1u]);
-                if (sp < uint(STACK_SIZE)) {  // the tree is at most BVH_MAX_DEPTH deep
-                    stack[sp] = left_near ? left + 1u : left;
-                    sp++;
-                }
-                node = left_near ? left : left + 1u;
+        if (!bvh_is_leaf(node)) {
+            uint next, far;
+            float next_d2, far_d2;
+            search_step(q, bvh_nodes.nodes[node], ph, tau, best2, next, next_d2, far, far_d2);
+            if (far != BVH_NO_CHILD && sp < uint(STACK_SIZE)) {  // the tree is at most BVH_MAX_DEPTH deep
+                stack[sp] = far;
+                stack_d2[sp] = far_d2;
+                sp++;
+            }
+            if (next != BVH_NO_CHILD) {
+                node = next;
                 continue;
             }
-            for (uint t = n.left_or_first; t < n.left_or_first + n.count; t++) {
+        } else {
+            uint first = bvh_leaf_first(node);
+            for (uint t = first; t < first + bvh_leaf_count(node); t++) {
                 BvhTriangle tri = bvh_triangles.triangles[t];
                 vec3 v0 = bvh_vertex(tri.v0), v1 = bvh_vertex(tri.v1), v2 = bvh_vertex(tri.v2);
                 if (below(v0, ph.position, ph.normal, tau) && below(v1, ph.position, ph.normal, tau)
@@ -118,11 +144,15 @@ float static_distance2(vec3 q, Photon ph, float tau, uint root, float best2) {
                 best2 = min(best2, triangle_distance2(q, v0, v1, v2));
             }
         }
-        if (sp == 0u) {
+        // A child put aside is entered only if it is still nearer than the best found since.
+        node = BVH_NO_CHILD;
+        while (sp > 0u && node == BVH_NO_CHILD) {
+            sp--;
+            node = stack_d2[sp] * 0.999 < best2 ? stack[sp] : BVH_NO_CHILD;
+        }
+        if (node == BVH_NO_CHILD) {
             break;
         }
-        sp--;
-        node = stack[sp];
     }
     return best2;
 }
@@ -139,39 +169,48 @@ void main() {
         return;
     }
     float tau = 0.25 * dot(q - ph.position, ph.normal);
-    // Boxes are compared with a little slack, so that rounding never culls a closer triangle.
     float best2 = params.max_radius * params.max_radius;
     // The top level: the static part is searched triangle by triangle; an animated instance
     // (a door leaf) counts as its whole world box, which is conservative (the ball only
     // shrinks) and keeps mesh-space distances, which a scaled instance would distort, out of it.
     uint stack[BVH_TOP_STACK_SIZE];
+    float stack_d2[BVH_TOP_STACK_SIZE];
     uint sp = 0u;
-    uint node = 0u;
+    uint node = 0u;  // a child reference: the root
+    float node_d2 = 0.0;  // its box's squared distance (a leaf's: its part's world box)
     while (true) {
-        BvhNode n = bvh_top.nodes[node];
-        if (box_distance2(q, n) * 0.999 < best2 && !box_below(n, ph.position, ph.normal, tau)) {
-            if (n.count == 0u) {
-                uint left = n.left_or_first;
-                bool left_near = box_distance2(q, bvh_top.nodes[left]) <= box_distance2(q, bvh_top.nodes[left + 1u]);
-                if (sp < uint(BVH_TOP_STACK_SIZE)) {  // the top level is at most BVH_TOP_MAX_DEPTH deep
-                    stack[sp] = left_near ? left + 1u : left;
-                    sp++;
-                }
-                node = left_near ? left : left + 1u;
+        if (!bvh_is_leaf(node)) {
+            uint next, far;
+            float next_d2, far_d2;
+            search_step(q, bvh_top.nodes[node], ph, tau, best2, next, next_d2, far, far_d2);
+            if (far != BVH_NO_CHILD && sp < uint(BVH_TOP_STACK_SIZE)) {  // the top level is at most BVH_TOP_MAX_DEPTH deep
+                stack[sp] = far;
+                stack_d2[sp] = far_d2;
+                sp++;
+            }
+            if (next != BVH_NO_CHILD) {
+                node = next;
+                node_d2 = next_d2;
                 continue;
             }
+        } else {
+            uint part = bvh_leaf_first(node);  // a top-level leaf holds one part
             // Two fields of the record, not its 64 bytes (see bvh_part_ray).
-            if (bvh_instances.items[n.left_or_first].identity != 0u) {
-                best2 = static_distance2(q, ph, tau, bvh_instances.items[n.left_or_first].root, best2);
+            if (bvh_instances.items[part].identity != 0u) {
+                best2 = static_distance2(q, ph, tau, bvh_instances.items[part].root, best2);
             } else {
-                best2 = min(best2, box_distance2(q, n));
+                best2 = min(best2, node_d2);
             }
         }
-        if (sp == 0u) {
+        node = BVH_NO_CHILD;
+        while (sp > 0u && node == BVH_NO_CHILD) {
+            sp--;
+            node = stack_d2[sp] * 0.999 < best2 ? stack[sp] : BVH_NO_CHILD;
+            node_d2 = stack_d2[sp];
+        }
+        if (node == BVH_NO_CHILD) {
             break;
         }
-        sp--;
-        node = stack[sp];
     }
     // Rounding of the distance: relative to it, and in ULPs of the coordinates involved.
     float magnitude = max(max(abs(q.x), abs(q.y)), max(abs(q.z), trace_scale.scene_scale / 32.0));

@@ -46,14 +46,14 @@ BvhRay bvh_ray(vec3 origin, vec3 dir) {
     return ray;
 }
 
-// Whether the ray meets the box within [tmin, tmax], and where it enters. Near and far planes
+// Whether the ray meets the box lo..hi within [tmin, tmax], and where it enters. Near and far planes
 // are picked by the sign of 1/dir rather than with min/max: on an axis the ray does not move
 // along that gives ±inf, or NaN for a ray exactly in a face plane, and the comparisons below
 // are written so that NaN leaves the interval as it is, which is right for such a ray.
-bool bvh_box(BvhRay ray, BvhNode node, float tmin, float tmax, out float entry) {
+bool bvh_box(BvhRay ray, vec3 lo, vec3 hi, float tmin, float tmax, out float entry) {
     bvec3 neg = lessThan(ray.inv_dir, vec3(0.0));
-    vec3 t_near = (mix(node.bounds_min, node.bounds_max, neg) - ray.origin) * ray.inv_dir;
-    vec3 t_far = (mix(node.bounds_max, node.bounds_min, neg) - ray.origin) * ray.inv_dir * BVH_ROBUST_FAR;
+    vec3 t_near = (mix(lo, hi, neg) - ray.origin) * ray.inv_dir;
+    vec3 t_far = (mix(hi, lo, neg) - ray.origin) * ray.inv_dir * BVH_ROBUST_FAR;
     float near = tmin;
     float far = tmax;
     near = t_near.x > near ? t_near.x : near;
@@ -107,19 +107,27 @@ bool bvh_triangle(BvhRay ray, BvhTriangle tri, float tmin, float tmax, out float
     return t > tmin && t < tmax;
 }
 
-// Which children of an interior node (children `left`, `left + 1`; h0/h1: their boxes are hit,
-// d0/d1: where the ray enters them) to visit: `next` now (NO_HIT: neither, pop the stack) and
-// `far` later (NO_HIT: none). Near child first: its hits shrink the ray and may cull the far one.
-void bvh_children(bool h0, bool h1, float d0, float d1, uint left, out uint next, out uint far) {
+// Which children of an interior node (references c0, c1; h0/h1: their boxes are hit, d0/d1:
+// where the ray enters them) to visit: `next` now (NO_HIT: neither, pop the stack) and `far`
+// later (NO_HIT: none). Near child first: its hits shrink the ray and may cull the far one.
+void bvh_children(bool h0, bool h1, float d0, float d1, uint c0, uint c1, out uint next, out uint far) {
     far = NO_HIT;
     next = NO_HIT;
     if (h0 && h1) {
-        bool left_near = d0 <= d1;
-        next = left_near ? left : left + 1u;
-        far = left_near ? left + 1u : left;
+        bool near0 = d0 <= d1;
+        next = near0 ? c0 : c1;
+        far = near0 ? c1 : c0;
     } else if (h0 || h1) {
-        next = h0 ? left : left + 1u;
+        next = h0 ? c0 : c1;
     }
+}
+
+// One traversal step at interior node `n`: its children to visit now and later (above).
+void bvh_step(BvhRay ray, BvhNode n, float tmin, float tmax, out uint next, out uint far) {
+    float d0, d1;
+    bool h0 = bvh_box(ray, n.min0, n.max0, tmin, tmax, d0);
+    bool h1 = bvh_box(ray, n.min1, n.max1, tmin, tmax, d1);
+    bvh_children(h0, h1, d0, d1, n.child0, n.child1, next, far);
 }
 
 // A world ray in part `part`'s space: the static part's is the world ray itself; an
@@ -159,32 +167,22 @@ uint trace_triangles_tested = 0u;
 // (tmin, hit.t) replaces `hit`, and `slot` becomes its index in bvh_triangles. With any_hit,
 // returns true at the first accepted hit.
 bool trace_bvh_part(BvhRay ray, uint root, float tmin, bool any_hit, inout Hit hit, inout uint slot) {
-    float entry;
-    // Children are box-tested by their parent; the root by itself.
-    if (!bvh_box(ray, bvh_nodes.nodes[root], tmin, hit.t, entry)) {
-        return false;
-    }
     uint stack[BVH_STACK_SIZE];
     uint sp = 0u;
-    uint node = root;
+    uint node = root;  // a child reference: the root is interior
     // While-while (Aila and Laine, 2009): each invocation descends through interior nodes until
     // it holds a leaf, and only then tests triangles. Lanes that run together (a SIMD group on
     // a CPU driver, a subgroup on a GPU) then test their leaves' triangles in one pass instead
     // of one lane's leaf per iteration of a single loop. The order in which one ray visits
     // nodes is the if-if loop's, so hits and counts are unchanged.
     while (node != NO_HIT) {
-        BvhNode n = bvh_nodes.nodes[node];
-        while (n.count == 0u) {
+        while (!bvh_is_leaf(node)) {
             if (TRACE_COUNT_WORK) {
                 trace_nodes_visited++;
             }
-            uint left = n.left_or_first;
-            float d0, d1;
-            // hit.t shrinks as hits are found, culling everything behind the closest one.
-            bool h0 = bvh_box(ray, bvh_nodes.nodes[left], tmin, hit.t, d0);
-            bool h1 = bvh_box(ray, bvh_nodes.nodes[left + 1u], tmin, hit.t, d1);
             uint next, far;
-            bvh_children(h0, h1, d0, d1, left, next, far);
+            // hit.t shrinks as hits are found, culling everything behind the closest one.
+            bvh_step(ray, bvh_nodes.nodes[node], tmin, hit.t, next, far);
             if (far != NO_HIT && sp < uint(BVH_STACK_SIZE)) {  // always room (see BVH_STACK_SIZE)
                 stack[sp] = far;
                 sp++;
@@ -197,12 +195,13 @@ bool trace_bvh_part(BvhRay ray, uint root, float tmin, bool any_hit, inout Hit h
                 next = stack[sp];
             }
             node = next;
-            n = bvh_nodes.nodes[node];
         }
         if (TRACE_COUNT_WORK) {
             trace_nodes_visited++;
         }
-        for (uint i = n.left_or_first; i < n.left_or_first + n.count; i++) {
+        uint first = bvh_leaf_first(node);
+        uint end = first + bvh_leaf_count(node);
+        for (uint i = first; i < end; i++) {
             if (TRACE_COUNT_WORK) {
                 trace_triangles_tested++;
             }
@@ -240,22 +239,13 @@ Hit trace_bvh_slot(vec3 origin, vec3 dir, float tmin, float tmax, bool any_hit, 
     hit.triangle = NO_HIT;
     hit.barycentrics = vec2(0.0);
     BvhRay ray = bvh_ray(origin, dir);
-    float entry;
-    if (!bvh_box(ray, bvh_top.nodes[0], tmin, hit.t, entry)) {
-        return hit;
-    }
     uint stack[BVH_TOP_STACK_SIZE];
     uint sp = 0u;
-    uint node = 0u;
+    uint node = 0u;  // a child reference: the root
     while (true) {
-        BvhNode n = bvh_top.nodes[node];
-        if (n.count == 0u) {
-            uint left = n.left_or_first;
-            float d0, d1;
-            bool h0 = bvh_box(ray, bvh_top.nodes[left], tmin, hit.t, d0);
-            bool h1 = bvh_box(ray, bvh_top.nodes[left + 1u], tmin, hit.t, d1);
+        if (!bvh_is_leaf(node)) {
             uint next, far;
-            bvh_children(h0, h1, d0, d1, left, next, far);
+            bvh_step(ray, bvh_top.nodes[node], tmin, hit.t, next, far);
             if (far != NO_HIT && sp < uint(BVH_TOP_STACK_SIZE)) {  // always room (BVH_TOP_STACK_SIZE)
                 stack[sp] = far;
                 sp++;
@@ -265,11 +255,11 @@ Hit trace_bvh_slot(vec3 origin, vec3 dir, float tmin, float tmax, bool any_hit, 
                 continue;
             }
         } else {
-            uint part = n.left_or_first;
+            uint part = bvh_leaf_first(node);  // a top-level leaf holds one part
             uint closest = slot.x;
             bool done = trace_bvh_part(bvh_part_ray(part, ray, origin, dir), bvh_instances.items[part].root, tmin, any_hit, hit, closest);
             if (closest != slot.x) {
-                slot = uvec2(closest, n.left_or_first);
+                slot = uvec2(closest, part);
             }
             if (done) {
                 return hit;

@@ -29,6 +29,7 @@
 
 mod builder;
 mod intersect;
+mod nodes;
 mod ploc;
 #[cfg(test)]
 mod tests;
@@ -41,6 +42,7 @@ use leakless_scene::Vertex;
 
 use crate::AccelError;
 pub use intersect::{intersect_triangle, Ray};
+pub use nodes::{pack, BvhNode, ChildRef, TreeNode, BVH_NODE_LAYOUT, EMPTY_BOX, MAX_LEAF_TRIANGLES};
 
 /// The deepest leaf a BVH may have (the root is depth 0). The GLSL traversal pushes at most one
 /// node per level, so its stack (`BVH_STACK_SIZE` in trace_compute.glsl, checked equal by a
@@ -49,24 +51,9 @@ pub use intersect::{intersect_triangle, Ray};
 /// median splits near the limit and so never exceeds it.
 pub const BVH_MAX_DEPTH: u32 = 64;
 
-/// Triangle indices must stay below `NO_HIT` (0xffffffff), the shader's miss marker.
-pub const MAX_TRIANGLES: usize = u32::MAX as usize - 1;
-
-/// One node of the flattened tree (`struct BvhNode` in trace_compute.glsl), 32 bytes.
-///
-/// `count == 0`: an interior node whose children are `left_or_first` and `left_or_first + 1`
-/// (always adjacent, so one index suffices). `count > 0`: a leaf holding triangles
-/// `left_or_first .. left_or_first + count` of [`Bvh::triangles`]. The root is node 0.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
-pub struct BvhNode {
-    pub bounds_min: [f32; 3],
-    pub left_or_first: u32,
-    pub bounds_max: [f32; 3],
-    pub count: u32,
-}
-
-pub const BVH_NODE_LAYOUT: RustLayout = rust_layout!(BvhNode { bounds_min, left_or_first, bounds_max, count });
+/// A child reference holds a leaf's first triangle in 27 bits ([`ChildRef`]): 134M triangles,
+/// 5 GiB of them, beyond any device's storage-buffer range.
+pub const MAX_TRIANGLES: usize = (1 << 27) - 1;
 
 /// One triangle in BVH order (`struct BvhTriangle` in bvh.glsl), 40 bytes: the raw
 /// world-space vertices, since the watertight test needs them (precomputed edges would round
@@ -127,6 +114,9 @@ pub struct Hit {
 #[derive(Clone, Debug)]
 pub struct Bvh {
     pub nodes: Vec<BvhNode>,
+    /// The root's box (padded): no node holds it.
+    pub bounds_min: [f32; 3],
+    pub bounds_max: [f32; 3],
     pub triangles: Vec<BvhTriangle>,
     pub stats: BvhStats,
 }
@@ -193,7 +183,7 @@ impl Bvh {
     /// the GPU arrays: pads the boxes, reorders the triangles, and measures the result.
     fn flatten(
         tris: &[SceneTriangle],
-        mut nodes: Vec<BvhNode>,
+        mut nodes: Vec<TreeNode>,
         order: &[u32],
         skipped: u32,
         builder: &'static str,
@@ -226,17 +216,18 @@ impl Bvh {
         if max_depth > max_depth_allowed {
             return Err(AccelError::TooDeep { depth: max_depth });
         }
+        let packed = pack(&nodes)?;
         let stats = BvhStats {
             build_ms: 0.0,
             node_count: nodes.len() as u32,
             triangle_count: triangles.len() as u32,
-            bytes: std::mem::size_of_val(nodes.as_slice()) + std::mem::size_of_val(triangles.as_slice()),
+            bytes: std::mem::size_of_val(packed.as_slice()) + std::mem::size_of_val(triangles.as_slice()),
             sah_cost: sah_cost(&nodes),
             max_depth,
             skipped,
             builder,
         };
-        Ok(Self { nodes, triangles, stats })
+        Ok(Self { nodes: packed, bounds_min: nodes[0].bounds_min, bounds_max: nodes[0].bounds_max, triangles, stats })
     }
 
     /// The closest intersection with `t` in (`tmin`, `tmax`), or with `any_hit` the first one
@@ -290,18 +281,19 @@ impl Bvh {
         let ray = Ray::new(origin, dir);
         let mut best: Option<Hit> = None;
         let mut t_best = tmax;
-        let mut stack = [0u32; STACK];
+        let mut stack = [ChildRef(0); STACK];
         let mut sp = 0usize;
-        // Children are box-tested by their parent, the root by itself.
-        ray.box_entry(self.nodes.first()?, tmin, t_best)?;
-        let mut node = 0u32;
+        // Each node box-tests its children; the root's box is the shader's top level's to test
+        // (a part's box), and a ray that misses it visits nothing.
+        ray.box_entry(self.bounds_min, self.bounds_max, tmin, t_best)?;
+        let mut node = ChildRef::interior(0);
         loop {
             counts.nodes += 1;
-            let n = &self.nodes[node as usize];
-            if n.count == 0 {
-                let (left, right) = (n.left_or_first, n.left_or_first + 1);
-                let d0 = ray.box_entry(&self.nodes[left as usize], tmin, t_best);
-                let d1 = ray.box_entry(&self.nodes[right as usize], tmin, t_best);
+            if !node.is_leaf() {
+                let n = &self.nodes[node.node() as usize];
+                let [(lo0, hi0, left), (lo1, hi1, right)] = [n.child(0), n.child(1)];
+                let d0 = ray.box_entry(lo0, hi0, tmin, t_best);
+                let d1 = ray.box_entry(lo1, hi1, tmin, t_best);
                 match (d0, d1) {
                     (Some(d0), Some(d1)) => {
                         // Near child first: its hits shrink t_best and cull the far one.
@@ -324,7 +316,7 @@ impl Bvh {
                     (None, None) => {}
                 }
             } else {
-                for i in n.left_or_first..n.left_or_first + n.count {
+                for i in node.triangles() {
                     counts.triangles += 1;
                     let tri = &self.triangles[i as usize];
                     let Some((t, [u, v])) = intersect_triangle(&ray, tri.v0, tri.v1, tri.v2, tmin, t_best) else {
@@ -401,13 +393,13 @@ fn finite_triangles(positions: &[[f32; 3]]) -> Result<(Vec<SceneTriangle>, u32),
     Ok((tris, skipped))
 }
 
-fn half_area(n: &BvhNode) -> f32 {
+fn half_area(n: &TreeNode) -> f32 {
     let d = [0, 1, 2].map(|a| (n.bounds_max[a] - n.bounds_min[a]).max(0.0));
     d[0] * d[1] + d[1] * d[2] + d[2] * d[0]
 }
 
 /// See [`BvhStats::sah_cost`].
-fn sah_cost(nodes: &[BvhNode]) -> f32 {
+fn sah_cost(nodes: &[TreeNode]) -> f32 {
     let root = half_area(&nodes[0]) as f64;
     if !(root > 0.0 && root.is_finite()) {
         return nodes.len() as f32;
@@ -417,7 +409,7 @@ fn sah_cost(nodes: &[BvhNode]) -> f32 {
 }
 
 /// Depth of the deepest leaf (root = 0).
-fn depth(nodes: &[BvhNode]) -> u32 {
+fn depth(nodes: &[TreeNode]) -> u32 {
     let mut max = 0;
     let mut stack = vec![(0u32, 0u32)];
     while let Some((i, d)) = stack.pop() {

@@ -19,7 +19,7 @@ use glam::{Mat4, Vec3};
 use leakless_device::{rust_layout, RustLayout};
 use leakless_scene::Vertex;
 
-use crate::bvh::{Bvh, BvhNode, BvhStats, BvhTriangle, BOX_PAD};
+use crate::bvh::{pack, Bvh, BvhNode, BvhStats, BvhTriangle, ChildRef, TreeNode, BOX_PAD};
 use crate::AccelError;
 
 /// The deepest leaf the top level may have; its traversal stack (`BVH_TOP_STACK_SIZE` in
@@ -82,8 +82,8 @@ pub struct InstancedBvh {
     pub stats: BvhStats,
 }
 
-/// The top level of one frame: `nodes` for `bvh_top`, `instances` (one per part, in part
-/// order; a leaf's `left_or_first` is its part) for `bvh_instances`.
+/// The top level of one frame: `nodes` for `bvh_top` (a leaf's one "triangle" is its part),
+/// `instances` (one per part, in part order) for `bvh_instances`.
 #[derive(Clone, Debug, PartialEq)]
 pub struct TopLevel {
     pub nodes: Vec<BvhNode>,
@@ -112,34 +112,34 @@ impl InstancedBvh {
         let inputs = static_part.iter().map(|p| (p, true)).chain(instances.iter().map(|p| (p, false)));
         for (input, identity) in inputs {
             let bvh = Bvh::build(input.vertices)?;
-            out.append(bvh, input.first_triangle, identity, magnitude);
+            out.append(bvh, input.first_triangle, identity, magnitude)?;
         }
         Ok(out)
     }
 
-    fn append(&mut self, bvh: Bvh, first_triangle: u32, identity: bool, magnitude: f32) {
+    fn append(&mut self, bvh: Bvh, first_triangle: u32, identity: bool, magnitude: f32) -> Result<(), AccelError> {
         let node_base = self.nodes.len() as u32;
         let triangle_base = self.triangles.len() as u32;
+        if self.triangles.len() + bvh.triangles.len() > crate::bvh::MAX_TRIANGLES {
+            return Err(AccelError::TooManyTriangles(self.triangles.len() + bvh.triangles.len()));
+        }
         // Bvh::build padded by its own magnitude; top up to the scene's.
-        let own = bvh.nodes[0]
-            .bounds_min
-            .iter()
-            .chain(&bvh.nodes[0].bounds_max)
-            .fold(f32::MIN_POSITIVE, |m, c| m.max(c.abs()));
+        let own = bvh.bounds_min.iter().chain(&bvh.bounds_max).fold(f32::MIN_POSITIVE, |m, c| m.max(c.abs()));
         let extra = ((magnitude - own) * BOX_PAD).max(0.0);
-        self.nodes.extend(bvh.nodes.iter().map(|n| {
-            let first = if n.count == 0 { node_base } else { triangle_base };
-            BvhNode {
-                bounds_min: n.bounds_min.map(|c| c - extra),
-                left_or_first: n.left_or_first + first,
-                bounds_max: n.bounds_max.map(|c| c + extra),
-                count: n.count,
-            }
+        let (lower, raise) = (|v: [f32; 3]| v.map(|c| c - extra), |v: [f32; 3]| v.map(|c| c + extra));
+        self.nodes.extend(bvh.nodes.iter().map(|n| BvhNode {
+            min0: lower(n.min0),
+            child0: ChildRef(n.child0).offset(node_base, triangle_base).0,
+            max0: raise(n.max0),
+            child1: ChildRef(n.child1).offset(node_base, triangle_base).0,
+            min1: lower(n.min1),
+            max1: raise(n.max1),
+            ..Default::default()
         }));
         self.triangles
             .extend(bvh.triangles.iter().map(|t| BvhTriangle { triangle: t.triangle + first_triangle, ..*t }));
-        let root = &self.nodes[node_base as usize];
-        self.parts.push(Part { root: node_base, bounds_min: root.bounds_min, bounds_max: root.bounds_max, identity });
+        let (bounds_min, bounds_max) = (lower(bvh.bounds_min), raise(bvh.bounds_max));
+        self.parts.push(Part { root: node_base, bounds_min, bounds_max, identity });
         let s = &mut self.stats;
         let b = &bvh.stats;
         if self.parts.len() == 1 {
@@ -152,6 +152,7 @@ impl InstancedBvh {
         s.bytes += b.bytes;
         s.max_depth = s.max_depth.max(b.max_depth);
         s.skipped += b.skipped;
+        Ok(())
     }
 
     /// Number of animated instances (parts that are not static).
@@ -193,8 +194,9 @@ impl InstancedBvh {
             let (lo, hi) = bounds.unwrap_or((Vec3::splat(f32::MAX), Vec3::splat(-f32::MAX)));
             boxes.push((index as u32, lo, hi));
         }
-        let mut nodes = vec![BvhNode::default()];
-        build_top(&mut nodes, &mut boxes, 0);
+        let mut tree = vec![TreeNode::default()];
+        build_top(&mut tree, &mut boxes, 0);
+        let nodes = pack(&tree).expect("top-level leaves hold one part");
         TopLevel { nodes, instances }
     }
 }
@@ -212,16 +214,16 @@ fn world_box(m: &Mat4, lo: Vec3, hi: Vec3) -> (Vec3, Vec3) {
 
 /// Median split on the longest axis of the centres, children adjacent (as in the bottom
 /// level): `nodes[at]` becomes the node over `items`.
-fn build_top(nodes: &mut Vec<BvhNode>, items: &mut [(u32, Vec3, Vec3)], at: usize) {
+fn build_top(nodes: &mut Vec<TreeNode>, items: &mut [(u32, Vec3, Vec3)], at: usize) {
     let lo = items.iter().fold(Vec3::splat(f32::MAX), |a, i| a.min(i.1));
     let hi = items.iter().fold(Vec3::splat(-f32::MAX), |a, i| a.max(i.2));
     if let [(part, ..)] = items {
-        nodes[at] = BvhNode { bounds_min: lo.to_array(), left_or_first: *part, bounds_max: hi.to_array(), count: 1 };
+        nodes[at] = TreeNode { bounds_min: lo.to_array(), left_or_first: *part, bounds_max: hi.to_array(), count: 1 };
         return;
     }
     let left = nodes.len();
-    nodes.extend([BvhNode::default(); 2]);
-    nodes[at] = BvhNode { bounds_min: lo.to_array(), left_or_first: left as u32, bounds_max: hi.to_array(), count: 0 };
+    nodes.extend([TreeNode::default(); 2]);
+    nodes[at] = TreeNode { bounds_min: lo.to_array(), left_or_first: left as u32, bounds_max: hi.to_array(), count: 0 };
     // Centres of empty boxes are 0 (MAX + -MAX): they sort among the rest harmlessly.
     let centre = |i: &(u32, Vec3, Vec3)| (i.1 + i.2) * 0.5;
     let c_lo = items.iter().fold(Vec3::splat(f32::MAX), |a, i| a.min(centre(i)));
@@ -261,12 +263,15 @@ mod tests {
         seen[..2].sort();
         seen[2..].sort();
         assert_eq!(seen, vec![0, 1, 2, 3]);
-        // Every interior node of the second part points into the second part's nodes.
+        // Every child of the second part's nodes is in the second part's nodes or triangles.
         for n in &bvh.nodes[root1..] {
-            if n.count == 0 {
-                assert!(n.left_or_first as usize > root1);
-            } else {
-                assert!(n.left_or_first >= 2);
+            for i in 0..2 {
+                let (.., child) = n.child(i);
+                if child.is_leaf() {
+                    assert!(child.triangles().start >= 2);
+                } else {
+                    assert!(child.node() as usize > root1);
+                }
             }
         }
     }
@@ -280,15 +285,17 @@ mod tests {
         let moves: Vec<Mat4> = (0..5).map(|i| Mat4::from_translation(Vec3::new(3.0 * i as f32, 0.0, 0.0))).collect();
         let top = bvh.top_level(&moves);
         assert_eq!(top.instances.len(), 5);
-        assert_eq!(top.nodes.len(), 9);
-        let mut leaves: Vec<u32> = top.nodes.iter().filter(|n| n.count == 1).map(|n| n.left_or_first).collect();
-        leaves.sort();
-        assert_eq!(leaves, vec![0, 1, 2, 3, 4]);
-        for n in top.nodes.iter().filter(|n| n.count == 1) {
-            let x = 3.0 * n.left_or_first as f32;
-            assert!(n.bounds_min[0] <= x && n.bounds_max[0] >= x + 1.0, "{n:?}");
+        assert_eq!(top.nodes.len(), 4, "a binary tree over 5 leaves has 4 interior nodes");
+        let leaves: Vec<_> = top.nodes.iter().flat_map(|n| [n.child(0), n.child(1)]).filter(|c| c.2.is_leaf()).collect();
+        let mut parts: Vec<u32> = leaves.iter().map(|(.., c)| c.triangles().start).collect();
+        parts.sort();
+        assert_eq!(parts, vec![0, 1, 2, 3, 4]);
+        for (lo, hi, child) in leaves {
+            assert_eq!(child.triangles().len(), 1);
+            let x = 3.0 * child.triangles().start as f32;
+            assert!(lo[0] <= x && hi[0] >= x + 1.0, "{lo:?} {hi:?}");
             // The row maps world back to mesh space.
-            let inst = &top.instances[n.left_or_first as usize];
+            let inst = &top.instances[child.triangles().start as usize];
             assert_eq!(inst.local_from_world0[3], -x);
         }
     }
@@ -298,6 +305,6 @@ mod tests {
         let q = quad(0.0);
         let bvh = InstancedBvh::build(None, &[PartInput { vertices: &q, first_triangle: 0 }], 1.0).unwrap();
         let top = bvh.top_level(&[Mat4::from_scale(Vec3::ZERO)]);
-        assert!(top.nodes[0].bounds_min[0] > top.nodes[0].bounds_max[0]);
+        assert!(top.nodes[0].min0[0] > top.nodes[0].max0[0]);
     }
 }

@@ -4,7 +4,8 @@
 //!   animated instance) and TLAS, built on the device; the TLAS is rebuilt in the frame's graph
 //!   when parts move.
 //! * [`bvh`]: the compute-shader backend. A binary BVH built on the CPU over a flat triangle
-//!   list and flattened into two storage buffers ([`BvhNode`], [`BvhTriangle`]) that
+//!   list and flattened into two storage buffers ([`BvhNode`]: an interior node with both
+//!   children's boxes, [`BvhTriangle`]) that
 //!   `shaders-glsl/trace_compute.glsl` traverses; [`Bvh::intersect`] is its exact CPU twin.
 //! * [`instanced`]: the compute backend's two levels: one [`Bvh`] per part, concatenated, and
 //!   a top level over the parts' world boxes rebuilt on the host when they move.
@@ -35,6 +36,8 @@ pub enum AccelError {
     TooManyTriangles(usize),
     #[error("the scene has {0} static and animated parts; the compute BVH's top level holds at most {max}", max = instanced::MAX_PARTS)]
     TooManyParts(usize),
+    #[error("a BVH leaf holds {0} triangles; a child reference counts at most {max}", max = bvh::MAX_LEAF_TRIANGLES)]
+    LeafTooLarge(u32),
     #[error("the BVH is {depth} levels deep; the traversal stack holds {max} (BVH_STACK_SIZE in trace_compute.glsl)", max = BVH_MAX_DEPTH)]
     TooDeep { depth: u32 },
 }

@@ -9,7 +9,7 @@
 //! [`BVH_MAX_DEPTH`], which then still reaches single-triangle leaves at that depth at the
 //! latest. Nothing here can panic on finite input; non-finite triangles never get here.
 
-use super::{BvhNode, SceneTriangle, BVH_MAX_DEPTH};
+use super::{SceneTriangle, TreeNode, BVH_MAX_DEPTH};
 use crate::AccelError;
 
 /// Builder settings; [`Params::DEFAULT`] is what `Bvh::build` uses, chosen by `tests::measure`
@@ -34,7 +34,7 @@ const COST_TRIANGLE: f32 = 1.0;
 
 /// The tree before flattening: leaves index `order`, which maps BVH slots to input triangles.
 pub(crate) struct Built {
-    pub nodes: Vec<BvhNode>,
+    pub nodes: Vec<TreeNode>,
     pub order: Vec<u32>,
 }
 
@@ -89,7 +89,7 @@ pub(crate) fn build(tris: &[SceneTriangle], params: Params) -> Result<Built, Acc
     let n = tris.len();
     let mut order: Vec<u32> = (0..n as u32).collect();
     let mut nodes = Vec::with_capacity(2 * n.div_ceil(params.max_leaf).max(1));
-    nodes.push(BvhNode::default());
+    nodes.push(TreeNode::default());
     // (node, first, end, depth), depth first so that a subtree's nodes stay together.
     let mut tasks = vec![(0usize, 0usize, n, 0u32)];
     while let Some((node, first, end, depth)) = tasks.pop() {
@@ -107,7 +107,7 @@ pub(crate) fn build(tris: &[SceneTriangle], params: Params) -> Result<Built, Acc
             Some(mid) => {
                 let left = nodes.len();
                 nodes[node].left_or_first = left as u32;
-                nodes.extend([BvhNode::default(); 2]);
+                nodes.extend([TreeNode::default(); 2]);
                 tasks.push((left + 1, first + mid, end, depth + 1));
                 tasks.push((left, first, first + mid, depth + 1));
             }

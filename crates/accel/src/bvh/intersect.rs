@@ -1,8 +1,6 @@
 //! Ray/box and watertight ray/triangle tests, operation for operation as in
 //! `shaders-glsl/trace_compute.glsl` (`bvh_box_entry`, `bvh_triangle`).
 
-use super::BvhNode;
-
 /// Ize's factor for the far slab distance, 1 + 2γ₃ with γ₃ = 3ε/(1-3ε), ε = 2⁻²⁴ ("Robust BVH
 /// Ray Traversal", JCGT 2013): with it the slab test never culls a box the exact ray touches.
 pub(crate) const ROBUST_FAR: f32 = 1.000_000_4;
@@ -44,23 +42,19 @@ impl Ray {
         }
     }
 
-    /// Where the ray enters the node's box within [`tmin`, `tmax`], or `None` if it misses.
+    /// Where the ray enters the box `lo`..`hi` within [`tmin`, `tmax`], or `None` if it misses.
     ///
     /// The near and far planes are chosen by the sign of 1/dir rather than with min/max, so an
     /// axis the ray does not move along (1/dir = ±inf) gives ±inf, or NaN exactly on a face
     /// plane; the comparisons are written so that NaN leaves the interval unchanged, which is
     /// what a ray lying in a face plane needs (Williams et al. 2005; pbrt).
-    pub(crate) fn box_entry(&self, node: &BvhNode, tmin: f32, tmax: f32) -> Option<f32> {
+    pub(crate) fn box_entry(&self, lo: [f32; 3], hi: [f32; 3], tmin: f32, tmax: f32) -> Option<f32> {
         let mut near = tmin;
         let mut far = tmax;
         for a in 0..3 {
-            let (lo, hi) = if self.inv_dir[a] < 0.0 {
-                (node.bounds_max[a], node.bounds_min[a])
-            } else {
-                (node.bounds_min[a], node.bounds_max[a])
-            };
-            let t_near = (lo - self.origin[a]) * self.inv_dir[a];
-            let t_far = (hi - self.origin[a]) * self.inv_dir[a] * ROBUST_FAR;
+            let (near_plane, far_plane) = if self.inv_dir[a] < 0.0 { (hi[a], lo[a]) } else { (lo[a], hi[a]) };
+            let t_near = (near_plane - self.origin[a]) * self.inv_dir[a];
+            let t_far = (far_plane - self.origin[a]) * self.inv_dir[a] * ROBUST_FAR;
             if t_near > near {
                 near = t_near;
             }

@@ -13,7 +13,7 @@ use obvhs::bvh2::reinsertion::ReinsertionOptimizer;
 use obvhs::ploc::PlocBuilder;
 use obvhs::BvhBuildParams;
 
-use super::{BvhNode, SceneTriangle};
+use super::{SceneTriangle, TreeNode};
 
 /// obvhs' `medium_build` ("about embree's build time, faster traversal"), with leaves of at
 /// most 4 triangles and a node visit costing as much as a triangle test in the collapse, as
@@ -24,7 +24,7 @@ pub(crate) const PARAMS: BvhBuildParams =
     BvhBuildParams { max_prims_per_leaf: 4, collapse_traversal_cost: 1.0, ..BvhBuildParams::medium_build() };
 
 /// Builds over `tris` (at least one); returns our nodes and the BVH-slot → `tris` order.
-pub(crate) fn build(tris: &[SceneTriangle], params: BvhBuildParams) -> (Vec<BvhNode>, Vec<u32>) {
+pub(crate) fn build(tris: &[SceneTriangle], params: BvhBuildParams) -> (Vec<TreeNode>, Vec<u32>) {
     let aabbs: Vec<Aabb> = tris
         .iter()
         .map(|t| {
@@ -49,7 +49,7 @@ pub(crate) fn build(tris: &[SceneTriangle], params: BvhBuildParams) -> (Vec<BvhN
 
     // Walk from the root: obvhs may leave unused nodes in its array, and we want a subtree's
     // nodes together, children adjacent, and each leaf's triangles contiguous.
-    let mut nodes = vec![BvhNode::default()];
+    let mut nodes = vec![TreeNode::default()];
     let mut order = Vec::with_capacity(tris.len());
     let mut stack = vec![(0usize, 0usize)]; // (theirs, ours)
     while let Some((theirs, ours)) = stack.pop() {
@@ -59,7 +59,7 @@ pub(crate) fn build(tris: &[SceneTriangle], params: BvhBuildParams) -> (Vec<BvhN
         if n.prim_count == 0 {
             let left = nodes.len();
             nodes[ours].left_or_first = left as u32;
-            nodes.extend([BvhNode::default(); 2]);
+            nodes.extend([TreeNode::default(); 2]);
             stack.push((n.first_index as usize + 1, left + 1));
             stack.push((n.first_index as usize, left));
         } else {

@@ -245,25 +245,29 @@ fn check_ray_with(
 /// Checks the tree: child boxes inside parents, triangles inside leaves, every finite input
 /// triangle exactly once, depth bounded.
 fn check_tree(bvh: &Bvh, positions: &[[f32; 3]]) {
-    let inside = |outer: &BvhNode, lo: [f32; 3], hi: [f32; 3]| {
-        (0..3).all(|a| outer.bounds_min[a] <= lo[a] && hi[a] <= outer.bounds_max[a])
+    let inside = |outer: ([f32; 3], [f32; 3]), lo: [f32; 3], hi: [f32; 3]| {
+        (0..3).all(|a| outer.0[a] <= lo[a] && hi[a] <= outer.1[a])
     };
     let mut seen = vec![0u32; positions.len() / 3];
-    let mut stack = vec![(0u32, 0u32)];
+    // (child, its box, its depth): a one-leaf tree is its root node's first child.
+    let root_leaf = bvh.nodes.len() == 1 && ChildRef(bvh.nodes[0].child0).is_leaf();
+    let root = if root_leaf { ChildRef(bvh.nodes[0].child0) } else { ChildRef::interior(0) };
+    let mut stack = vec![(root, (bvh.bounds_min, bvh.bounds_max), 0u32)];
     let mut max_depth = 0;
-    while let Some((i, depth)) = stack.pop() {
-        let n = &bvh.nodes[i as usize];
-        if n.count == 0 {
-            for c in [n.left_or_first, n.left_or_first + 1] {
-                let child = &bvh.nodes[c as usize];
-                assert!(inside(n, child.bounds_min, child.bounds_max), "node {c} pokes out of its parent {i}");
-                stack.push((c, depth + 1));
+    while let Some((node, bounds, depth)) = stack.pop() {
+        if !node.is_leaf() {
+            let n = &bvh.nodes[node.node() as usize];
+            for c in 0..2 {
+                let (lo, hi, child) = n.child(c);
+                assert!(inside(bounds, lo, hi), "{child:?} pokes out of its parent {node:?}");
+                stack.push((child, (lo, hi), depth + 1));
             }
         } else {
             max_depth = max_depth.max(depth);
-            for tri in &bvh.triangles[n.left_or_first as usize..(n.left_or_first + n.count) as usize] {
+            let range = node.triangles();
+            for tri in &bvh.triangles[range.start as usize..range.end as usize] {
                 for v in [tri.v0, tri.v1, tri.v2] {
-                    assert!(inside(n, v, v), "triangle {} pokes out of leaf {i}", tri.triangle);
+                    assert!(inside(bounds, v, v), "triangle {} pokes out of leaf {node:?}", tri.triangle);
                 }
                 let original = &positions[3 * tri.triangle as usize..3 * tri.triangle as usize + 3];
                 assert_eq!([tri.v0, tri.v1, tri.v2], [original[0], original[1], original[2]]);
@@ -278,18 +282,19 @@ fn check_tree(bvh: &Bvh, positions: &[[f32; 3]]) {
     assert_eq!(bvh.triangles.len(), seen.iter().sum::<u32>() as usize, "leaves overlap or miss triangles");
     assert_eq!(max_depth, bvh.stats.max_depth);
     assert!(max_depth <= BVH_MAX_DEPTH);
-    assert_eq!(bvh.stats.node_count as usize, bvh.nodes.len());
-    assert_eq!(bvh.stats.bytes, 32 * bvh.nodes.len() + 40 * bvh.triangles.len());
+    // The tree's nodes: its interior nodes and one more leaf than those (a one-leaf tree: 1).
+    assert_eq!(bvh.stats.node_count as usize, if root_leaf { 1 } else { 2 * bvh.nodes.len() + 1 });
+    assert_eq!(bvh.stats.bytes, 64 * bvh.nodes.len() + 40 * bvh.triangles.len());
 }
 
 #[test]
 fn gpu_structs_have_the_std430_layout() {
-    assert_eq!(std::mem::size_of::<BvhNode>(), 32);
+    assert_eq!(std::mem::size_of::<BvhNode>(), 64);
     assert_eq!(std::mem::size_of::<BvhTriangle>(), 40);
     let offsets = |l: &RustLayout| l.members.iter().map(|m| (m.name, m.offset)).collect::<Vec<_>>();
     assert_eq!(
         offsets(&BVH_NODE_LAYOUT),
-        [("bounds_min", 0), ("left_or_first", 12), ("bounds_max", 16), ("count", 28)]
+        [("min0", 0), ("child0", 12), ("max0", 16), ("child1", 28), ("min1", 32), ("pad0", 44), ("max1", 48), ("pad1", 60)]
     );
     assert_eq!(offsets(&BVH_TRIANGLE_LAYOUT), [("v0", 0), ("triangle", 12), ("v1", 16), ("v2", 28)]);
 }
@@ -314,7 +319,7 @@ fn shader_constants_match() {
         intersect::ROBUST_FAR
     );
     for decl in [
-        "struct BvhNode {\n    vec3 bounds_min;\n    uint left_or_first;\n    vec3 bounds_max;\n    uint count;\n};",
+        "struct BvhNode {\n    vec3 min0;\n    uint child0;\n    vec3 max0;\n    uint child1;\n    vec3 min1;\n    uint pad0;\n    vec3 max1;\n    uint pad1;\n};",
         "struct BvhTriangle {\n    float v0[3];\n    uint triangle;\n    float v1[3];\n    float v2[3];\n};",
     ] {
         assert!(structs.contains(decl), "bvh.glsl lacks {decl}");
@@ -547,7 +552,9 @@ fn huge_coordinates_do_not_break_the_build() {
 fn one_triangle_is_a_root_leaf() {
     let positions = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
     for bvh in builds(&positions) {
-        assert_eq!((bvh.nodes.len(), bvh.nodes[0].count), (1, 1));
+        assert_eq!(bvh.nodes.len(), 1);
+        assert_eq!(ChildRef(bvh.nodes[0].child0).triangles(), 0..1);
+        assert!(bvh.nodes[0].min1[0] > bvh.nodes[0].max1[0], "its second child is empty");
         let (o, d) = ([0.25, 0.5, 1.0], [0.0, 0.0, -2.0]);
         let hit = bvh.intersect(o, d, 0.0, 10.0, false).unwrap();
         assert_eq!((hit.t, hit.triangle, hit.u, hit.v), (0.5, 0, 0.25, 0.5));
