@@ -286,7 +286,8 @@ mod tests {
         let top = bvh.top_level(&moves);
         assert_eq!(top.instances.len(), 5);
         assert_eq!(top.nodes.len(), 4, "a binary tree over 5 leaves has 4 interior nodes");
-        let leaves: Vec<_> = top.nodes.iter().flat_map(|n| [n.child(0), n.child(1)]).filter(|c| c.2.is_leaf()).collect();
+        let leaves: Vec<_> =
+            top.nodes.iter().flat_map(|n| [n.child(0), n.child(1)]).filter(|c| c.2.is_leaf()).collect();
         let mut parts: Vec<u32> = leaves.iter().map(|(.., c)| c.triangles().start).collect();
         parts.sort();
         assert_eq!(parts, vec![0, 1, 2, 3, 4]);

@@ -122,9 +122,7 @@ pub fn check(settings: &RenderSettings, scene: &Scene, backend: Backend, limits:
     // built), so it bounds them: 3.3M triangles on 128 MiB.
     let range = limits.max_storage_buffer_range as u64;
     let triangle_bytes = triangles * std::mem::size_of::<BvhTriangle>() as u64;
-    const _: () = assert!(
-        3 * std::mem::size_of::<[f32; 3]>() <= std::mem::size_of::<BvhTriangle>()
-    );
+    const _: () = assert!(3 * std::mem::size_of::<[f32; 3]>() <= std::mem::size_of::<BvhTriangle>());
     if triangle_bytes > range {
         return Err(limit(format!(
             "the scene's {triangles} triangles need {triangle_bytes} bytes of BVH triangles, above the device's maxStorageBufferRange ({range})"

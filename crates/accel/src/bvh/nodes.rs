@@ -40,8 +40,7 @@ pub struct BvhNode {
     pub pad1: u32,
 }
 
-pub const BVH_NODE_LAYOUT: RustLayout =
-    rust_layout!(BvhNode { min0, child0, max0, child1, min1, pad0, max1, pad1 });
+pub const BVH_NODE_LAYOUT: RustLayout = rust_layout!(BvhNode { min0, child0, max0, child1, min1, pad0, max1, pad1 });
 
 impl BvhNode {
     /// Child `i`'s box and reference.
@@ -124,7 +123,8 @@ pub fn pack(tree: &[TreeNode]) -> Result<Vec<BvhNode>, AccelError> {
     }
     let child = |c: u32| {
         let n = &tree[c as usize];
-        let r = if n.count == 0 { ChildRef::interior(index[c as usize]) } else { ChildRef::leaf(n.left_or_first, n.count) };
+        let r =
+            if n.count == 0 { ChildRef::interior(index[c as usize]) } else { ChildRef::leaf(n.left_or_first, n.count) };
         (n.bounds_min, n.bounds_max, r)
     };
     let node = |(min0, max0, c0): ([f32; 3], [f32; 3], ChildRef), (min1, max1, c1): ([f32; 3], [f32; 3], ChildRef)| {

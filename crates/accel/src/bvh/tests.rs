@@ -294,7 +294,16 @@ fn gpu_structs_have_the_std430_layout() {
     let offsets = |l: &RustLayout| l.members.iter().map(|m| (m.name, m.offset)).collect::<Vec<_>>();
     assert_eq!(
         offsets(&BVH_NODE_LAYOUT),
-        [("min0", 0), ("child0", 12), ("max0", 16), ("child1", 28), ("min1", 32), ("pad0", 44), ("max1", 48), ("pad1", 60)]
+        [
+            ("min0", 0),
+            ("child0", 12),
+            ("max0", 16),
+            ("child1", 28),
+            ("min1", 32),
+            ("pad0", 44),
+            ("max1", 48),
+            ("pad1", 60)
+        ]
     );
     assert_eq!(offsets(&BVH_TRIANGLE_LAYOUT), [("v0", 0), ("triangle", 12), ("v1", 16), ("v2", 28)]);
 }

@@ -11,11 +11,13 @@
 //! split of the last frame that had them (its f and c, as shares of this frame's time at this
 //! frame's paths); the mean of the last estimates (up to 16, less the highest and the lowest)
 //! sets the next frame's paths, p = (T − f) / c. A lasting change (two frames in a row a
-//! third or more off that mean, on the same side) drops the older estimates, so that the
-//! budget follows it within a few frames while a lone outlier (a profiled frame, a page fault)
-//! moves it little. The paths move on a ladder of steps 2^(1/8) apart and stay on their step
-//! while the estimate is within ¾ of a step of it, so that noise does not make them wander, and
-//! the buffers sized by the paths change only when the step does.
+//! third or more off that mean, on the same side, or 1.3× over the target) drops the older
+//! estimates, so that the budget follows it within a few frames while a lone outlier (a
+//! profiled frame, a page fault) moves it little. The paths move on a ladder of steps 2^(1/8)
+//! apart and stay on their step while the estimate is within ¾ of a step of it, so that noise
+//! does not make them wander, and the buffers sized by the paths change only when the step
+//! does. A change of render size carries the estimate to the new size
+//! ([`FrameBudget::resize`]); the size it advises steps down after 3 frames and up after 12.
 
 use std::collections::VecDeque;
 
@@ -39,9 +41,20 @@ const WINDOW: usize = 16;
 const SHIFT_FRAMES: usize = 2;
 const SHIFT_FACTOR: f64 = 1.3;
 
-/// Frames measured at a render size before the budget advises another (the caller feeds only
-/// frames of the current size).
-const RESOLUTION_FRAMES: usize = 3;
+/// `SHIFT_FRAMES` frames in a row this far over the target also mark a change: a cost that
+/// climbs a few percent a frame (a view turning towards costlier pixels) never stands
+/// `SHIFT_FACTOR` off the average of the frames before it, and the average lagged it by ten
+/// frames or more, each over the target. Beyond a steady view's ±20% noise on paths a ladder's
+/// step above the target's.
+const OVER_FACTOR: f64 = 1.3;
+
+/// Frames measured at a render size before the budget advises a smaller one, and before it
+/// advises a larger one (the caller feeds only frames of the current size). Down at once, up
+/// slowly, as engines do: a frame over its target is seen, one under it is not, and a size
+/// that grows back on a few cheap frames (the view turned towards a wall) is over again when
+/// the view turns back.
+const RESOLUTION_DOWN_FRAMES: usize = 3;
+const RESOLUTION_UP_FRAMES: usize = 12;
 
 /// The most steps of `RESOLUTION_STEP` the budget advises down at once (0.84^8 ≈ ¼ along
 /// each axis): a frame several times over its target gets there in one change.
@@ -87,8 +100,11 @@ pub struct FrameBudget {
     /// The estimates of the fixed part and of a path's cost (ms) after the last frame.
     fixed_ms: f64,
     per_path_ms: f64,
-    /// Frames measured since the last `forget` (a change of size).
+    /// Frames measured since the last change of size (`resize`).
     measured: usize,
+    /// Frames in a row over the target by more than `OVER_FACTOR`, and the last frame's time.
+    over_streak: usize,
+    last_ms: f64,
 }
 
 impl FrameBudget {
@@ -108,6 +124,8 @@ impl FrameBudget {
             fixed_ms: 0.0,
             per_path_ms: 0.0,
             measured: 0,
+            over_streak: 0,
+            last_ms: 0.0,
         }
     }
 
@@ -138,6 +156,9 @@ impl FrameBudget {
         }
         self.measured += 1;
         let p = frame.paths as f64;
+        let over = frame.ms > OVER_FACTOR * self.target_ms;
+        self.over_streak = if over { self.over_streak + 1 } else { 0 };
+        self.last_ms = frame.ms;
         let share = match (frame.photon_share.filter(|s| s.is_finite()), self.split) {
             (Some(share), _) => {
                 let share = share.clamp(0.001, 1.0);
@@ -154,44 +175,66 @@ impl FrameBudget {
         }
         self.estimates.push_back((fixed, per_path));
         self.forget_before_a_shift();
+        self.choose_paths(true);
+        self.paths
+    }
+
+    /// The next frame's paths from the estimates: at most `MAX_STEP_FACTOR` from the last
+    /// frame's where `limit_step` (a measured frame; a change of size moves them as far as its
+    /// carried estimate asks).
+    fn choose_paths(&mut self, limit_step: bool) {
         let fixed = trimmed_mean(self.estimates.iter().map(|e| e.0));
         let per_path = trimmed_mean(self.estimates.iter().map(|e| e.1));
         (self.fixed_ms, self.per_path_ms) = (fixed, per_path);
         let room = self.target_ms - fixed;
         self.over = room < per_path * self.min_paths as f64;
-        let wanted =
-            (room.max(0.0) / per_path).clamp(self.paths as f64 / MAX_STEP_FACTOR, self.paths as f64 * MAX_STEP_FACTOR);
+        let mut wanted = room.max(0.0) / per_path;
+        if limit_step {
+            wanted = wanted.clamp(self.paths as f64 / MAX_STEP_FACTOR, self.paths as f64 * MAX_STEP_FACTOR);
+        }
         // Stay on the current step while the estimate is within ¾ of a step either side of it.
         let steps = (wanted / self.paths as f64).log2() * STEPS_PER_DOUBLING;
         if steps.abs() > 0.75 {
             self.paths = on_ladder(wanted, self.min_paths, self.max_paths);
         }
-        self.paths
     }
 }
 
 impl FrameBudget {
-    /// Forgets what the frames before measured: the render size changed, and with it the
-    /// fixed part and the cost of a path's gather. The paths stay, and so does the last timed
-    /// split's share of the frame, which follows the pixels in both parts: without it the next
-    /// frames would be split by the starting guess, and a fixed part taken as a fifth of the
-    /// frame would call for a larger size at once.
-    pub fn forget(&mut self) {
+    /// The render size changed, by `pixels` (the new size's pixels over the old's), and with it
+    /// the fixed part and the cost of a path's gather: the frames before measured another
+    /// size. Their estimate, carried to the new size, becomes the only one, and the next
+    /// frame's paths follow from it: the fixed part taken to follow the pixels, a path's cost
+    /// to grow with them but not to shrink, so that the carried estimate errs towards fewer
+    /// paths, which the frames after correct. Keeping the paths instead, a step up took the
+    /// next frames to 1.5–1.8× the target on the atrium's flight. The last timed split's share
+    /// of the frame stays (it follows the pixels in both parts): without it the next frames
+    /// would be split by the starting guess.
+    pub fn resize(&mut self, pixels: f64) {
+        let carried = (!self.estimates.is_empty() && pixels.is_finite() && pixels > 0.0)
+            .then(|| (self.fixed_ms * pixels, self.per_path_ms * pixels.max(1.0)));
         self.estimates.clear();
         self.over = false;
         self.measured = 0;
+        if let Some(estimate) = carried {
+            self.estimates.push_back(estimate);
+            self.choose_paths(false);
+        }
     }
 
     /// The factor (along each axis) by which the estimates advise scaling the render size,
-    /// dynamic resolution's (1: keep it), once `RESOLUTION_FRAMES` frames have been measured
-    /// since the last change of size. Where the fewest paths miss the target: down by as many
-    /// `RESOLUTION_STEP`s as bring the fixed part, taken to follow the pixels, within 90% of
-    /// the room they leave (at most `MAX_RESOLUTION_STEPS` at once). Where the frame, its fixed part grown by a
-    /// step's pixels, would take at most 80% of the target at twice the fewest paths: up one
-    /// step. The two cannot alternate: a step down leaves a fixed part that a step up would
-    /// grow back past the target.
+    /// dynamic resolution's (1: keep it), once `RESOLUTION_DOWN_FRAMES` frames (a step down) or
+    /// `RESOLUTION_UP_FRAMES` (a step up) have been measured since the last change of size.
+    /// Where the fewest paths miss the target: down by as many `RESOLUTION_STEP`s as bring the
+    /// fixed part, taken to follow the pixels, within 90% of the room they leave (at most
+    /// `MAX_RESOLUTION_STEPS` at once). Where the frame, its fixed part grown by a step's
+    /// pixels, would take at most 80% of the target at twice the fewest paths, and the last
+    /// frame held the target within 10% (a frame over it is no time to add pixels): up one
+    /// step. At
+    /// a steady cost the two cannot alternate: a step down leaves a fixed part that a step up
+    /// would grow back past the target.
     pub fn resolution_factor(&self) -> f64 {
-        if self.measured < RESOLUTION_FRAMES {
+        if self.measured < RESOLUTION_DOWN_FRAMES {
             return 1.0;
         }
         let least = self.per_path_ms * self.min_paths as f64;
@@ -201,7 +244,10 @@ impl FrameBudget {
             let steps =
                 if room > 0.0 { ((room / self.fixed_ms).ln() / pixels_step.ln()).ceil() } else { MAX_RESOLUTION_STEPS };
             RESOLUTION_STEP.powf(steps.clamp(1.0, MAX_RESOLUTION_STEPS))
-        } else if self.fixed_ms / pixels_step + 2.0 * least < 0.8 * self.target_ms {
+        } else if self.measured >= RESOLUTION_UP_FRAMES
+            && self.last_ms <= 1.1 * self.target_ms
+            && self.fixed_ms / pixels_step + 2.0 * least < 0.8 * self.target_ms
+        {
             1.0 / RESOLUTION_STEP
         } else {
             1.0
@@ -213,6 +259,10 @@ impl FrameBudget {
     fn forget_before_a_shift(&mut self) {
         let n = self.estimates.len();
         if n < 2 * SHIFT_FRAMES {
+            return;
+        }
+        if self.over_streak >= SHIFT_FRAMES {
+            self.estimates.drain(..n - SHIFT_FRAMES);
             return;
         }
         let before = trimmed_mean(self.estimates.iter().take(n - SHIFT_FRAMES).map(|e| e.1));

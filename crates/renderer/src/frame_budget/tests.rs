@@ -205,7 +205,7 @@ fn the_render_size_steps_down_where_the_fewest_paths_miss_and_back_up_with_room(
         if factor < 1.0 {
             // The caller renders smaller: the fixed part falls with the pixels.
             device.fixed *= factor * factor;
-            budget.forget();
+            budget.resize(factor * factor);
             changes.push(factor);
         }
     }
@@ -224,11 +224,59 @@ fn the_render_size_steps_down_where_the_fewest_paths_miss_and_back_up_with_room(
         if factor > 1.0 {
             assert_eq!(factor, 1.0 / RESOLUTION_STEP, "one step at a time");
             device.fixed *= factor * factor;
-            budget.forget();
+            budget.resize(factor * factor);
             ups += 1;
         }
     }
     assert!(ups >= 2, "{ups} steps up");
     let frames = run(&mut budget, &mut device, 10);
     assert!(frames.iter().all(|f| (f.1 / 150.0 - 1.0).abs() < 0.1), "{frames:?}");
+}
+
+#[test]
+fn a_change_of_size_carries_the_estimates_to_the_paths_that_fit_it() {
+    // Both parts follow the pixels here (a path's gather is per sample): 40 ms fixed, 11 µs a path.
+    let mut device = Device::new(40.0, 0.011, 0.0);
+    let mut budget = FrameBudget::new(150.0, 10_000, MIN_BUDGET_PATHS, 1 << 20);
+    run(&mut budget, &mut device, 20);
+    let before = budget.paths();
+    // A step up: the first frame at the larger size already fits, with fewer paths.
+    let up = 1.0 / (RESOLUTION_STEP * RESOLUTION_STEP);
+    (device.fixed, device.per_path) = (device.fixed * up, device.per_path * up);
+    budget.resize(up);
+    assert!(budget.paths() < before, "{} paths after a step up, {before} before", budget.paths());
+    let frames = run(&mut budget, &mut device, 12);
+    assert!(frames.iter().all(|f| f.1 <= 1.05 * 150.0), "{frames:?}");
+    // Back down: a path's cost is not taken to shrink, so the paths grow no further than the
+    // fixed part's fall allows, and the frames after find the rest.
+    let down = 1.0 / up;
+    (device.fixed, device.per_path) = (device.fixed * down, device.per_path * down);
+    let at_larger = budget.paths();
+    budget.resize(down);
+    let carried = budget.paths();
+    assert!(carried >= at_larger && (carried as f64) < device.ideal(150.0), "{at_larger} → {carried}");
+    let frames = run(&mut budget, &mut device, 30);
+    assert!(frames.iter().all(|f| f.1 <= 1.05 * 150.0), "{frames:?}");
+    let last = frames.last().expect("frames").0 as f64;
+    assert!((last / device.ideal(150.0) - 1.0).abs() < 0.1, "{last} paths, ideal {}", device.ideal(150.0));
+}
+
+#[test]
+fn the_size_steps_down_after_a_few_frames_and_up_only_after_many() {
+    let mut device = Device::new(20.0, 0.001, 0.0);
+    let mut budget = FrameBudget::new(150.0, 10_000, MIN_BUDGET_PATHS, 1 << 20);
+    budget.resize(0.5);
+    // Room to grow at once, but a larger size waits for RESOLUTION_UP_FRAMES measured frames.
+    for i in 1..=20 {
+        run(&mut budget, &mut device, 1);
+        let up = budget.resolution_factor() > 1.0;
+        assert_eq!(up, i >= RESOLUTION_UP_FRAMES, "frame {i}");
+    }
+    // Over budget: down after RESOLUTION_DOWN_FRAMES.
+    budget.resize(1.0);
+    device.fixed = 400.0;
+    for i in 1..=5 {
+        run(&mut budget, &mut device, 1);
+        assert_eq!(budget.resolution_factor() < 1.0, i >= RESOLUTION_DOWN_FRAMES, "frame {i}");
+    }
 }

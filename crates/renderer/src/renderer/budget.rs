@@ -86,10 +86,11 @@ impl Renderer {
         Ok(())
     }
 
-    /// The render size changed: the budget's estimates no longer hold.
-    pub(super) fn forget_budget_estimates(&mut self) {
+    /// The render size changed by `pixels` (new over old): the budget's estimates were made at
+    /// the old one ([`FrameBudget::resize`]).
+    pub(super) fn resize_budget(&mut self, pixels: f64) {
         if let Some(BudgetState { choice: FirstPaths::Budget(b), .. }) = &mut self.budget {
-            b.forget();
+            b.resize(pixels);
         }
     }
 

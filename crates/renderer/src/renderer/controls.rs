@@ -49,7 +49,8 @@ impl Renderer {
             |s: &RenderSettings| (s.splat.paths, s.max_bounces, s.width, s.height, s.splat.list_capacity);
         let regrow = capacity_inputs(&settings) != capacity_inputs(&self.settings);
         if (settings.width, settings.height) != (self.settings.width, self.settings.height) {
-            self.forget_budget_estimates();
+            let pixels = |s: &RenderSettings| s.width as f64 * s.height as f64;
+            self.resize_budget(pixels(&settings) / pixels(&self.settings));
         }
         if settings != self.settings {
             self.restart();
