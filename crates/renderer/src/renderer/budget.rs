@@ -33,6 +33,9 @@ pub struct BudgetReport {
     /// The factor along each axis by which the budget advises scaling the render size (1:
     /// keep it; [`FrameBudget::resolution_factor`]).
     pub resolution_factor: f64,
+    /// The renderer's first budgeted frame: it compiled the pipelines it used, and the budget
+    /// did not take its time for what frames cost.
+    pub warm_up: bool,
 }
 
 /// Who picks the paths of an accumulation's first frame.
@@ -50,6 +53,11 @@ pub(super) struct BudgetState {
     pub first_paths: u32,
     /// When the host last saw a frame complete.
     last_completion: Option<Instant>,
+    /// The first budgeted frame completed, and was not measured: it includes the compilation
+    /// of every pipeline at its first use (lavapipe compiles then; 0.9–1.5 s on the atrium),
+    /// which the budget took for the frame's cost and reported "over budget" from, in a still
+    /// view until the next move.
+    warmed_up: bool,
 }
 
 impl Renderer {
@@ -66,7 +74,12 @@ impl Renderer {
                 let most = most.min(u32::MAX as u64) as u32;
                 let controller = FrameBudget::new(t, self.settings.splat.paths, MIN_BUDGET_PATHS, most);
                 let choice = FirstPaths::Budget(controller);
-                Some(BudgetState { choice, first_paths: self.settings.splat.paths, last_completion: None })
+                Some(BudgetState {
+                    choice,
+                    first_paths: self.settings.splat.paths,
+                    last_completion: None,
+                    warmed_up: false,
+                })
             }
         };
         Ok(())
@@ -82,7 +95,12 @@ impl Renderer {
                 "--first-frame-paths {paths} must be within [1, {most}] on this device"
             )));
         }
-        self.budget = Some(BudgetState { choice: FirstPaths::Fixed(paths), first_paths: paths, last_completion: None });
+        self.budget = Some(BudgetState {
+            choice: FirstPaths::Fixed(paths),
+            first_paths: paths,
+            last_completion: None,
+            warmed_up: false,
+        });
         Ok(())
     }
 
@@ -153,6 +171,7 @@ impl Renderer {
         if pending.size != (self.settings.width, self.settings.height) {
             return None;
         }
+        let warming_up = !std::mem::replace(&mut budget.warmed_up, true);
         let FirstPaths::Budget(controller) = &mut budget.choice else { return None };
         // Timestamps measure passes only where the tuning trusts them; host times always.
         let timed =
@@ -161,7 +180,7 @@ impl Renderer {
         let follows_count = self.settings.splat.radius.is_none() && paths >= self.settings.splat.paths;
         let share = if timed { photon_share(&done.timings, follows_count) } else { None };
         let frame = FrameTime { ms: measured_ms, paths, photon_share: share };
-        let next_paths = controller.observe(frame);
+        let next_paths = if warming_up { controller.paths() } else { controller.observe(frame) };
         Some(BudgetReport {
             target_ms: controller.target_ms(),
             measured_ms,
@@ -170,6 +189,7 @@ impl Renderer {
             over_budget: controller.over_budget(),
             fewest_paths_ms: controller.fewest_paths_ms(),
             resolution_factor: controller.resolution_factor(),
+            warm_up: warming_up,
         })
     }
 
