@@ -45,6 +45,11 @@ pub struct MotionBench {
     /// Trace backend.
     #[arg(long, default_value = "auto")]
     pub backend: BackendChoice,
+    /// Also render each scene with reuse on under a frame budget equal to the fixed run's
+    /// mean frame time (reuse on, --paths a frame), so that the two compare at equal mean time:
+    /// the budget moves the paths from costly frames to cheap ones.
+    #[arg(long)]
+    pub budgeted: bool,
     #[command(flatten)]
     pub out: crate::options::FigureFiles,
     #[command(flatten)]
@@ -59,6 +64,8 @@ struct Figures {
     flip: f64,
     flicker: f64,
     frame_ms: f64,
+    /// The mean without the first frame (which compiles the pipelines).
+    steady_ms: f64,
     /// The frames' mean radiance over their references' (lag shows as a bias).
     mean_ratio: f64,
     /// Flicker on the surfaces (`SurfaceFlicker`).
@@ -69,6 +76,8 @@ struct Figures {
     band_pixels: usize,
     /// The last frame's relMSE and HDR-FLIP against the near-truth.
     against_truth: Option<(f64, f64)>,
+    /// Each frame's light paths.
+    paths: Vec<u32>,
 }
 
 /// Frame `k`'s view: the scene at time k/fps, or its camera turned about the point it looks at.
@@ -178,17 +187,21 @@ pub fn run(bench: &MotionBench) -> anyhow::Result<()> {
         } else {
             None
         };
-        let mut figures = Vec::new();
+        let mut figures: Vec<Figures> = Vec::new();
         // Reuse on, on without its spatial filter (the same photons: what the filter alone
-        // does), and off.
-        for (reuse, filter) in [(true, true), (true, false), (false, true)] {
+        // does), off, and (`--budgeted`) on within the first run's mean frame time.
+        let runs_wanted = [(true, true, false), (true, false, false), (false, true, false), (true, true, true)];
+        for (reuse, filter, budgeted) in runs_wanted.into_iter().filter(|r| bench.budgeted || !r.2) {
             let mut r = Renderer::new(open()?, &scene, settings(Method::LeakLess, reuse, 0))?;
+            if budgeted {
+                r.set_frame_budget(Some(figures[0].steady_ms))?;
+            }
             r.set_spatial_reuse(filter);
             r.set_progressive(true);
             r.set_advance_seed(true);
             r.set_reuse_history_frames((0.5 * bench.fps).round().max(1.0) as u32);
-            let (mut ms, mut ratio, mut band, mut less_noise) = (0.0, 0.0, DarkBand::default(), 0.0);
-            let (mut errors, mut against_truth) = (Vec::new(), None);
+            let (mut ms, mut first_ms, mut ratio, mut band, mut less_noise) = (0.0, 0.0, 0.0, DarkBand::default(), 0.0);
+            let (mut errors, mut against_truth, mut paths) = (Vec::new(), None, Vec::new());
             let mut change = ScreenFlicker::new(settle(bench));
             let mut surface_change = SurfaceFlicker::new(settle(bench));
             for (k, truth) in (0..bench.frames).zip(&references) {
@@ -196,6 +209,10 @@ pub fn run(bench: &MotionBench) -> anyhow::Result<()> {
                 let t = Instant::now();
                 let frame = r.capture_frame()?;
                 ms += t.elapsed().as_secs_f64() * 1e3;
+                if k == 0 {
+                    first_ms = ms;
+                }
+                paths.push(frame.splat.as_ref().map_or(0, |s| s.paths));
                 let eps = metrics::epsilon(truth);
                 let (e, f) = (
                     metrics::rel_mse(&frame.radiance, truth, None, eps).unwrap_or(0.0),
@@ -206,10 +223,11 @@ pub fn run(bench: &MotionBench) -> anyhow::Result<()> {
                 let clean =
                     metrics::rel_mse_without_reference_noise(&frame.radiance, a, b, w as usize, eps).unwrap_or(0.0);
                 less_noise += clean;
-                let reuse = match (reuse, filter) {
-                    (true, true) => "on",
-                    (true, false) => "on-unfiltered",
-                    (false, _) => "off",
+                let reuse = match (reuse, filter, budgeted) {
+                    (_, _, true) => "on-budgeted",
+                    (true, true, _) => "on",
+                    (true, false, _) => "on-unfiltered",
+                    (false, ..) => "off",
                 };
                 let time = k as f32 / bench.fps;
                 let fields = [path.display().to_string(), reuse.into(), k.to_string(), time.to_string()];
@@ -234,12 +252,14 @@ pub fn run(bench: &MotionBench) -> anyhow::Result<()> {
                 flicker: change.mean(),
                 surface_flicker: surface_change.mean(),
                 frame_ms: ms / n,
+                steady_ms: (ms - first_ms) / (n - 1.0),
                 mean_ratio: ratio / n,
                 band: band.ratio(),
                 band_pixels: band.pixels(),
                 against_truth,
+                paths,
             });
-            if filter {
+            if filter && !budgeted {
                 runs.push(MotionRun { scene: name.clone(), reuse, errors });
             }
         }
@@ -318,6 +338,25 @@ pub fn run(bench: &MotionBench) -> anyhow::Result<()> {
             "{:<22} flicker in excess of the references': on {:.4}, off {:.4} ({:.2}×); surface flicker: on {:.4}, off {:.4} ({:.2}×)",
             "", screen.on, screen.off, screen.ratio, surface.on, surface.off, surface.ratio,
         );
+        if let Some(budgeted) = figures.get(3) {
+            let excess = Excess::of(budgeted.flicker, off.flicker, reference_change.mean());
+            let mut paths = budgeted.paths.clone();
+            paths.sort_unstable();
+            println!(
+                "{:<22} budgeted to {:.1} ms (reuse on's mean after its first frame): mean {:.1} ms ({:.2}× on's), paths {}–{} (median {}); relMSE less the references' noise {:.5} ({:.2}× on's); flicker in excess of the references' {:.4} ({:.2}× off's)",
+                "",
+                on.steady_ms,
+                budgeted.steady_ms,
+                budgeted.steady_ms / on.steady_ms,
+                paths[0],
+                paths[paths.len() - 1],
+                paths[paths.len() / 2],
+                budgeted.relmse_less_noise,
+                budgeted.relmse_less_noise / on.relmse_less_noise,
+                excess.on,
+                excess.ratio,
+            );
+        }
     }
     if let Some(path) = &bench.out.csv {
         csv.write(path)?;

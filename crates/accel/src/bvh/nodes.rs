@@ -136,3 +136,56 @@ pub fn pack(tree: &[TreeNode]) -> Result<Vec<BvhNode>, AccelError> {
     }
     Ok(tree.iter().filter(|n| n.count == 0).map(|n| node(child(n.left_or_first), child(n.left_or_first + 1))).collect())
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A leaf reference gives back its triangles at the ends of its ranges, is told from an
+    /// interior one, and is never the shaders' NO_HIT; offsets move each kind by its own base.
+    #[test]
+    fn child_references_round_trip_and_never_read_as_no_hit() {
+        let last = super::super::MAX_TRIANGLES as u32;
+        for (first, count) in
+            [(0, 1), (0, MAX_LEAF_TRIANGLES), (last - MAX_LEAF_TRIANGLES, MAX_LEAF_TRIANGLES), (last - 1, 1)]
+        {
+            let leaf = ChildRef::leaf(first, count);
+            assert!(leaf.is_leaf());
+            assert_eq!(leaf.triangles(), first..first + count);
+            assert_ne!(leaf.0, u32::MAX);
+        }
+        let interior = ChildRef::interior(7);
+        assert!(!interior.is_leaf());
+        assert_eq!(interior.offset(10, 100), ChildRef::interior(17));
+        assert_eq!(ChildRef::leaf(3, 2).offset(10, 100).triangles(), 103..105);
+    }
+
+    /// A three-leaf tree packs into two nodes whose children carry the tree's boxes; a leaf of
+    /// more triangles than a reference counts is an error.
+    #[test]
+    fn packing_keeps_interior_nodes_with_their_childrens_boxes() {
+        let b = |lo: f32, hi: f32| ([lo; 3], [hi; 3]);
+        let node = |(bounds_min, bounds_max): ([f32; 3], [f32; 3]), left_or_first, count| TreeNode {
+            bounds_min,
+            left_or_first,
+            bounds_max,
+            count,
+        };
+        // 0 → (1, 2); 1 → (3, 4); leaves 2, 3, 4.
+        let tree = [
+            node(b(0.0, 4.0), 1, 0),
+            node(b(0.0, 2.0), 3, 0),
+            node(b(3.0, 4.0), 4, 1),
+            node(b(0.0, 1.0), 0, 2),
+            node(b(1.0, 2.0), 2, 2),
+        ];
+        let packed = pack(&tree).expect("small leaves");
+        assert_eq!(packed.len(), 2);
+        assert_eq!(packed[0].child(0), (b(0.0, 2.0).0, b(0.0, 2.0).1, ChildRef::interior(1)));
+        assert_eq!(packed[0].child(1), (b(3.0, 4.0).0, b(3.0, 4.0).1, ChildRef::leaf(4, 1)));
+        assert_eq!(packed[1].child(0).2.triangles(), 0..2);
+        assert_eq!(packed[1].child(1).2.triangles(), 2..4);
+        let big = [node(b(0.0, 1.0), 0, MAX_LEAF_TRIANGLES + 1)];
+        assert!(matches!(pack(&big), Err(AccelError::LeafTooLarge(17))));
+    }
+}
