@@ -193,16 +193,25 @@ fn scripted_session_is_clean_and_captures_what_render_renders() {
     let script_path = dir.join("session.txt");
     std::fs::write(&script_path, &script).unwrap();
 
+    let frame_log = dir.join("frames.csv");
     let out = view(
         &x,
         &["scenes/cornell-box.gltf", "--size", "96x72", "--render-scale", "1", "--paths", "2000", "--script"]
             .into_iter()
-            .chain([script_path.to_str().unwrap()])
+            .chain([script_path.to_str().unwrap(), "--frame-log", frame_log.to_str().unwrap()])
             .collect::<Vec<_>>(),
         true,
     );
     let stdout = assert_clean(&out);
     assert!(stdout.contains("frames "), "the summary line: {stdout}");
+    // The budget's log: a row per budgeted frame, the first its warm-up, the resized windows'
+    // render sizes among them.
+    let mut log = csv::Reader::from_path(&frame_log).expect("the frame log written");
+    let rows: Vec<csv::StringRecord> = log.records().map(|r| r.expect("a row")).collect();
+    let warm_up: Vec<&str> = rows.iter().map(|r| &r[8]).collect();
+    assert!(warm_up.len() > 5 && warm_up[0] == "true" && warm_up[1..].iter().all(|w| *w == "false"), "{warm_up:?}");
+    let sizes: std::collections::BTreeSet<(&str, &str)> = rows.iter().map(|r| (&r[5], &r[6])).collect();
+    assert!(sizes.contains(&("96", "72")) && sizes.len() > 1, "{sizes:?}");
     for ext in ["exr", "png", "json"] {
         assert!(capture.with_extension(ext).exists(), "capture .{ext} written");
     }

@@ -62,6 +62,11 @@ pub struct ViewArgs {
     /// (each step about 30% fewer, down to a sixteenth), and more again once there is room.
     #[arg(long, default_value = "on", value_parser = ["on", "off"])]
     dynamic_resolution: String,
+    /// On exit, writes each frame whose paths the budget chose to this CSV: its time by the
+    /// budget's measure, its paths and the next frame's, its render size, whether it was over
+    /// budget, and whether it was the first (which compiles the pipelines and is not counted).
+    #[arg(long)]
+    frame_log: Option<PathBuf>,
 }
 
 /// The smallest share of the render scale dynamic resolution goes down to, along each axis.
@@ -122,6 +127,9 @@ pub fn run(args: ViewArgs) -> anyhow::Result<()> {
         return Err(e);
     }
     println!("{}", app.summary.line());
+    if let Some(path) = &app.args.frame_log {
+        app.summary.budget_log().write(path).with_context(|| format!("writing {}", path.display()))?;
+    }
     Ok(())
 }
 

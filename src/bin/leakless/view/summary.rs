@@ -5,6 +5,8 @@
 
 use std::time::Instant;
 
+use leakless_measure::csv_table::CsvTable;
+
 /// Resident set size and its peak, in bytes (Linux `/proc/self/status`; `None` elsewhere).
 pub fn rss() -> Option<(u64, u64)> {
     let status = std::fs::read_to_string("/proc/self/status").ok()?;
@@ -28,8 +30,11 @@ pub struct Summary {
     rss_last: Option<u64>,
     /// Host intervals ending at a frame that started an accumulation (a moving frame).
     moving_ms: Vec<f64>,
-    /// The frame budget's measure of the frames whose paths it chose.
+    /// The frame budget's measure of the frames whose paths it chose (its first, which
+    /// compiled the pipelines, left out).
     budgeted_ms: Vec<f64>,
+    /// Every budgeted frame's report and render size (`view --frame-log`).
+    budget_frames: Vec<(leakless::renderer::BudgetReport, (u32, u32))>,
 }
 
 impl Summary {
@@ -53,9 +58,42 @@ impl Summary {
         }
     }
 
-    /// A budgeted frame completed, taking `ms` by the budget's measure.
-    pub fn budgeted(&mut self, ms: f64) {
-        self.budgeted_ms.push(ms);
+    /// A budgeted frame of render size `size` completed.
+    pub fn budgeted(&mut self, report: leakless::renderer::BudgetReport, size: (u32, u32)) {
+        if !report.warm_up {
+            self.budgeted_ms.push(report.measured_ms);
+        }
+        self.budget_frames.push((report, size));
+    }
+
+    /// The budgeted frames, one row each.
+    pub fn budget_log(&self) -> CsvTable {
+        let mut table = CsvTable::new(&[
+            "frame",
+            "measured_ms",
+            "target_ms",
+            "paths",
+            "next_paths",
+            "width",
+            "height",
+            "over_budget",
+            "warm_up",
+        ]);
+        for (i, (b, (w, h))) in self.budget_frames.iter().enumerate() {
+            let row = [
+                i.to_string(),
+                format!("{:.3}", b.measured_ms),
+                b.target_ms.to_string(),
+                b.paths.to_string(),
+                b.next_paths.to_string(),
+                w.to_string(),
+                h.to_string(),
+                b.over_budget.to_string(),
+                b.warm_up.to_string(),
+            ];
+            table.row(row).expect("nine fields a row");
+        }
+        table
     }
 
     pub fn frames(&self) -> u64 {

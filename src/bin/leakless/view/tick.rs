@@ -144,8 +144,11 @@ impl Running {
             if let Some(budget) = report.budget {
                 let new = self.budget.is_none_or(|b| b != budget);
                 self.budget = Some(budget);
+                if new {
+                    let s = self.renderer.settings();
+                    summary.budgeted(budget, (s.width, s.height));
+                }
                 if new && !budget.warm_up {
-                    summary.budgeted(budget.measured_ms);
                     self.follow_resolution(budget.resolution_factor as f32)?;
                 }
             }
