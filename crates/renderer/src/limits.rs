@@ -117,9 +117,10 @@ pub fn check(settings: &RenderSettings, scene: &Scene, backend: Backend, limits:
         )));
     }
     // The largest per-triangle storage buffer is the compute BVH's triangles (40 B a triangle,
-    // against the vertex positions' or normals' 36 B; the BVH's nodes, 64 B for each interior
-    // node, are 16–32 B a triangle in the shipped scenes and `SceneBvh::build` checks them once
-    // built), so it bounds them: 3.3M triangles on 128 MiB.
+    // against the vertex positions' or normals' 36 B), so it bounds them: 3.3M triangles on
+    // 128 MiB. The BVH's nodes, 64 B for each interior node, are 32–40 B a triangle in the
+    // shipped scenes (one triangle a leaf would make them 64), so `SceneBvh::build` checks
+    // them once built.
     let range = limits.max_storage_buffer_range as u64;
     let triangle_bytes = triangles * std::mem::size_of::<BvhTriangle>() as u64;
     const _: () = assert!(3 * std::mem::size_of::<[f32; 3]>() <= std::mem::size_of::<BvhTriangle>());

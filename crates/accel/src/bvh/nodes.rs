@@ -43,8 +43,9 @@ pub struct BvhNode {
 pub const BVH_NODE_LAYOUT: RustLayout = rust_layout!(BvhNode { min0, child0, max0, child1, min1, pad0, max1, pad1 });
 
 impl BvhNode {
-    /// Child `i`'s box and reference.
+    /// Child `i` (0 or 1)'s box and reference.
     pub fn child(&self, i: usize) -> ([f32; 3], [f32; 3], ChildRef) {
+        debug_assert!(i < 2, "a node has two children");
         match i {
             0 => (self.min0, self.max0, ChildRef(self.child0)),
             _ => (self.min1, self.max1, ChildRef(self.child1)),

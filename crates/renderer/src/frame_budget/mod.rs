@@ -230,9 +230,8 @@ impl FrameBudget {
     /// `MAX_RESOLUTION_STEPS` at once). Where the frame, its fixed part grown by a step's
     /// pixels, would take at most 80% of the target at twice the fewest paths, and the last
     /// frame held the target within 10% (a frame over it is no time to add pixels): up one
-    /// step. At
-    /// a steady cost the two cannot alternate: a step down leaves a fixed part that a step up
-    /// would grow back past the target.
+    /// step. At a steady cost the two cannot alternate: a step down leaves a fixed part that a
+    /// step up would grow back past the target.
     pub fn resolution_factor(&self) -> f64 {
         if self.measured < RESOLUTION_DOWN_FRAMES {
             return 1.0;

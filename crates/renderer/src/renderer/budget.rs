@@ -53,10 +53,12 @@ pub(super) struct BudgetState {
     pub first_paths: u32,
     /// When the host last saw a frame complete.
     last_completion: Option<Instant>,
-    /// The first budgeted frame completed, and was not measured: it includes the compilation
-    /// of every pipeline at its first use (lavapipe compiles then; 0.9–1.5 s on the atrium),
-    /// which the budget took for the frame's cost and reported "over budget" from, in a still
-    /// view until the next move.
+    /// The first budgeted frame completed, and was not measured: every caller sets the budget
+    /// before its first frame, which compiles each pipeline at its first use (lavapipe
+    /// compiles then; 0.9–1.5 s on the atrium). As the budget's only estimate it would set the
+    /// paths and "over budget" alone, in a still view until the next move; a later first use
+    /// (another method, another tuning) meets a full window of estimates, whose trimmed mean
+    /// leaves out a lone slow frame.
     warmed_up: bool,
 }
 

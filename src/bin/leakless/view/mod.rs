@@ -128,7 +128,7 @@ pub fn run(args: ViewArgs) -> anyhow::Result<()> {
     }
     println!("{}", app.summary.line());
     if let Some(path) = &app.args.frame_log {
-        app.summary.budget_log().write(path).with_context(|| format!("writing {}", path.display()))?;
+        app.summary.budget_log()?.write(path).with_context(|| format!("writing {}", path.display()))?;
     }
     Ok(())
 }

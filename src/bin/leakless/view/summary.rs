@@ -67,7 +67,7 @@ impl Summary {
     }
 
     /// The budgeted frames, one row each.
-    pub fn budget_log(&self) -> CsvTable {
+    pub fn budget_log(&self) -> anyhow::Result<CsvTable> {
         let mut table = CsvTable::new(&[
             "frame",
             "measured_ms",
@@ -91,9 +91,9 @@ impl Summary {
                 b.over_budget.to_string(),
                 b.warm_up.to_string(),
             ];
-            table.row(row).expect("nine fields a row");
+            table.row(row)?;
         }
-        table
+        Ok(table)
     }
 
     pub fn frames(&self) -> u64 {
