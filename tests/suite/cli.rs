@@ -293,3 +293,23 @@ fn a_sequence_writes_its_frames_and_their_times() {
     let out = leakless(&[&base[..], &["--sequence", "0:1:10", "--frames", "2"]].concat(), &[]);
     assert_one_line_error(&out, "--frames 2");
 }
+
+/// `bench motion --budgeted` runs the budgeted sequence beside the fixed ones and prints and
+/// records it: a row of the CSV per frame for each run, the budgeted run's paths its own.
+#[test]
+fn bench_motion_compares_a_budgeted_run_at_the_fixed_runs_time() {
+    if common::gpu().is_none() {
+        return;
+    }
+    let csv_path = common::tmp_path("cli-bench-motion.csv");
+    let args = ["bench", "motion", "scenes/cornell-box.gltf", "--size", "32x18", "--frames", "4", "--spp", "2"];
+    let out = leakless(&[&args[..], &["--budgeted", "--csv", csv_path.to_str().unwrap()]].concat(), &[]);
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(stdout.contains("budgeted to ") && stdout.contains("× on's), paths "), "{stdout}");
+    let mut reader = csv::Reader::from_path(&csv_path).expect("the CSV written");
+    let runs: Vec<String> = reader.records().map(|r| r.expect("a row")[1].to_string()).collect();
+    for run in ["on", "on-unfiltered", "off", "on-budgeted"] {
+        assert_eq!(runs.iter().filter(|r| *r == run).count(), 4, "{run}: {runs:?}");
+    }
+}
