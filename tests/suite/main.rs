@@ -23,6 +23,7 @@ mod leak_scenes;
 mod motion;
 mod output;
 mod photons;
+mod primary;
 mod progressive;
 mod reference;
 mod sort;

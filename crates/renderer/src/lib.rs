@@ -42,7 +42,7 @@ pub use leakless_device::{Gpu, GpuOptions};
 pub use leakless_scene::Scene;
 pub use passes::tonemap::ViewLayer;
 pub use renderer::{Capture, DisplayTarget, FrameReport, Overlay, RenderedFrame, Renderer};
-pub use settings::{Method, RenderSettings, SplatSettings};
+pub use settings::{Method, Primary, RenderSettings, SplatSettings};
 pub use trace::{Backend, BackendChoice, ResolvedBackend};
 pub use tuning::{DeviceTuning, TuningChoice};
 pub(crate) use value_enum;

@@ -43,7 +43,39 @@ pub struct RenderSettings {
     /// "Motion"). A render from scratch has no frames before, so a single image is the same
     /// either way.
     pub reuse: bool,
+    /// How the view samples are found (`--primary`): rasterised, or one ray per pixel.
+    pub primary: Primary,
 }
+
+/// How a frame finds its view samples, the G-buffer (docs/architecture.md §1.1).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Primary {
+    /// Rasterised (gbuffer.vert + gbuffer.frag): what a GPU does fastest.
+    #[default]
+    Raster,
+    /// One closest-hit ray per pixel through its centre (primary_rays.comp), on the frame's
+    /// trace backend: its cost follows the pixels, not the triangles, which a CPU driver's
+    /// rasteriser pays for whatever the image size.
+    Rays,
+    /// Rays where the device tuning says they cost less: on a CPU device, a scene of more
+    /// triangles than the image has pixels ([`DeviceTuning::primary_rays`](crate::DeviceTuning)).
+    Auto,
+}
+
+impl Primary {
+    pub const ALL: [Primary; 3] = [Primary::Raster, Primary::Rays, Primary::Auto];
+
+    /// What `--primary` calls it.
+    pub fn name(self) -> &'static str {
+        match self {
+            Primary::Raster => "raster",
+            Primary::Rays => "rays",
+            Primary::Auto => "auto",
+        }
+    }
+}
+
+crate::value_enum!(Primary);
 
 /// What computes the indirect light (docs/architecture.md §2).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -103,6 +135,7 @@ impl Default for RenderSettings {
             light_samples: DEFAULT_LIGHT_SAMPLES,
             light_candidates: DEFAULT_LIGHT_CANDIDATES,
             reuse: true,
+            primary: Primary::Raster,
         }
     }
 }

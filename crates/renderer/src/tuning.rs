@@ -105,6 +105,12 @@ pub struct DeviceTuning {
     /// scene (the Cornell box) at the CPU view size with `--paths`' default and `--frame-ms
     /// off` (docs/results.md, "Frame budget").
     pub frame_ms: f64,
+    /// `--primary auto` finds view samples by a ray a pixel where the scene has more triangles
+    /// than the image has pixels. On a CPU, lavapipe's rasteriser costs about half a
+    /// microsecond a triangle whatever the image size (the basilica's 210k triangles: 110 ms at
+    /// 320×240 and at 160×120), a ray a pixel 0.6 µs (49 ms at 320×240); the two are even at
+    /// 640×480 (docs/results.md, "View samples"). On a GPU the raster always (unmeasured).
+    pub primary_rays: bool,
 }
 
 fn timing_name<S: serde::Serializer>(timing: &Timing, s: S) -> std::result::Result<S::Ok, S::Error> {
@@ -154,6 +160,7 @@ impl DeviceTuning {
             view_render_scale: 0.5,
             view_profile_every: 30,
             frame_ms: 150.0,
+            primary_rays: true,
         }
     }
 
@@ -175,6 +182,7 @@ impl DeviceTuning {
             view_render_scale: 1.0,
             view_profile_every: 0,
             frame_ms: 16.7,
+            primary_rays: false,
             ..Self::cpu()
         }
     }
@@ -183,7 +191,7 @@ impl DeviceTuning {
     pub fn summary(&self) -> String {
         format!(
             "{} preset: branching {}, {} paths/thread, emission order {}, photon order {}, ray queue {}, \
-             gather workgroup {}, subgroup counters {}, shared walk {}, timing {}",
+             gather workgroup {}, subgroup counters {}, shared walk {}, timing {}, primary auto {}",
             match self.preset {
                 Preset::Cpu => "cpu",
                 Preset::Gpu => "gpu",
@@ -199,6 +207,10 @@ impl DeviceTuning {
             match self.timing {
                 Timing::Timestamps => "GPU timestamps in one submission",
                 Timing::PerPassSubmit => "one submission per pass, host-timed",
+            },
+            match self.primary_rays {
+                true => "rays above a triangle a pixel",
+                false => "raster",
             }
         )
     }

@@ -4,7 +4,7 @@ use std::path::PathBuf;
 
 use anyhow::Context;
 use glam::Vec3;
-use leakless::{BackendChoice, Method, RenderSettings, Scene, SplatSettings};
+use leakless::{BackendChoice, Method, Primary, RenderSettings, Scene, SplatSettings};
 use leakless_scene::Camera;
 
 #[derive(clap::Args, Clone, Debug)]
@@ -66,6 +66,12 @@ pub struct RenderOptions {
     /// prints what each sets; `gpu` on lavapipe runs the GPU's code paths).
     #[arg(long, default_value = "auto")]
     pub tuning: leakless::TuningChoice,
+    /// How view samples are found: `raster` (the G-buffer rasterised), `rays` (a closest-hit ray
+    /// per pixel on the trace backend, whose cost follows the pixels, not the triangles), or
+    /// `auto` (rays on a CPU device where the scene has more triangles than the image pixels;
+    /// `leakless info` says). Default: `raster` for `render`, `auto` for `view`
+    #[arg(long)]
+    pub primary: Option<leakless::Primary>,
     /// Photon frames to average (progressive photon mapping: fresh photons further along one
     /// sequence, a shrinking radius, jittered pixels); `reference`: jittered frames of --spp
     /// samples per batch.
@@ -211,6 +217,7 @@ impl RenderOptions {
             light_candidates: self.light_candidates,
             seed: self.seed,
             reuse: self.reuse == "on",
+            primary: self.primary.unwrap_or(Primary::Raster),
             frames: self.frames,
             max_batches: self.max_batches,
             splat: SplatSettings {

@@ -20,6 +20,7 @@ pub mod photon_clearance;
 pub mod photon_dispatch;
 pub mod photon_order;
 pub mod photons;
+pub mod primary_rays;
 pub mod raycast;
 pub mod readback;
 pub mod reference;

@@ -13,6 +13,7 @@ use super::plan::{self, FramePlan, PlanState};
 use super::readback::{ReadbackRequest, LAYERS_BUFFER};
 use super::reuse::ReuseInputs;
 use super::stages::{self, FrameStage, Layers};
+use super::view_samples::ViewSamples;
 use super::{FrameReport, Pending, Renderer};
 use crate::error::Result;
 use crate::gpu_types::Frame;
@@ -98,6 +99,7 @@ impl Renderer {
         }
         let jitter = if progressive { pixel_jitter(index) } else { glam::Vec2::ZERO };
         let frame_constants = self.frame_constants(jitter);
+        let primary = self.primary();
         let extent = self.extent();
         // Instances moved since the vertex buffer was last written: this frame copies them.
         let place_instances = render && self.gpu_scene.placed_version != self.pose.version;
@@ -106,6 +108,8 @@ impl Renderer {
         }
         let trace_scene = self.traces[self.backend.backend as usize].as_ref().expect("current backend made");
         let passes = &self.passes;
+        let raster = (&passes.gbuffer, self.gpu_scene.vertex_count);
+        let view_samples = ViewSamples::new(primary, raster, &frame_constants, self.camera.zfar.is_some());
         let mut g = self.runner.graph(&self.gpu)?.with_pipelines(self.pipelines.table(self.backend.backend));
 
         // The camera, the lights and the scene of this frame.
@@ -122,7 +126,7 @@ impl Renderer {
         // View samples and their direct light.
         let mut gbuffer = GBufferHandles::new(&mut g, extent)?;
         if render {
-            passes.gbuffer.add(&mut g, &frame, &scene, self.gpu_scene.vertex_count, &mut gbuffer);
+            view_samples.add(&mut g, (&frame, &scene, &trace), &mut gbuffer);
         }
         let stage = FrameStage { plan: &plan, settings: &self.settings, method, seed, extent };
         let mut direct = layer(&mut g, extent, "direct")?;

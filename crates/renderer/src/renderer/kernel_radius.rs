@@ -10,6 +10,7 @@
 use bytemuck::{Pod, Zeroable};
 use leakless_device::SubmitSync;
 
+use super::view_samples::ViewSamples;
 use super::Renderer;
 use crate::error::Result;
 use crate::passes::gather::{self, GatherCounters, GatherOutputs};
@@ -200,6 +201,8 @@ impl Renderer {
         let frame_constants = self.frame_constants(glam::Vec2::ZERO);
         let extent = self.extent();
         let trace_scene = self.traces[self.backend.backend as usize].as_ref().expect("current backend made");
+        let raster = (&self.passes.gbuffer, self.gpu_scene.vertex_count);
+        let view_samples = ViewSamples::new(self.primary(), raster, &frame_constants, self.camera.zfar.is_some());
         let mut g = self.runner.graph(&self.gpu)?.with_pipelines(self.pipelines.table(self.backend.backend));
         let frame =
             g.upload("frame", ash::vk::BufferUsageFlags::UNIFORM_BUFFER, bytemuck::bytes_of(&frame_constants))?;
@@ -208,7 +211,7 @@ impl Renderer {
         let scene = self.gpu_scene.import(&mut g);
         let trace = trace_scene.import(&mut g, &self.gpu_scene, &self.pose)?;
         let mut gbuffer = GBufferHandles::new(&mut g, extent)?;
-        self.passes.gbuffer.add(&mut g, &frame, &scene, self.gpu_scene.vertex_count, &mut gbuffer);
+        view_samples.add(&mut g, (&frame, &scene, &trace), &mut gbuffer);
         let view =
             ViewInputs { frame: &frame, lights: &lights.lights, scene: &scene, trace: &trace, gbuffer: &gbuffer };
         let mut indirect_sum = super::frame::layer(&mut g, extent, "indirect sum")?;

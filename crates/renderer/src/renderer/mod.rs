@@ -21,6 +21,7 @@ mod plan;
 mod readback;
 mod reuse;
 mod stages;
+mod view_samples;
 
 use std::collections::VecDeque;
 
@@ -233,6 +234,22 @@ impl Renderer {
     /// What the renderer tunes to its device ([`DeviceTuning`]).
     pub fn tuning(&self) -> &DeviceTuning {
         self.pipelines.tuning()
+    }
+
+    /// How this frame finds its view samples: `--primary`, with `auto` resolved for this
+    /// device, scene and size (never `Auto`).
+    pub fn primary(&self) -> crate::Primary {
+        use crate::Primary;
+        match self.settings.primary {
+            Primary::Auto => {
+                let pixels = self.settings.width as usize * self.settings.height as usize;
+                match self.tuning().primary_rays && self.scene.triangle_count() > pixels {
+                    true => Primary::Rays,
+                    false => Primary::Raster,
+                }
+            }
+            chosen => chosen,
+        }
     }
 
     pub fn gpu(&self) -> &Gpu {

@@ -148,6 +148,9 @@ fn command(
             c.push(format!("--max-batches {}", s.max_batches));
         }
     }
+    if s.primary != leakless::Primary::Raster {
+        c.push(format!("--primary {}", s.primary.name()));
+    }
     if time != 0.0 {
         c.push(format!("--time {time}"));
     }
