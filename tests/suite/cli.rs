@@ -294,6 +294,41 @@ fn a_sequence_writes_its_frames_and_their_times() {
     assert_one_line_error(&out, "--frames 2");
 }
 
+/// A sequence whose frames miss their budget even at the fewest paths renders fewer pixels, as
+/// the app does, and writes every frame at `--size`; `--dynamic-resolution off` keeps the size.
+#[test]
+fn a_sequence_over_its_budget_renders_fewer_pixels_at_its_size() {
+    if common::gpu().is_none() {
+        return;
+    }
+    let sizes = |dynamic: &str| {
+        let dir = common::tmp_path(&format!("cli-sequence-dynamic-{dynamic}"));
+        let _ = std::fs::remove_dir_all(&dir);
+        let args = ["render", "scenes/door.gltf", "--size", "64x48", "--sequence", "1.5:2:20", "--frame-ms", "1"];
+        let out =
+            leakless(&[&args[..], &["--dynamic-resolution", dynamic, "--out", dir.to_str().unwrap()]].concat(), &[]);
+        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+        let json: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(dir.join("sequence.json")).expect("sequence.json")).unwrap();
+        let frames = json["frames"].as_array().expect("frames").clone();
+        for k in 0..frames.len() {
+            let exr = leakless::output::exr::read(&dir.join(format!("{k:04}.exr"))).expect("a frame");
+            assert_eq!(exr.channel("R").unwrap().len(), 64 * 48, "frame {k} is not at --size");
+        }
+        assert!(json["parameters"].as_str().unwrap().contains("size=64x48"), "{}", json["parameters"]);
+        frames
+            .iter()
+            .map(|f| (f["render_size"][0].as_u64().unwrap(), f["render_size"][1].as_u64().unwrap()))
+            .collect::<Vec<_>>()
+    };
+    let on = sizes("on");
+    assert_eq!(on[0], (64, 48));
+    assert!(on.iter().any(|&(w, h)| w < 64 && h < 48), "never smaller: {on:?}");
+    assert!(on.iter().all(|&(w, h)| w >= 16 && h >= 12), "below a sixteenth of the pixels: {on:?}");
+    let off = sizes("off");
+    assert!(off.iter().all(|&s| s == (64, 48)), "{off:?}");
+}
+
 /// `bench motion --budgeted` runs the budgeted sequence beside the fixed ones and prints and
 /// records it: a row of the CSV per frame for each run, the budgeted run's paths its own.
 #[test]

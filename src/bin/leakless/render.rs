@@ -3,6 +3,7 @@
 use std::path::PathBuf;
 
 use anyhow::Context;
+use leakless::frame_budget::DynamicResolution;
 use leakless::output::{self, OutputPaths};
 use leakless::{Method, Renderer};
 use leakless_graph::Timing;
@@ -41,6 +42,11 @@ pub struct RenderArgs {
     /// Without it every frame traces `--paths`.
     #[arg(long, value_name = "T")]
     frame_ms: Option<f64>,
+    /// With `--frame-ms`: where even the fewest light paths miss it, render fewer pixels (each
+    /// step about 30% fewer, down to a sixteenth) and resample the frame to `--size`, as the
+    /// app renders fewer pixels and shows them at its window's size.
+    #[arg(long, default_value = "on", value_parser = ["on", "off"])]
+    dynamic_resolution: String,
     /// The light paths of an accumulation's first frame, its later batches tracing `--paths`
     /// each: what a capture of the app records when its frame budget chose them.
     #[arg(long, value_name = "N")]
@@ -79,8 +85,9 @@ pub fn run(args: RenderArgs) -> anyhow::Result<()> {
         if matches!(args.png, Some(Some(_))) {
             anyhow::bail!("--png with --sequence takes no path: the frames' PNGs go next to their EXRs");
         }
-        let (png, stats) = (args.png.is_some(), args.stats.as_deref());
-        return crate::sequence::run(&mut renderer, &args.options.scene, sequence, &dir, png, stats);
+        let outputs = crate::sequence::Outputs { dir: &dir, png: args.png.is_some(), stats: args.stats.as_deref() };
+        let dynamic = DynamicResolution::new(args.frame_ms.is_some() && args.dynamic_resolution == "on");
+        return crate::sequence::run(&mut renderer, &args.options.scene, sequence, outputs, dynamic);
     }
     let frame = render_with_bar(&mut renderer, settings.method)?;
     if let Some(s) = &frame.splat {

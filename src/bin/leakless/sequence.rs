@@ -5,6 +5,7 @@
 use std::path::Path;
 
 use anyhow::{bail, Context};
+use leakless::frame_budget::DynamicResolution;
 use leakless::output::{self, OutputPaths};
 use leakless::{RenderedFrame, Renderer};
 use serde::Serialize;
@@ -64,6 +65,9 @@ struct FrameEntry {
     time: f32,
     camera: CameraEntry,
     frame_ms: f64,
+    /// The size the frame rendered at: `--size`, or less where dynamic resolution lowered it
+    /// (the EXR is resampled to `--size`).
+    render_size: [u32; 2],
     /// The photon methods: the frame's light paths and gather radius.
     #[serde(skip_serializing_if = "Option::is_none")]
     paths: Option<u32>,
@@ -92,15 +96,25 @@ struct SequenceJson {
     frames: Vec<FrameEntry>,
 }
 
-/// Renders `sequence` into `dir` (made if missing); the renderer is set up for the view.
+/// Where a sequence goes: its frames and `sequence.json` into `dir` (made if missing), PNGs
+/// beside the EXRs, the whole run's stats.
+pub struct Outputs<'a> {
+    pub dir: &'a Path,
+    pub png: bool,
+    pub stats: Option<&'a Path>,
+}
+
+/// Renders `sequence`; the renderer is set up for the view. With a frame budget, `dynamic`
+/// lowers the render size as the budget advises, and each frame is resampled to the size the
+/// renderer was set up with.
 pub fn run(
     renderer: &mut Renderer,
     scene_path: &Path,
     sequence: Sequence,
-    dir: &Path,
-    png: bool,
-    stats: Option<&Path>,
+    Outputs { dir, png, stats }: Outputs<'_>,
+    mut dynamic: DynamicResolution,
 ) -> anyhow::Result<()> {
+    let full = (renderer.settings().width, renderer.settings().height);
     if renderer.settings().frames > 1 {
         bail!("--frames {}: a sequence's frames are its times; drop --frames", renderer.settings().frames);
     }
@@ -115,6 +129,11 @@ pub fn run(
         let t = sequence.time(k);
         renderer.set_time(t)?;
         let frame = renderer.capture_frame().with_context(|| format!("rendering frame {k} at {t} s"))?;
+        let render_size = [frame.width, frame.height];
+        let frame = frame.resampled(full.0, full.1);
+        let budget = renderer.last_report().and_then(|r| r.budget);
+        // The first budgeted frame compiled the pipelines: its time says nothing of the size.
+        let advice = budget.as_ref().filter(|b| !b.warm_up).map(|b| b.resolution_factor as f32);
         let paths = OutputPaths {
             exr: dir.join(format!("{k:04}.exr")),
             png: png.then(|| dir.join(format!("{k:04}.png"))),
@@ -132,10 +151,15 @@ pub fn run(
                 yfov_degrees: c.yfov.to_degrees(),
             },
             frame_ms: frame.wall_ms,
+            render_size,
             paths: frame.splat.as_ref().map(|s| s.paths),
             radius: frame.splat.as_ref().map(|s| s.radius),
-            budget: renderer.last_report().and_then(|r| r.budget),
+            budget,
         });
+        if advice.and_then(|factor| dynamic.follow(factor)).is_some() {
+            let (w, h) = dynamic.size(full);
+            renderer.set_size(w, h).with_context(|| format!("rendering at {w}x{h} (dynamic resolution)"))?;
+        }
         // The stats are the last frame's, with the times of the whole run.
         whole_run = Some(match whole_run {
             None => frame,
@@ -145,6 +169,8 @@ pub fn run(
             }
         });
     }
+    // The parameters name the output's size, whatever the last frame rendered at.
+    renderer.set_size(full.0, full.1)?;
     let json = SequenceJson {
         scene: scene_path.display().to_string(),
         parameters: renderer.settings().describe(),

@@ -23,6 +23,9 @@ use std::collections::VecDeque;
 
 use crate::passes::names::group;
 
+mod dynamic;
+pub use dynamic::{DynamicResolution, MIN_DYNAMIC_SCALE};
+
 /// The pass groups whose time follows the number of light paths at a fixed radius. Where the
 /// radius follows the photon count, the gather's work is about K photons a sample at any
 /// paths, and it is not among them ([`photon_share`]).
@@ -100,8 +103,9 @@ pub struct FrameBudget {
     /// The estimates of the fixed part and of a path's cost (ms) after the last frame.
     fixed_ms: f64,
     per_path_ms: f64,
-    /// Frames measured since the last change of size (`resize`).
+    /// Frames measured since the last change of size (`resize`), and in all.
     measured: usize,
+    frames: usize,
     /// Frames in a row over the target by more than `OVER_FACTOR`, and the last frame's time.
     over_streak: usize,
     last_ms: f64,
@@ -124,6 +128,7 @@ impl FrameBudget {
             fixed_ms: 0.0,
             per_path_ms: 0.0,
             measured: 0,
+            frames: 0,
             over_streak: 0,
             last_ms: 0.0,
         }
@@ -155,6 +160,7 @@ impl FrameBudget {
             return self.paths;
         }
         self.measured += 1;
+        self.frames += 1;
         let p = frame.paths as f64;
         let over = frame.ms > OVER_FACTOR * self.target_ms;
         self.over_streak = if over { self.over_streak + 1 } else { 0 };
@@ -175,7 +181,10 @@ impl FrameBudget {
         }
         self.estimates.push_back((fixed, per_path));
         self.forget_before_a_shift();
-        self.choose_paths(true);
+        // The first frame moves the paths as far as it asks: nothing was known before it, and
+        // the frames that keep the starting paths while the step limit walks them down are
+        // what a view's first second is made of.
+        self.choose_paths(self.frames > 1);
         self.paths
     }
 
@@ -223,8 +232,9 @@ impl FrameBudget {
     }
 
     /// The factor (along each axis) by which the estimates advise scaling the render size,
-    /// dynamic resolution's (1: keep it), once `RESOLUTION_DOWN_FRAMES` frames (a step down) or
-    /// `RESOLUTION_UP_FRAMES` (a step up) have been measured since the last change of size.
+    /// dynamic resolution's (1: keep it), once `RESOLUTION_DOWN_FRAMES` frames (a step down; the
+    /// budget's first frame alone may step down) or `RESOLUTION_UP_FRAMES` (a step up) have
+    /// been measured since the last change of size.
     /// Where the fewest paths miss the target: down by as many `RESOLUTION_STEP`s as bring the
     /// fixed part, taken to follow the pixels, within 90% of the room they leave (at most
     /// `MAX_RESOLUTION_STEPS` at once). Where the frame, its fixed part grown by a step's
@@ -233,7 +243,8 @@ impl FrameBudget {
     /// step. At a steady cost the two cannot alternate: a step down leaves a fixed part that a
     /// step up would grow back past the target.
     pub fn resolution_factor(&self) -> f64 {
-        if self.measured < RESOLUTION_DOWN_FRAMES {
+        // The budget's first frame may step down at once (as its paths move at once).
+        if self.measured < RESOLUTION_DOWN_FRAMES && self.frames != 1 {
             return 1.0;
         }
         let least = self.per_path_ms * self.min_paths as f64;

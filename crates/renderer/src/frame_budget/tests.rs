@@ -280,3 +280,25 @@ fn the_size_steps_down_after_a_few_frames_and_up_only_after_many() {
         assert_eq!(budget.resolution_factor() < 1.0, i >= RESOLUTION_DOWN_FRAMES, "frame {i}");
     }
 }
+
+/// The budget's first frame, far over its target, moves the paths all the way and advises a
+/// smaller size at once; later frames keep the step limit and wait for a few frames.
+#[test]
+fn the_first_frame_moves_the_paths_and_the_size_at_once() {
+    // 250 ms fixed, 15 µs a path: 9728 paths take 396 ms, a third of the fixed part fits.
+    let mut device = Device::new(250.0, 0.015, 0.0);
+    let mut budget = FrameBudget::new(150.0, 9728, MIN_BUDGET_PATHS, 1 << 20);
+    run(&mut budget, &mut device, 1);
+    assert_eq!(budget.paths(), MIN_BUDGET_PATHS, "the fixed part alone misses: the fewest paths");
+    let factor = budget.resolution_factor();
+    assert!(factor < 1.0, "a smaller size at once: {factor}");
+    // Enough steps for the fixed part, taken to follow the pixels, to fit 90% of the target.
+    assert!(250.0 * factor * factor < 0.9 * 150.0, "{factor}");
+    // A budget that has measured frames before keeps to the step limit after a change.
+    budget.resize(factor * factor);
+    device.fixed = 1000.0;
+    let before = budget.paths();
+    run(&mut budget, &mut device, 1);
+    assert!(budget.paths() as f64 >= before as f64 / MAX_STEP_FACTOR);
+    assert_eq!(budget.resolution_factor(), 1.0, "one frame after a change of size");
+}

@@ -21,6 +21,7 @@ mod plan;
 mod readback;
 mod reuse;
 mod stages;
+mod upscale;
 mod view_samples;
 
 use std::collections::VecDeque;

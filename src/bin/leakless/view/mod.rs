@@ -69,9 +69,6 @@ pub struct ViewArgs {
     frame_log: Option<PathBuf>,
 }
 
-/// The smallest share of the render scale dynamic resolution goes down to, along each axis.
-const MIN_DYNAMIC_SCALE: f32 = 0.25;
-
 /// `--frame-ms`: a budget, or none.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum FrameMs {
@@ -163,8 +160,7 @@ struct Running {
     render_scale: f32,
     /// Dynamic resolution's share of `render_scale` along each axis (1: none), and whether it
     /// may change (`--dynamic-resolution`).
-    dynamic_scale: f32,
-    dynamic_resolution: bool,
+    dynamic: leakless::frame_budget::DynamicResolution,
     minimized: bool,
     recreate: bool,
     /// Loop iterations so far (script frame numbers).
@@ -274,8 +270,7 @@ impl App {
             drag: (0.0, 0.0),
             size,
             render_scale,
-            dynamic_scale: 1.0,
-            dynamic_resolution: self.args.dynamic_resolution == "on",
+            dynamic: leakless::frame_budget::DynamicResolution::new(self.args.dynamic_resolution == "on"),
             minimized: false,
             recreate: true,
             frame: 0,

@@ -158,21 +158,16 @@ impl Running {
 
     /// Rendered pixels per window pixel: the render scale, times dynamic resolution's share.
     pub(super) fn scale(&self) -> f32 {
-        self.render_scale * self.dynamic_scale
+        self.render_scale * self.dynamic.scale
     }
 
-    /// Dynamic resolution: the render size scaled by `factor` as the frame budget advises,
-    /// within [`MIN_DYNAMIC_SCALE`](super::MIN_DYNAMIC_SCALE), 1] of the render scale (never
-    /// below 1 with `--dynamic-resolution off`).
+    /// Dynamic resolution: the render size scaled by `factor` as the frame budget advises
+    /// ([`DynamicResolution`](leakless::frame_budget::DynamicResolution)).
     fn follow_resolution(&mut self, factor: f32) -> anyhow::Result<()> {
-        if factor == 1.0 || (factor < 1.0 && !self.dynamic_resolution) {
+        if self.swapchain.is_none() {
             return Ok(());
         }
-        let wanted = (self.dynamic_scale * factor).clamp(super::MIN_DYNAMIC_SCALE, 1.0);
-        if wanted == self.dynamic_scale || self.swapchain.is_none() {
-            return Ok(());
-        }
-        self.dynamic_scale = wanted;
+        let Some(wanted) = self.dynamic.follow(factor) else { return Ok(()) };
         let renderer = &mut self.renderer;
         refusal::fit_render_size(self.size, self.render_scale * wanted, |w, h| renderer.set_size(w, h))?;
         Ok(())
@@ -276,7 +271,7 @@ impl Running {
             playing: self.playing && scene.is_animated(),
             pose_update_ms: r.pose_update_ms(),
             budget: self.budget.as_ref(),
-            dynamic_scale: self.dynamic_scale,
+            dynamic_scale: self.dynamic.scale,
         };
         let mut help = self.show_help;
         self.overlay.run(&self.window, self.frame, |ctx| panel::show(ctx, &info, &mut sliders, &mut help))?;
