@@ -76,6 +76,11 @@ fn the_quick_gpu_report_runs_end_to_end() {
     assert!(frames[2]["visibility_rays"].as_u64().unwrap() + frames[2]["proven_clear"].as_u64().unwrap() > 0);
     assert!(!json["rays"].as_array().unwrap().is_empty());
     assert_eq!(json["branching"].as_array().unwrap().len(), 3);
+    // The view samples rasterised and by rays: the same photons, stored and listed.
+    let primary = json["primary"].as_array().unwrap();
+    assert_eq!(primary.len(), 2);
+    assert_eq!(primary[1]["variant"].as_str(), Some("view samples: rays"));
+    assert_eq!(primary[0]["photons_stored"], primary[1]["photons_stored"]);
     // The device's tuning and each choice changed alone (subgroup counters where the device has
     // them): the same photons and lists in every variant.
     let sweep = json["tuning_sweep"].as_array().unwrap();

@@ -52,6 +52,8 @@ pub struct Report {
     pub frames: Vec<timing::FrameRow>,
     pub rays: Vec<timing::RayRow>,
     pub branching: Vec<timing::FrameRow>,
+    /// The sweep's frame with its view samples rasterised, then found by rays (`--primary`).
+    pub primary: Vec<timing::FrameRow>,
     pub tuning_sweep: Vec<timing::FrameRow>,
     /// Sections that failed, with their error (the others still ran).
     pub failures: Vec<String>,

@@ -9,7 +9,7 @@ use anyhow::Context;
 use serde::Serialize;
 
 use leakless::passes::names::group;
-use leakless::{DeviceTuning, Method, RenderSettings, Renderer, Scene, SplatSettings, TuningChoice};
+use leakless::{DeviceTuning, Method, Primary, RenderSettings, Renderer, Scene, SplatSettings, TuningChoice};
 
 use super::{Matrix, Report};
 use leakless_measure::bench::{self, Measured};
@@ -133,7 +133,8 @@ pub fn rays(report: &mut Report, root: &Path, matrix: &Matrix) -> anyhow::Result
     Ok(())
 }
 
-/// Branching factors, then each choice of the device's tuning toggled, on the first scene.
+/// Branching factors, the view samples by raster and by rays, then each choice of the device's
+/// tuning toggled, on the first scene.
 pub fn sweeps(report: &mut Report, root: &Path, matrix: &Matrix) -> anyhow::Result<()> {
     let scene = load(root, matrix.scenes[0])?;
     let (size, paths) = matrix.sweep;
@@ -146,6 +147,14 @@ pub fn sweeps(report: &mut Report, root: &Path, matrix: &Matrix) -> anyhow::Resu
         let r = row(&scene, &Measured::best_of_renderer(&mut renderer, "leakless", 1)?, &format!("B = {b}"));
         println!("  {}: {:.2} ms", r.variant, r.frame_ms);
         report.branching.push(r);
+    }
+    // `--primary auto` rasterises on a GPU without a measurement saying otherwise: this is it.
+    for primary in [Primary::Raster, Primary::Rays] {
+        renderer.set_settings(RenderSettings { primary, ..base.clone() })?;
+        let variant = format!("view samples: {}", primary.name());
+        let r = row(&scene, &Measured::best_of_renderer(&mut renderer, "leakless", 1)?, &variant);
+        println!("  {}: {:.2} ms", r.variant, r.frame_ms);
+        report.primary.push(r);
     }
     let device = DeviceTuning::choose(renderer.gpu().report(), TuningChoice::Auto);
     let arithmetic = renderer.gpu().report().subgroup_arithmetic;

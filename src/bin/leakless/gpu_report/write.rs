@@ -69,9 +69,11 @@ fn markdown(r: &Report) -> anyhow::Result<String> {
         }
         writeln!(md)?;
     }
-    for (title, rows) in
-        [("Branching factor", &r.branching), ("The device tuning's choices, one at a time", &r.tuning_sweep)]
-    {
+    for (title, rows) in [
+        ("Branching factor", &r.branching),
+        ("View samples rasterised or by rays (`--primary`)", &r.primary),
+        ("The device tuning's choices, one at a time", &r.tuning_sweep),
+    ] {
         if !rows.is_empty() {
             writeln!(md, "## {title}\n")?;
             frame_table(&mut md, rows, true)?;
