@@ -1,7 +1,7 @@
 #version 460
 // Primary visibility by ray casting: the G-buffer (world position and triangle, viewer-facing
 // shading normal, albedo of the nearest surface) that gbuffer.vert + gbuffer.frag rasterise,
-// from one closest-hit ray per pixel through its centre. A per-device choice
+// from one closest-hit ray per pixel through its centre. `--primary` chooses, `auto` per device
 // (docs/architecture.md §1.1): a CPU driver rasterises a large scene slowly whatever the image
 // size (the basilica's 210k triangles), and a ray per pixel costs in proportion to the pixels.
 // The surface and its attributes follow gbuffer.frag's: the same triangle, interpolated at the

@@ -1,6 +1,6 @@
 //! Primary visibility by ray casting: the G-buffer that `gbuffer.rs` rasterises, from one
-//! closest-hit ray per pixel (`primary_rays.comp`). Which of the two a frame uses is the
-//! device tuning's choice ([`Primary`](crate::Primary)).
+//! closest-hit ray per pixel (`primary_rays.comp`). Which of the two a frame uses is
+//! `--primary`'s choice ([`Primary`](crate::Primary)), `auto` the device tuning's.
 
 use bytemuck::{Pod, Zeroable};
 use leakless_device::{gpu_struct, GpuStruct};
