@@ -294,11 +294,23 @@ fn the_first_frame_moves_the_paths_and_the_size_at_once() {
     assert!(factor < 1.0, "a smaller size at once: {factor}");
     // Enough steps for the fixed part, taken to follow the pixels, to fit 90% of the target.
     assert!(250.0 * factor * factor < 0.9 * 150.0, "{factor}");
-    // A budget that has measured frames before keeps to the step limit after a change.
+    // After a change of size, one frame is not enough to change it again.
     budget.resize(factor * factor);
-    device.fixed = 1000.0;
-    let before = budget.paths();
     run(&mut budget, &mut device, 1);
-    assert!(budget.paths() as f64 >= before as f64 / MAX_STEP_FACTOR);
     assert_eq!(budget.resolution_factor(), 1.0, "one frame after a change of size");
+}
+
+/// Far under its target, the first frame jumps past the factor-2 limit; the frames after it
+/// keep to the limit however far their estimate moves.
+#[test]
+fn only_the_first_frame_moves_the_paths_past_the_step_limit() {
+    // 20 ms fixed, 1 µs a path: 130 000 paths fit 150 ms.
+    let mut device = Device::new(20.0, 0.001, 0.0);
+    let mut budget = FrameBudget::new(150.0, 9728, MIN_BUDGET_PATHS, 1 << 20);
+    run(&mut budget, &mut device, 1);
+    let first = budget.paths();
+    assert!(first as f64 > 4.0 * 9728.0, "the first frame moved only to {first}");
+    device.per_path = 0.1;
+    run(&mut budget, &mut device, 1);
+    assert!(budget.paths() as f64 >= first as f64 / MAX_STEP_FACTOR, "{first} → {}", budget.paths());
 }

@@ -17,6 +17,8 @@ pub struct PanelInfo<'a> {
     pub width: u32,
     pub height: u32,
     pub method: Method,
+    /// How the frame found its view samples (`--primary`, resolved).
+    pub primary: leakless::Primary,
     pub layer: ViewLayer,
     /// Host time between shown frames.
     pub frame_ms: f64,
@@ -92,7 +94,17 @@ pub fn show(ctx: &egui::Context, info: &PanelInfo<'_>, sliders: &mut Sliders, he
 fn contents(ui: &mut egui::Ui, info: &PanelInfo<'_>, sliders: &mut Sliders) {
     ui.label(RichText::new(info.scene).strong());
     ui.label(format!("{} — {} ({})", info.device, info.backend, info.backend_why));
-    ui.label(format!("{}×{}   {}   layer: {}", info.width, info.height, info.method.name(), info.layer.name()));
+    let samples = match info.primary {
+        leakless::Primary::Rays => "view samples by rays",
+        _ => "view samples rasterised",
+    };
+    ui.label(format!(
+        "{}×{}   {}   layer: {}   {samples}",
+        info.width,
+        info.height,
+        info.method.name(),
+        info.layer.name()
+    ));
     let fps = if info.frame_ms > 0.0 { 1000.0 / info.frame_ms } else { 0.0 };
     let mut flags = Vec::new();
     if info.paused {

@@ -256,6 +256,7 @@ impl Running {
             width: s.width,
             height: s.height,
             method: s.method,
+            primary: r.primary(),
             layer: r.view_layer(),
             frame_ms: self.frame_ms,
             report: r.last_report(),
