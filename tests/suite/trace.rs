@@ -59,7 +59,17 @@ fn the_counted_traversal_work_is_the_cpu_traversals() {
         let mut differ = Vec::new();
         for (i, (ray, w)) in rays.iter().zip(&work).enumerate() {
             let mut counts = leakless_accel::bvh::TraversalCounts::default();
-            bvh.traverse(ray.origin, ray.dir, ray.tmin, ray.tmax, occlusion, |_, _| true, &mut counts);
+            bvh.traverse(
+                leakless_accel::RayQuery {
+                    origin: ray.origin,
+                    dir: ray.dir,
+                    tmin: ray.tmin,
+                    tmax: ray.tmax,
+                    any_hit: occlusion,
+                },
+                |_, _| true,
+                &mut counts,
+            );
             if (counts.nodes, counts.triangles) != (w.nodes as u64, w.triangles as u64) {
                 differ.push(format!("ray {i}: GPU {w:?}, CPU {counts:?}"));
             }

@@ -14,17 +14,28 @@ FLOOR_INTENSITY = 2.0
 FLOOR_LIGHT_HEIGHT = 1.0
 
 
-def floor_light():
-    g = Gltf()
-    white = g.material("floor", (FLOOR_ALBEDO,) * 3)
+def floor_node(g, material):
+    """The fixtures' floor: a square 2·FLOOR_HALF_SIZE wide at y = 0, facing up."""
     h = FLOOR_HALF_SIZE
     pos = [(-h, 0, h), (h, 0, h), (h, 0, -h), (-h, 0, h), (h, 0, -h), (-h, 0, -h)]
-    floor = g.add("nodes", {"name": "floor", "mesh": g.mesh("floor", pos, [(0, 1, 0)] * 6, white)})
+    return g.add("nodes", {"name": "floor", "mesh": g.mesh("floor", pos, [(0, 1, 0)] * 6, material)})
+
+
+def light_and_camera(g, camera_height):
+    """The point light FLOOR_LIGHT_HEIGHT above the floor's centre, and a camera
+    `camera_height` above it looking straight down."""
     light = g.light("light", {"name": "light", "type": "point", "intensity": FLOOR_INTENSITY},
                     translation=[0.0, FLOOR_LIGHT_HEIGHT, 0.0])
     cam = g.add("cameras", {"name": "down", "type": "perspective", "perspective": {"yfov": math.radians(60), "znear": 0.01}})
-    c = g.add("nodes", {"name": "camera", "camera": cam, "translation": [0.0, 2.0, 0.0],
+    c = g.add("nodes", {"name": "camera", "camera": cam, "translation": [0.0, camera_height, 0.0],
                         "rotation": quat_axis_angle((1, 0, 0), -90)})
+    return light, c
+
+
+def floor_light():
+    g = Gltf()
+    floor = floor_node(g, g.material("floor", (FLOOR_ALBEDO,) * 3))
+    light, c = light_and_camera(g, 2.0)
     g.doc["scene"] = g.add("scenes", {"name": "floor light", "nodes": [floor, light, c], "extras": {
         "albedo": FLOOR_ALBEDO, "intensity": FLOOR_INTENSITY, "light_height": FLOOR_LIGHT_HEIGHT,
         "expected_radiance_below_light": FLOOR_ALBEDO * FLOOR_INTENSITY / (math.pi * FLOOR_LIGHT_HEIGHT ** 2)}})
@@ -74,17 +85,11 @@ def occluder():
     g = Gltf()
     white = g.material("floor", (FLOOR_ALBEDO,) * 3)
     grey = g.material("occluder", (0.5, 0.5, 0.5))
-    h = FLOOR_HALF_SIZE
-    pos = [(-h, 0, h), (h, 0, h), (h, 0, -h), (-h, 0, h), (h, 0, -h), (-h, 0, -h)]
-    floor = g.add("nodes", {"name": "floor", "mesh": g.mesh("floor", pos, [(0, 1, 0)] * 6, white)})
+    floor = floor_node(g, white)
     a, b, y = 0.4, 0.6, 0.5
     quad = [(a, y, -0.1), (b, y, -0.1), (b, y, 0.1), (a, y, -0.1), (b, y, 0.1), (a, y, 0.1)]
     blocker = g.add("nodes", {"name": "occluder", "mesh": g.mesh("occluder", quad, [(0, 1, 0)] * 6, grey)})
-    light = g.light("light", {"name": "light", "type": "point", "intensity": FLOOR_INTENSITY},
-                    translation=[0.0, FLOOR_LIGHT_HEIGHT, 0.0])
-    cam = g.add("cameras", {"name": "down", "type": "perspective", "perspective": {"yfov": math.radians(60), "znear": 0.01}})
-    c = g.add("nodes", {"name": "camera", "camera": cam, "translation": [0.0, 3.0, 0.0],
-                        "rotation": quat_axis_angle((1, 0, 0), -90)})
+    light, c = light_and_camera(g, 3.0)
     g.doc["scene"] = g.add("scenes", {"name": "occluder", "nodes": [floor, blocker, light, c]})
     return gltf_text(g)
 

@@ -99,6 +99,17 @@ pub const BUILDER_SAH_FALLBACK: &str = "binned SAH (PLOC tree too deep)";
 #[cfg(test)]
 const BUILDER_SAH: &str = "binned SAH";
 
+/// What a traversal looks for: an intersection of origin + t·dir with t in (`tmin`, `tmax`),
+/// the closest, or with `any_hit` the first accepted.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RayQuery {
+    pub origin: [f32; 3],
+    pub dir: [f32; 3],
+    pub tmin: f32,
+    pub tmax: f32,
+    pub any_hit: bool,
+}
+
 /// A ray's closest (or, for `any_hit`, first accepted) intersection.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Hit {
@@ -233,51 +244,34 @@ impl Bvh {
     /// The closest intersection with `t` in (`tmin`, `tmax`), or with `any_hit` the first one
     /// found. Exactly `trace_bvh` of trace_compute.glsl with every candidate accepted.
     pub fn intersect(&self, origin: [f32; 3], dir: [f32; 3], tmin: f32, tmax: f32, any_hit: bool) -> Option<Hit> {
-        self.intersect_filtered(origin, dir, tmin, tmax, any_hit, |_, _| true)
+        self.intersect_filtered(RayQuery { origin, dir, tmin, tmax, any_hit }, |_, _| true)
     }
 
     /// [`Bvh::intersect`] with `accept(triangle, [u, v])` deciding for each candidate hit, as
     /// `trace_alpha_pass` does in the shader (false: an alpha mask cuts the surface away).
-    pub fn intersect_filtered(
-        &self,
-        origin: [f32; 3],
-        dir: [f32; 3],
-        tmin: f32,
-        tmax: f32,
-        any_hit: bool,
-        accept: impl FnMut(u32, [f32; 2]) -> bool,
-    ) -> Option<Hit> {
-        self.traverse(origin, dir, tmin, tmax, any_hit, accept, &mut TraversalCounts::default())
+    pub fn intersect_filtered(&self, query: RayQuery, accept: impl FnMut(u32, [f32; 2]) -> bool) -> Option<Hit> {
+        self.traverse(query, accept, &mut TraversalCounts::default())
     }
 
     /// The traversal, counting its work. Keep in step with `trace_bvh` in trace_compute.glsl.
-    #[allow(clippy::too_many_arguments)]
     pub fn traverse(
         &self,
-        origin: [f32; 3],
-        dir: [f32; 3],
-        tmin: f32,
-        tmax: f32,
-        any_hit: bool,
+        query: RayQuery,
         accept: impl FnMut(u32, [f32; 2]) -> bool,
         counts: &mut TraversalCounts,
     ) -> Option<Hit> {
-        self.traverse_with_stack::<{ BVH_MAX_DEPTH as usize }>(origin, dir, tmin, tmax, any_hit, accept, counts)
+        self.traverse_with_stack::<{ BVH_MAX_DEPTH as usize }>(query, accept, counts)
     }
 
     /// [`Bvh::traverse`] with a stack of `STACK` entries (only for measuring trees deeper than
     /// [`BVH_MAX_DEPTH`]; for ours a larger stack changes nothing).
-    #[allow(clippy::too_many_arguments)]
     pub(crate) fn traverse_with_stack<const STACK: usize>(
         &self,
-        origin: [f32; 3],
-        dir: [f32; 3],
-        tmin: f32,
-        tmax: f32,
-        any_hit: bool,
+        query: RayQuery,
         mut accept: impl FnMut(u32, [f32; 2]) -> bool,
         counts: &mut TraversalCounts,
     ) -> Option<Hit> {
+        let RayQuery { origin, dir, tmin, tmax, any_hit } = query;
         let ray = Ray::new(origin, dir);
         let mut best: Option<Hit> = None;
         let mut t_best = tmax;

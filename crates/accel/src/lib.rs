@@ -15,7 +15,7 @@ pub mod instanced;
 pub mod rayquery;
 
 pub use bvh::{
-    intersect_triangle, Bvh, BvhNode, BvhStats, BvhTriangle, Hit, Ray, BVH_MAX_DEPTH, BVH_NODE_LAYOUT,
+    intersect_triangle, Bvh, BvhNode, BvhStats, BvhTriangle, Hit, Ray, RayQuery, BVH_MAX_DEPTH, BVH_NODE_LAYOUT,
     BVH_TRIANGLE_LAYOUT,
 };
 pub use instanced::{BvhInstance, InstancedBvh, PartInput, TopLevel, BVH_INSTANCE_LAYOUT, BVH_TOP_MAX_DEPTH};

@@ -459,9 +459,11 @@ fn alpha_filter_sees_every_candidate() {
                     }
                 }
             }
-            let got = bvh.intersect_filtered(origin, dir, 0.0, f32::INFINITY, false, keep);
+            let got =
+                bvh.intersect_filtered(RayQuery { origin, dir, tmin: 0.0, tmax: f32::INFINITY, any_hit: false }, keep);
             assert_eq!(got.map(|h| h.t), expected.map(|h| h.t));
-            let any = bvh.intersect_filtered(origin, dir, 0.0, f32::INFINITY, true, keep);
+            let any =
+                bvh.intersect_filtered(RayQuery { origin, dir, tmin: 0.0, tmax: f32::INFINITY, any_hit: true }, keep);
             assert_eq!(any.is_some(), expected.is_some());
             assert!(any.is_none_or(|h| keep(h.triangle, [h.u, h.v])));
         }
@@ -637,11 +639,19 @@ fn measure() {
             let (mut closest, mut any) = (TraversalCounts::default(), TraversalCounts::default());
             let start = Instant::now();
             for &(o, d) in &rays {
-                bvh.traverse_with_stack::<64>(o, d, 0.0, f32::INFINITY, false, |_, _| true, &mut closest);
+                bvh.traverse_with_stack::<64>(
+                    RayQuery { origin: o, dir: d, tmin: 0.0, tmax: f32::INFINITY, any_hit: false },
+                    |_, _| true,
+                    &mut closest,
+                );
             }
             let ns = start.elapsed().as_secs_f64() * 1e9 / rays.len() as f64;
             for &(o, d) in &rays {
-                bvh.traverse_with_stack::<64>(o, d, 0.0, short, true, |_, _| true, &mut any);
+                bvh.traverse_with_stack::<64>(
+                    RayQuery { origin: o, dir: d, tmin: 0.0, tmax: short, any_hit: true },
+                    |_, _| true,
+                    &mut any,
+                );
             }
             let n = rays.len() as f64;
             let s = &bvh.stats;

@@ -149,6 +149,60 @@ pub(super) fn log_ticks(range: &std::ops::Range<f64>, max: usize) -> (Vec<f64>, 
     (bold, light)
 }
 
+/// How text and marks scale with a chart's size, against the size it was designed at.
+#[derive(Clone, Copy)]
+pub(super) struct Scale(f64);
+
+impl Scale {
+    /// Clears `root` to white; its scale against the design size `design`, and its size.
+    pub(super) fn clear<DB: DrawingBackend>(
+        root: &DrawingArea<DB, Shift>,
+        design: (f64, f64),
+    ) -> std::result::Result<(Scale, u32, u32), DrawingAreaErrorKind<DB::ErrorType>> {
+        root.fill(&WHITE)?;
+        let (w, h) = root.dim_in_pixel();
+        Ok((Scale((w as f64 / design.0).min(h as f64 / design.1).max(0.4)), w, h))
+    }
+
+    /// `v` design pixels, at least one.
+    pub(super) fn px(self, v: f64) -> i32 {
+        ((v * self.0).round() as i32).max(1)
+    }
+
+    /// The charts' font at `v` design points, never below 7.
+    pub(super) fn font(self, v: f64) -> (&'static str, f64) {
+        (FAMILY, (v * self.0).max(7.0))
+    }
+}
+
+/// A log axis over `range` with bold and light ticks (see [`log_ticks`]).
+pub(super) fn log_axis(
+    range: std::ops::Range<f64>,
+    (bold, light): (Vec<f64>, Vec<f64>),
+) -> plotters::coord::combinators::WithKeyPoints<plotters::coord::combinators::LogCoord<f64>> {
+    range.log_scale().with_key_points(bold).with_light_points(light)
+}
+
+/// The grey of notes and reference marks.
+pub(super) const GREY: RGBColor = RGBColor(90, 90, 90);
+
+/// A chart at the design size 800×600: `root` cleared and split into the main area, titled
+/// `title`, and a foot `foot_lines` 12-point lines high for notes. Returns the scale, the
+/// width, the main area and the foot.
+#[allow(clippy::type_complexity)]
+pub(super) fn titled_with_foot<DB: DrawingBackend>(
+    root: &DrawingArea<DB, Shift>,
+    title: &str,
+    foot_lines: f64,
+) -> std::result::Result<
+    (Scale, u32, DrawingArea<DB, Shift>, DrawingArea<DB, Shift>),
+    DrawingAreaErrorKind<DB::ErrorType>,
+> {
+    let (scale, w, h) = Scale::clear(root, (800.0, 600.0))?;
+    let (main, foot) = root.split_vertically(h.saturating_sub((foot_lines * scale.font(12.0).1) as u32));
+    Ok((scale, w, main.titled(title, scale.font(21.0))?, foot))
+}
+
 pub(super) type DrawResult<DB> = std::result::Result<(), DrawingAreaErrorKind<<DB as DrawingBackend>::ErrorType>>;
 
 /// A white chart with a one-line `caption` along its foot; the area above it, to draw in.
@@ -159,7 +213,7 @@ pub(super) fn captioned<DB: DrawingBackend>(
     root.fill(&WHITE)?;
     let h = root.dim_in_pixel().1;
     let (main, foot) = root.split_vertically(h.saturating_sub(26));
-    foot.draw(&Text::new(caption.to_string(), (12, 4), (FAMILY, 13.0).into_font().color(&RGBColor(90, 90, 90))))?;
+    foot.draw(&Text::new(caption.to_string(), (12, 4), (FAMILY, 13.0).into_font().color(&GREY)))?;
     Ok(main)
 }
 

@@ -8,8 +8,8 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 
 use super::drawing::{
-    captioned, draw_legend, draw_line, grey_grid, log_range, log_ticks, tick, write_svg_png, DrawResult, Drawing,
-    FAMILY,
+    captioned, draw_legend, draw_line, grey_grid, log_axis, log_range, log_ticks, tick, write_svg_png, DrawResult,
+    Drawing, FAMILY,
 };
 use leakless::error::Result;
 
@@ -57,10 +57,11 @@ fn panel<DB: DrawingBackend>(
     let frames = runs.iter().map(|r| r.errors.len()).max().unwrap_or(1).max(2);
     let y_range = log_range(runs.iter().flat_map(|r| r.errors.iter().map(value)).filter(|v| *v > 0.0));
     let (y_bold, y_light) = log_ticks(&y_range, 9);
-    let mut cc = ChartBuilder::on(&area).margin(12).x_label_area_size(44).y_label_area_size(60).build_cartesian_2d(
-        0.0..(frames - 1) as f64,
-        y_range.log_scale().with_key_points(y_bold).with_light_points(y_light),
-    )?;
+    let mut cc = ChartBuilder::on(&area)
+        .margin(12)
+        .x_label_area_size(44)
+        .y_label_area_size(60)
+        .build_cartesian_2d(0.0..(frames - 1) as f64, log_axis(y_range, (y_bold, y_light)))?;
     grey_grid(
         cc.configure_mesh()
             .x_desc("frame")

@@ -8,8 +8,8 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 
 use super::drawing::{
-    captioned, draw_legend, draw_line, grey_grid, log_range, log_ticks, tick, write_svg_png, DrawResult, Drawing,
-    FAMILY,
+    captioned, draw_legend, draw_line, grey_grid, log_axis, log_range, log_ticks, tick, write_svg_png, DrawResult,
+    Drawing, FAMILY,
 };
 use leakless::error::Result;
 use leakless::trace::Backend;
@@ -64,10 +64,11 @@ fn panel<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, title: &str, unit: &
     let y_range = log_range(lines.iter().flat_map(|l| l.3.iter().map(|p| p.1)));
     let (x_bold, x_light) = log_ticks(&x_range, 7);
     let (y_bold, y_light) = log_ticks(&y_range, 9);
-    let mut cc = ChartBuilder::on(&area).margin(12).x_label_area_size(44).y_label_area_size(60).build_cartesian_2d(
-        x_range.log_scale().with_key_points(x_bold).with_light_points(x_light),
-        y_range.log_scale().with_key_points(y_bold).with_light_points(y_light),
-    )?;
+    let mut cc = ChartBuilder::on(&area)
+        .margin(12)
+        .x_label_area_size(44)
+        .y_label_area_size(60)
+        .build_cartesian_2d(log_axis(x_range, (x_bold, x_light)), log_axis(y_range, (y_bold, y_light)))?;
     grey_grid(
         cc.configure_mesh()
             .x_desc("triangles")

@@ -6,7 +6,7 @@ use std::path::Path;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
-use super::drawing::{draw_legend, method_colour, tick, write_svg_png, DrawResult, Drawing, FAMILY};
+use super::drawing::{draw_legend, method_colour, tick, write_svg_png, DrawResult, Drawing, Scale};
 use leakless::error::Result;
 use leakless::Method;
 
@@ -43,11 +43,8 @@ pub fn plot_thickness(
 }
 
 fn draw<DB: DrawingBackend>(root: DrawingArea<DB, Shift>, points: &[ThicknessPoint], caption: &str) -> DrawResult<DB> {
-    root.fill(&WHITE)?;
-    let (w, h) = root.dim_in_pixel();
-    let k = (w as f64 / 900.0).min(h as f64 / 450.0).max(0.4);
-    let px = |v: f64| ((v * k).round() as i32).max(1);
-    let font = |v: f64| (FAMILY, (v * k).max(7.0));
+    let (scale, w, h) = Scale::clear(&root, (900.0, 450.0))?;
+    let (px, font) = (|v| scale.px(v), |v| scale.font(v));
     let root = root.titled("leaks against partition thickness", font(20.0))?;
     let (foot_area, panels) = {
         let (top, bottom) = root.split_vertically(h.saturating_sub((1.8 * font(12.0).1) as u32 + px(30.0) as u32));
