@@ -14,16 +14,16 @@
 layout(local_size_x = 8, local_size_y = 8) in;
 
 FRAME_BLOCK(0);
-layout(set = 0, binding = 1, rgba32f) uniform readonly image2D direct;
-layout(set = 0, binding = 2, rgba32f) uniform readonly image2D indirect;
-layout(set = 0, binding = 3, rgba32f) uniform readonly image2D leaked;
-layout(set = 0, binding = 4, rgba32f) uniform image2D sum_direct;
-layout(set = 0, binding = 5, rgba32f) uniform image2D sum_indirect;
-layout(set = 0, binding = 6, rgba32f) uniform image2D sum_leaked;
-layout(set = 0, binding = 7, rgba32f) uniform writeonly image2D mean_direct;
-layout(set = 0, binding = 8, rgba32f) uniform writeonly image2D mean_indirect;
-layout(set = 0, binding = 9, rgba32f) uniform writeonly image2D mean_leaked;
-layout(set = 0, binding = 10, rgba32f) uniform writeonly image2D mean_radiance;
+layout(set = 1, binding = 1, rgba32f) uniform readonly image2D direct;
+layout(set = 1, binding = 2, rgba32f) uniform readonly image2D indirect;
+layout(set = 1, binding = 3, rgba32f) uniform readonly image2D leaked;
+layout(set = 1, binding = 4, rgba32f) uniform image2D sum_direct;
+layout(set = 1, binding = 5, rgba32f) uniform image2D sum_indirect;
+layout(set = 1, binding = 6, rgba32f) uniform image2D sum_leaked;
+layout(set = 1, binding = 7, rgba32f) uniform writeonly image2D mean_direct;
+layout(set = 1, binding = 8, rgba32f) uniform writeonly image2D mean_indirect;
+layout(set = 1, binding = 9, rgba32f) uniform writeonly image2D mean_leaked;
+layout(set = 1, binding = 10, rgba32f) uniform writeonly image2D mean_radiance;
 layout(push_constant) uniform AccumulateParams {
     uint first;         // 1: this frame starts the sums
     float inv_frames;   // 1 / frames in the sums after this one

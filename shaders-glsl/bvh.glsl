@@ -57,13 +57,9 @@ vec3 bvh_vertex(float v[3]) {
     return vec3(v[0], v[1], v[2]);
 }
 
-layout(set = 0, binding = TRACE_BINDING, std430) readonly buffer BvhNodes {
-    BvhNode nodes[];
-} bvh_nodes;
-
-layout(set = 0, binding = TRACE_BINDING + 1, std430) readonly buffer BvhTriangles {
-    BvhTriangle triangles[];
-} bvh_triangles;
+// The parts' bottom levels, every part's nodes in one array, and their triangles.
+layout(set = FRAME_SET, binding = BINDING_BVH_NODES, std430) readonly buffer BvhNodes { BvhNode nodes[]; } bvh_nodes;
+layout(set = FRAME_SET, binding = BINDING_BVH_TRIANGLES, std430) readonly buffer BvhTriangles { BvhTriangle triangles[]; } bvh_triangles;
 
 // identity != 0: the static part, traced in world space as is.
 struct BvhInstance {
@@ -76,14 +72,9 @@ struct BvhInstance {
     uint pad1;
 };
 
-// The top level's nodes at TRACE_BINDING + 2; the scene's bindings (scene.glsl) follow at 20-23.
-layout(set = 0, binding = TRACE_BINDING + 2, std430) readonly buffer BvhTop {
-    BvhNode nodes[];
-} bvh_top;
-
-layout(set = 0, binding = TRACE_BINDING + 8, std430) readonly buffer BvhInstances {
-    BvhInstance items[];
-} bvh_instances;
+// The top level over this frame's pose: its nodes, and each part's transform and root.
+layout(set = FRAME_SET, binding = BINDING_BVH_TOP, std430) readonly buffer BvhTop { BvhNode nodes[]; } bvh_top;
+layout(set = FRAME_SET, binding = BINDING_BVH_INSTANCES, std430) readonly buffer BvhInstances { BvhInstance items[]; } bvh_instances;
 
 // The top level's traversal stack: median splits keep it ⌈log2 parts⌉ deep, at most
 // BVH_TOP_MAX_DEPTH (crates/accel/src/instanced.rs).

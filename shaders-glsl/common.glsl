@@ -7,7 +7,7 @@ const float PI = 3.14159265358979323846;
 
 // One per frame: camera and output size. Declared as a block (not a struct inside one) so
 // reflection sees its members; FRAME_BLOCK(n) declares it at binding n as `frame`.
-#define FRAME_BLOCK(n) layout(set = 0, binding = n) uniform Frame { \
+#define FRAME_BLOCK(n) layout(set = 1, binding = n) uniform Frame { \
     mat4 view_proj; \
     vec4 camera_position; \
     uint width; \

@@ -7,18 +7,18 @@
 layout(local_size_x = 8, local_size_y = 8) in;
 
 FRAME_BLOCK(0);
-layout(set = 0, binding = 1, rgba32f) uniform readonly image2D direct;
-layout(set = 0, binding = 2, rgba32f) uniform readonly image2D indirect_sum;
-layout(set = 0, binding = 3, rgba32f) uniform writeonly image2D indirect;
-layout(set = 0, binding = 4, rgba32f) uniform writeonly image2D radiance;
+layout(set = 1, binding = 1, rgba32f) uniform readonly image2D direct;
+layout(set = 1, binding = 2, rgba32f) uniform readonly image2D indirect_sum;
+layout(set = 1, binding = 3, rgba32f) uniform writeonly image2D indirect;
+layout(set = 1, binding = 4, rgba32f) uniform writeonly image2D radiance;
 layout(push_constant) uniform ComposeParams {
     float indirect_scale;
     uint gathered;  // 0: no gather wrote the leaked and count layers this frame; they become zero
     uint pad1;
     uint pad2;
 } params;
-layout(set = 0, binding = 6, rgba32f) uniform writeonly image2D leaked;
-layout(set = 0, binding = 7, rgba32f) uniform writeonly image2D gather_counts;
+layout(set = 1, binding = 5, rgba32f) uniform writeonly image2D leaked;
+layout(set = 1, binding = 6, rgba32f) uniform writeonly image2D gather_counts;
 
 void main() {
     ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);

@@ -15,9 +15,9 @@
 layout(local_size_x = 8, local_size_y = 8) in;
 
 FRAME_BLOCK(0);
-layout(set = 0, binding = 1, std430) readonly buffer Lights { Light lights[]; } lights;
+layout(set = 1, binding = 1, std430) readonly buffer Lights { Light lights[]; } lights;
 GBUFFER_BINDINGS(2)
-layout(set = 0, binding = 5, rgba32f) uniform writeonly image2D direct;
+layout(set = 1, binding = 5, rgba32f) uniform writeonly image2D direct;
 layout(push_constant) uniform DirectParams {
     uint first_sample; // the frame's first emitter sample: an accumulation continues one sequence
     uint samples;      // shadow rays to emitters per pixel

@@ -25,8 +25,8 @@ layout(local_size_x = 8, local_size_y = 8) in;
 FRAME_BLOCK(0);
 GBUFFER_BINDINGS(1)
 // visible_disk.comp's image: mass, radius, rays down, lift.
-layout(set = 0, binding = 4, rgba32f) uniform readonly image2D measured;
-layout(set = 0, binding = 5, rgba32f) uniform writeonly image2D disk_mass;
+layout(set = 1, binding = 4, rgba32f) uniform readonly image2D measured;
+layout(set = 1, binding = 5, rgba32f) uniform writeonly image2D disk_mass;
 
 layout(push_constant) uniform DiskSmoothParams {
     float radius;          // the frame's gather radius

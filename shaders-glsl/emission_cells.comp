@@ -6,7 +6,7 @@
 layout(local_size_x = 64) in;
 
 EMISSION_ORDER_PARAMS_BLOCK;
-layout(set = 0, binding = 0, std430) buffer CellCounts { uint data[]; } cell_counts;
+layout(set = 1, binding = 0, std430) buffer CellCounts { uint data[]; } cell_counts;
 
 void main() {
     uint path = gl_GlobalInvocationID.x;

@@ -6,8 +6,8 @@
 layout(local_size_x = 64) in;
 
 EMISSION_ORDER_PARAMS_BLOCK;
-layout(set = 0, binding = 0, std430) buffer CellStarts { uint data[]; } cell_starts;
-layout(set = 0, binding = 1, std430) writeonly buffer PathOrder { uint paths[]; } path_order;
+layout(set = 1, binding = 0, std430) buffer CellStarts { uint data[]; } cell_starts;
+layout(set = 1, binding = 1, std430) writeonly buffer PathOrder { uint paths[]; } path_order;
 
 void main() {
     uint path = gl_GlobalInvocationID.x;

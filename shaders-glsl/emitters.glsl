@@ -4,8 +4,7 @@
 #ifndef LEAKLESS_EMITTERS_GLSL
 #define LEAKLESS_EMITTERS_GLSL
 #include "common.glsl"
-
-#define EMITTER_BINDING 26
+#include "frame_set.glsl"
 
 // Twin: `gpu_types::Emitter`.
 struct Emitter {
@@ -15,7 +14,7 @@ struct Emitter {
     uint pad0;
 };
 
-layout(set = 0, binding = EMITTER_BINDING, std430) readonly buffer Emitters { Emitter emitters[]; } emitters;
+layout(set = FRAME_SET, binding = BINDING_EMITTERS, std430) readonly buffer Emitters { Emitter emitters[]; } emitters;
 
 // The first emitter whose CDF exceeds u (u in [0, 1)).
 uint select_emitter(float u, uint count) {

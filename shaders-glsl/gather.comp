@@ -36,14 +36,14 @@ layout(local_size_x = 64) in;
 layout(local_size_x_id = 0) in;
 
 GBUFFER_BINDINGS(0)
-layout(set = 0, binding = 3, std430) readonly buffer SortedKeys { uint keys[]; } sorted_keys;
-layout(set = 0, binding = 4, std430) readonly buffer SortedSamples { uint pixels[]; } sorted_samples;
-layout(set = 0, binding = 5, std430) readonly buffer Levels { Level levels[]; } levels;
-layout(set = 0, binding = 6, std430) readonly buffer Photons { Photon photons[]; } photons;
+layout(set = 1, binding = 3, std430) readonly buffer SortedKeys { uint keys[]; } sorted_keys;
+layout(set = 1, binding = 4, std430) readonly buffer SortedSamples { uint pixels[]; } sorted_samples;
+layout(set = 1, binding = 5, std430) readonly buffer Levels { Level levels[]; } levels;
+layout(set = 1, binding = 6, std430) readonly buffer Photons { Photon photons[]; } photons;
 // Node n's photons are list_photons[ends[n − 1] .. ends[n]) (from 0 for n = 0; list_scatter.comp).
-layout(set = 0, binding = 7, std430) readonly buffer NodeEnds { uint ends[]; } node_ends;
-layout(set = 0, binding = 8, std430) readonly buffer ListPhotons { uint photons[]; } list_photons;
-layout(set = 0, binding = 9, std430) buffer GatherCounters {
+layout(set = 1, binding = 7, std430) readonly buffer NodeEnds { uint ends[]; } node_ends;
+layout(set = 1, binding = 8, std430) readonly buffer ListPhotons { uint photons[]; } list_photons;
+layout(set = 1, binding = 9, std430) buffer GatherCounters {
     uint candidates_lo;   // photons examined (64-bit totals as lo/hi words)
     uint candidates_hi;
     uint accepted_lo;     // within the radius and facing: visibility tests when tracing
@@ -57,10 +57,10 @@ layout(set = 0, binding = 9, std430) buffer GatherCounters {
     uint pad0;
     uint pad1;
 } gather_counters;
-layout(set = 0, binding = 10, rgba32f) uniform writeonly image2D indirect_sum;
-layout(set = 0, binding = 11, rgba32f) uniform writeonly image2D leaked;
+layout(set = 1, binding = 10, rgba32f) uniform writeonly image2D indirect_sum;
+layout(set = 1, binding = 11, rgba32f) uniform writeonly image2D leaked;
 // Per pixel: photons examined, visibility rays traced, blocked rays (the heat-map layers).
-layout(set = 0, binding = 13, rgba32f) uniform writeonly image2D gather_counts;
+layout(set = 1, binding = 13, rgba32f) uniform writeonly image2D gather_counts;
 layout(push_constant) uniform GatherParams {
     float radius;
     float fixed_scale;  // fixed-point units per W/m²; chosen so no sum can overflow
@@ -74,12 +74,12 @@ layout(push_constant) uniform GatherParams {
     uint visible_disk;  // 1: count photons on the sample's own surface, divided by disk_mass
 } params;
 // Per photon (photon_clearance.comp): its lifted position and its clearance radius.
-layout(set = 0, binding = 14, std430) readonly buffer Clearances { Clearance items[]; } clearance;
+layout(set = 1, binding = 14, std430) readonly buffer Clearances { Clearance items[]; } clearance;
 // Per pixel (visible_disk.comp): the kernel's mass over the part of the disk where the sample's
 // own surface exists and is seen; 1 when `visible_disk` is off.
-layout(set = 0, binding = 15, rgba32f) uniform readonly image2D disk_mass;
+layout(set = 1, binding = 15, rgba32f) uniform readonly image2D disk_mass;
 // Per photon, its position alone (splat.comp copies it): what the distance test reads.
-layout(set = 0, binding = 12, std430) readonly buffer PhotonPositions { PhotonPosition positions[]; } photon_positions;
+layout(set = 1, binding = 12, std430) readonly buffer PhotonPositions { PhotonPosition positions[]; } photon_positions;
 
 // Visibility segments run from the lifted sample `from` to a point straight above the photon,
 // at half its lift: on the photon's side of its own surface (a segment arriving from behind a

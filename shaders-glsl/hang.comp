@@ -7,7 +7,7 @@
 
 layout(local_size_x = 1) in;
 
-layout(set = 0, binding = 0, std430) coherent volatile buffer Release { uint words[]; } release;
+layout(set = 1, binding = 0, std430) coherent volatile buffer Release { uint words[]; } release;
 
 void main() {
     for (uint i = 0u; i < 0xffffffffu; ++i) {

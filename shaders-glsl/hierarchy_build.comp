@@ -11,12 +11,12 @@
 layout(local_size_x = 64) in;
 
 GBUFFER_BINDINGS(0)
-layout(set = 0, binding = 3, std430) readonly buffer SortedKeys { uint keys[]; } sorted_keys;
-layout(set = 0, binding = 4, std430) readonly buffer SortedSamples { uint pixels[]; } sorted_samples;
-layout(set = 0, binding = 5, std430) readonly buffer Levels { Level levels[]; } levels;
-layout(set = 0, binding = 6, std430) buffer Nodes { Node nodes[]; } nodes;
+layout(set = 1, binding = 3, std430) readonly buffer SortedKeys { uint keys[]; } sorted_keys;
+layout(set = 1, binding = 4, std430) readonly buffer SortedSamples { uint pixels[]; } sorted_samples;
+layout(set = 1, binding = 5, std430) readonly buffer Levels { Level levels[]; } levels;
+layout(set = 1, binding = 6, std430) buffer Nodes { Node nodes[]; } nodes;
 // .g: each sample's gather radius (visible_disk.comp writes it for every pixel).
-layout(set = 0, binding = 7, rgba32f) uniform readonly image2D disk_mass;
+layout(set = 1, binding = 7, rgba32f) uniform readonly image2D disk_mass;
 layout(push_constant) uniform BuildParams {
     uint level;
     uint branching;

@@ -21,11 +21,11 @@
 
 layout(local_size_x = 256) in;
 
-layout(set = 0, binding = 0, std430) readonly buffer LevelPartials { vec4 sums[]; } level_partials;
+layout(set = 1, binding = 0, std430) readonly buffer LevelPartials { vec4 sums[]; } level_partials;
 // .r the factor, .g the ratio's short mean, .b the spread (mean square deviation) of a frame's
 // ratio, .a the frames the mean holds.
-layout(set = 0, binding = 1, rgba32f) uniform readonly image2D level_previous;
-layout(set = 0, binding = 2, rgba32f) uniform writeonly image2D level_current;
+layout(set = 1, binding = 1, rgba32f) uniform readonly image2D level_previous;
+layout(set = 1, binding = 2, rgba32f) uniform writeonly image2D level_current;
 layout(push_constant) uniform LevelParams {
     uint groups;        // temporal.comp's workgroups
     uint measure;       // 1: a moving frame with last frame's level; 0: reset

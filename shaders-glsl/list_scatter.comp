@@ -15,15 +15,15 @@
 
 layout(local_size_x = 64) in;
 
-layout(set = 0, binding = 0, std430) readonly buffer SplatCounters {
+layout(set = 1, binding = 0, std430) readonly buffer SplatCounters {
     uint entries_used;
     uint entries_dropped;
     uint nodes_visited;
     uint photons_listed;
 } splat_counters;
-layout(set = 0, binding = 1, std430) readonly buffer SplatRecords { SplatRecord records[]; } splat_records;
-layout(set = 0, binding = 2, std430) buffer NodeEnds { uint ends[]; } node_ends;
-layout(set = 0, binding = 3, std430) writeonly buffer ListPhotons { uint photons[]; } list_photons;
+layout(set = 1, binding = 1, std430) readonly buffer SplatRecords { SplatRecord records[]; } splat_records;
+layout(set = 1, binding = 2, std430) buffer NodeEnds { uint ends[]; } node_ends;
+layout(set = 1, binding = 3, std430) writeonly buffer ListPhotons { uint photons[]; } list_photons;
 layout(push_constant) uniform ListScatterParams {
     uint capacity;  // records the buffers hold: entries_used counts the ones beyond it too
     uint pad0;

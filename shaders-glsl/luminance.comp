@@ -7,10 +7,10 @@
 
 layout(local_size_x = 16, local_size_y = 16) in;
 
-layout(set = 0, binding = 0, rgba32f) uniform readonly image2D displayed;
-layout(set = 0, binding = 1, rgba32f) uniform readonly image2D indirect;
-layout(set = 0, binding = 2, rgba32f) uniform readonly image2D leaked;
-layout(set = 0, binding = 3, std430) writeonly buffer Partials { vec4 sums[]; } partials;
+layout(set = 1, binding = 0, rgba32f) uniform readonly image2D displayed;
+layout(set = 1, binding = 1, rgba32f) uniform readonly image2D indirect;
+layout(set = 1, binding = 2, rgba32f) uniform readonly image2D leaked;
+layout(set = 1, binding = 3, std430) writeonly buffer Partials { vec4 sums[]; } partials;
 layout(push_constant) uniform LuminanceParams {
     uint mode;  // DISPLAY_*
     uint width;

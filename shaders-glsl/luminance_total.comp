@@ -5,8 +5,8 @@
 
 layout(local_size_x = 256) in;
 
-layout(set = 0, binding = 0, std430) readonly buffer Partials { vec4 sums[]; } partials;
-layout(set = 0, binding = 1, std430) writeonly buffer LuminanceStats {
+layout(set = 1, binding = 0, std430) readonly buffer Partials { vec4 sums[]; } partials;
+layout(set = 1, binding = 1, std430) writeonly buffer LuminanceStats {
     float log_sum;
     float lit_pixels;
     float indirect_sum;

@@ -9,9 +9,9 @@ layout(local_size_x = 8, local_size_y = 8) in;
 
 FRAME_BLOCK(0);
 GBUFFER_BINDINGS(1)
-layout(set = 0, binding = 4, std430) readonly buffer SampleBounds { uint min_key[3]; uint max_key[3]; } sample_bounds;
-layout(set = 0, binding = 5, std430) writeonly buffer MortonKeys { uint keys[]; } morton_keys;
-layout(set = 0, binding = 6, std430) writeonly buffer MortonValues { uint values[]; } morton_values;
+layout(set = 1, binding = 4, std430) readonly buffer SampleBounds { uint min_key[3]; uint max_key[3]; } sample_bounds;
+layout(set = 1, binding = 5, std430) writeonly buffer MortonKeys { uint keys[]; } morton_keys;
+layout(set = 1, binding = 6, std430) writeonly buffer MortonValues { uint values[]; } morton_values;
 
 float from_order_key(uint k) {
     return uintBitsToFloat((k & 0x80000000u) != 0u ? (k & 0x7fffffffu) : ~k);

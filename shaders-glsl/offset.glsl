@@ -4,12 +4,11 @@
 #ifndef LEAKLESS_OFFSET_GLSL
 #define LEAKLESS_OFFSET_GLSL
 
-// Bindings of the trace interface start here (offset.glsl, bvh.glsl, trace.glsl).
-#define TRACE_BINDING 16
+#include "frame_set.glsl"
 
 // The scene's size (its bounding radius), so that ray offsets scale with the scene: a scene
 // scaled ×1000 traces the same rays.
-layout(set = 0, binding = TRACE_BINDING + 3) uniform TraceScale {
+layout(set = FRAME_SET, binding = BINDING_TRACE_SCALE) uniform TraceScale {
     float scene_scale;
     float pad0;
     float pad1;

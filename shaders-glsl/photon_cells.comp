@@ -11,10 +11,10 @@
 layout(local_size_x = 64) in;
 
 PHOTON_ORDER_PARAMS_BLOCK;
-layout(set = 0, binding = 0, std430) readonly buffer Photons { Photon photons[]; } photons;
-layout(set = 0, binding = 1, std430) readonly buffer PhotonCounters { uint stored; uint overflowed; uint rays; uint next_path; } photon_counters;
-layout(set = 0, binding = 2, std430) buffer CellCounts { uint data[]; } cell_counts;
-layout(set = 0, binding = 3, std430) writeonly buffer PhotonCellOf { uint data[]; } photon_cell_of;
+layout(set = 1, binding = 0, std430) readonly buffer Photons { Photon photons[]; } photons;
+layout(set = 1, binding = 1, std430) readonly buffer PhotonCounters { uint stored; uint overflowed; uint rays; uint next_path; } photon_counters;
+layout(set = 1, binding = 2, std430) buffer CellCounts { uint data[]; } cell_counts;
+layout(set = 1, binding = 3, std430) writeonly buffer PhotonCellOf { uint data[]; } photon_cell_of;
 
 void main() {
     uint i = gl_GlobalInvocationID.x;

@@ -21,10 +21,10 @@
 
 layout(local_size_x = 64) in;
 
-layout(set = 0, binding = 0, std430) readonly buffer Photons { Photon photons[]; } photons;
-layout(set = 0, binding = 1, std430) readonly buffer PhotonCounters { uint stored; uint overflowed; uint rays; uint next_path; } photon_counters;
-layout(set = 0, binding = 2, std430) writeonly buffer Clearances { Clearance items[]; } clearance;
-layout(set = 0, binding = 3, std430) readonly buffer PhotonListed { uint listed[]; } photon_listed;
+layout(set = 1, binding = 0, std430) readonly buffer Photons { Photon photons[]; } photons;
+layout(set = 1, binding = 1, std430) readonly buffer PhotonCounters { uint stored; uint overflowed; uint rays; uint next_path; } photon_counters;
+layout(set = 1, binding = 2, std430) writeonly buffer Clearances { Clearance items[]; } clearance;
+layout(set = 1, binding = 3, std430) readonly buffer PhotonListed { uint listed[]; } photon_listed;
 layout(push_constant) uniform ClearanceParams {
     float max_radius;    // no segment of the gather is longer than this
     uint capacity;       // photons the buffers hold

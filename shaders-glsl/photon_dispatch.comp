@@ -15,8 +15,8 @@ layout(push_constant) uniform PhotonDispatchParams {
     uint pad1;
 } params;
 // The count is the first word of the counters.
-layout(set = 0, binding = 0, std430) readonly buffer Counters { uint words[]; } counters;
-layout(set = 0, binding = 1, std430) writeonly buffer PhotonDispatch { uint x; uint y; uint z; } photon_dispatch;
+layout(set = 1, binding = 0, std430) readonly buffer Counters { uint words[]; } counters;
+layout(set = 1, binding = 1, std430) writeonly buffer PhotonDispatch { uint x; uint y; uint z; } photon_dispatch;
 
 void main() {
     uint items = min(counters.words[0], params.capacity);

@@ -39,13 +39,13 @@ layout(push_constant) uniform PhotonParams {
     uint pad1;
     uint pad2;
 } params;
-layout(set = 0, binding = 1, std430) readonly buffer Lights { Light lights[]; } lights;
-layout(set = 0, binding = 2, std430) readonly buffer PhotonLights { PhotonLight entries[]; } photon_lights;
-layout(set = 0, binding = 3, std430) writeonly buffer Photons { Photon photons[]; } photons;
+layout(set = 1, binding = 0, std430) readonly buffer Lights { Light lights[]; } lights;
+layout(set = 1, binding = 1, std430) readonly buffer PhotonLights { PhotonLight entries[]; } photon_lights;
+layout(set = 1, binding = 2, std430) writeonly buffer Photons { Photon photons[]; } photons;
 // The order threads take paths in: grouped by emission cell (emission_order.rs), so the lanes
 // of a SIMD group start from neighbouring points of the light.
-layout(set = 0, binding = 5, std430) readonly buffer PathOrder { uint paths[]; } path_order;
-layout(set = 0, binding = 4, std430) buffer PhotonCounters {
+layout(set = 1, binding = 4, std430) readonly buffer PathOrder { uint paths[]; } path_order;
+layout(set = 1, binding = 3, std430) buffer PhotonCounters {
     uint stored;      // photons written (never more than capacity)
     uint overflowed;  // photons dropped because the buffer was full
     uint rays;        // closest-hit rays traced (for `bench`'s rays per second)

@@ -12,9 +12,9 @@
 layout(local_size_x = 8, local_size_y = 8) in;
 
 FRAME_BLOCK(0);
-layout(set = 0, binding = 1, rgba32f) uniform writeonly image2D gbuffer_position;
-layout(set = 0, binding = 2, rgba32f) uniform writeonly image2D gbuffer_normal;
-layout(set = 0, binding = 3, rgba32f) uniform writeonly image2D gbuffer_albedo;
+layout(set = 1, binding = 1, rgba32f) uniform writeonly image2D gbuffer_position;
+layout(set = 1, binding = 2, rgba32f) uniform writeonly image2D gbuffer_normal;
+layout(set = 1, binding = 3, rgba32f) uniform writeonly image2D gbuffer_albedo;
 layout(push_constant) uniform PrimaryRaysParams {
     mat4 world_from_clip;  // the inverse of frame.view_proj
     uint finite_far;       // 1: the projection has a far plane (depth 0), beyond which nothing is seen

@@ -18,15 +18,15 @@ struct RayHit {
     vec2 barycentrics;
 };
 
-layout(set = 0, binding = 0, std430) readonly buffer Rays { Ray rays[]; } rays;
-layout(set = 0, binding = 1, std430) writeonly buffer RayHits { RayHit hits[]; } ray_hits;
+layout(set = 1, binding = 0, std430) readonly buffer Rays { Ray rays[]; } rays;
+layout(set = 1, binding = 1, std430) writeonly buffer RayHits { RayHit hits[]; } ray_hits;
 // Per ray, the compute traversal's work (nodes processed, triangles tested) where the pipeline
 // counts it (TRACE_COUNT_WORK, trace_compute.glsl); untouched otherwise and on ray queries.
 struct RayWork {
     uint nodes;
     uint triangles;
 };
-layout(set = 0, binding = 2, std430) writeonly buffer RayWorks { RayWork work[]; } ray_work;
+layout(set = 1, binding = 2, std430) writeonly buffer RayWorks { RayWork work[]; } ray_work;
 layout(push_constant) uniform RaycastParams {
     uint ray_count;
     uint occlusion;  // 1: traceOccluded, 0: traceClosest

@@ -17,9 +17,9 @@
 layout(local_size_x = 8, local_size_y = 8) in;
 
 FRAME_BLOCK(0);
-layout(set = 0, binding = 1, std430) readonly buffer Lights { Light lights[]; } lights;
+layout(set = 1, binding = 1, std430) readonly buffer Lights { Light lights[]; } lights;
 GBUFFER_BINDINGS(2)
-layout(set = 0, binding = 5, rgba32f) uniform image2D accumulated;
+layout(set = 1, binding = 5, rgba32f) uniform image2D accumulated;
 layout(push_constant) uniform ReferenceParams {
     uint first_sample;   // index of this dispatch's first sample in the sequence
     uint sample_count;   // samples this dispatch adds

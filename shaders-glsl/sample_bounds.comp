@@ -15,7 +15,7 @@ layout(local_size_x = 8, local_size_y = 8) in;
 
 FRAME_BLOCK(0);
 GBUFFER_BINDINGS(1)
-layout(set = 0, binding = 4, std430) buffer SampleBounds { uint min_key[3]; uint max_key[3]; } sample_bounds;
+layout(set = 1, binding = 4, std430) buffer SampleBounds { uint min_key[3]; uint max_key[3]; } sample_bounds;
 
 shared uvec3 s_min[BOUNDS_THREADS];
 shared uvec3 s_max[BOUNDS_THREADS];

@@ -3,20 +3,17 @@
 #ifndef LEAKLESS_SCENE_GLSL
 #define LEAKLESS_SCENE_GLSL
 #include "common.glsl"
-
-#define SCENE_BINDING 20
-#define SCENE_NORMAL_BINDING 27
-#define SCENE_UV_BINDING 28
+#include "frame_set.glsl"
 
 // The corners of the triangles, three per triangle in world space (leakless_scene::Vertex),
 // one buffer per attribute: 36 bytes a triangle in the largest, so that a 3M-triangle scene
 // fits lavapipe's 128 MiB maxStorageBufferRange (one 96-byte buffer held 1.4M).
-layout(set = 0, binding = SCENE_BINDING, std430) readonly buffer VertexPositions { float xyz[]; } vertex_positions;
-layout(set = 0, binding = SCENE_NORMAL_BINDING, std430) readonly buffer VertexNormals { float xyz[]; } vertex_normals;
-layout(set = 0, binding = SCENE_UV_BINDING, std430) readonly buffer VertexUvs { float uv[]; } vertex_uvs;
-layout(set = 0, binding = SCENE_BINDING + 1, std430) readonly buffer TriangleMaterials { uint ids[]; } triangle_materials;
-layout(set = 0, binding = SCENE_BINDING + 2, std430) readonly buffer Materials { Material materials[]; } materials;
-layout(set = 0, binding = SCENE_BINDING + 3, std430) readonly buffer Texels { uint words[]; } texels;
+layout(set = FRAME_SET, binding = BINDING_VERTEX_POSITIONS, std430) readonly buffer VertexPositions { float xyz[]; } vertex_positions;
+layout(set = FRAME_SET, binding = BINDING_VERTEX_NORMALS, std430) readonly buffer VertexNormals { float xyz[]; } vertex_normals;
+layout(set = FRAME_SET, binding = BINDING_VERTEX_UVS, std430) readonly buffer VertexUvs { float uv[]; } vertex_uvs;
+layout(set = FRAME_SET, binding = BINDING_TRIANGLE_MATERIALS, std430) readonly buffer TriangleMaterials { uint ids[]; } triangle_materials;
+layout(set = FRAME_SET, binding = BINDING_MATERIALS, std430) readonly buffer Materials { Material materials[]; } materials;
+layout(set = FRAME_SET, binding = BINDING_TEXELS, std430) readonly buffer Texels { uint words[]; } texels;
 
 #include "material.glsl"
 

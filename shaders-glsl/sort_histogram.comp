@@ -7,8 +7,8 @@
 layout(local_size_x = SORT_WORKGROUP_SIZE) in;
 
 SORT_PARAMS_BLOCK;
-layout(set = 0, binding = 1, std430) readonly buffer KeysIn { uint data[]; } keys_in;
-layout(set = 0, binding = 2, std430) writeonly buffer Histograms { uint data[]; } histograms;
+layout(set = 1, binding = 0, std430) readonly buffer KeysIn { uint data[]; } keys_in;
+layout(set = 1, binding = 1, std430) writeonly buffer Histograms { uint data[]; } histograms;
 
 shared uint s_packed[SORT_WORDS * SORT_WORKGROUP_SIZE];  // [word][thread]
 shared uint s_segments[SORT_WORDS * SORT_SEGMENTS];      // [word][segment]

@@ -10,7 +10,7 @@
 layout(local_size_x = SORT_WORKGROUP_SIZE) in;
 
 SORT_PARAMS_BLOCK;
-layout(set = 0, binding = 1, std430) buffer Histograms { uint data[]; } histograms;
+layout(set = 1, binding = 0, std430) buffer Histograms { uint data[]; } histograms;
 
 #define SCAN_ITEMS 16
 const uint SCAN_TILE = SORT_WORKGROUP_SIZE * SCAN_ITEMS;

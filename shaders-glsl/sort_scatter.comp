@@ -9,11 +9,11 @@
 layout(local_size_x = SORT_WORKGROUP_SIZE) in;
 
 SORT_PARAMS_BLOCK;
-layout(set = 0, binding = 1, std430) readonly buffer KeysIn { uint data[]; } keys_in;
-layout(set = 0, binding = 2, std430) readonly buffer ValuesIn { uint data[]; } values_in;
-layout(set = 0, binding = 3, std430) readonly buffer Histograms { uint data[]; } histograms;
-layout(set = 0, binding = 4, std430) writeonly buffer KeysOut { uint data[]; } keys_out;
-layout(set = 0, binding = 5, std430) writeonly buffer ValuesOut { uint data[]; } values_out;
+layout(set = 1, binding = 0, std430) readonly buffer KeysIn { uint data[]; } keys_in;
+layout(set = 1, binding = 1, std430) readonly buffer ValuesIn { uint data[]; } values_in;
+layout(set = 1, binding = 2, std430) readonly buffer Histograms { uint data[]; } histograms;
+layout(set = 1, binding = 3, std430) writeonly buffer KeysOut { uint data[]; } keys_out;
+layout(set = 1, binding = 4, std430) writeonly buffer ValuesOut { uint data[]; } values_out;
 
 shared uint s_packed[SORT_WORDS * SORT_WORKGROUP_SIZE];  // [word][thread]
 shared uint s_segments[SORT_WORDS * SORT_SEGMENTS];      // [word][segment]

@@ -18,9 +18,9 @@ layout(local_size_x = 8, local_size_y = 8) in;
 
 FRAME_BLOCK(0);
 GBUFFER_BINDINGS(1)
-layout(set = 0, binding = 4, rgba32f) uniform readonly image2D indirect;  // first iteration's input
-layout(set = 0, binding = 5, rgba32f) uniform readonly image2D source;    // later iterations' input
-layout(set = 0, binding = 6, rgba32f) uniform writeonly image2D filtered;
+layout(set = 1, binding = 4, rgba32f) uniform readonly image2D indirect;  // first iteration's input
+layout(set = 1, binding = 5, rgba32f) uniform readonly image2D source;    // later iterations' input
+layout(set = 1, binding = 6, rgba32f) uniform writeonly image2D filtered;
 
 layout(push_constant) uniform SpatialParams {
     int step;               // pixels between taps

@@ -22,20 +22,20 @@
 
 layout(local_size_x = 64) in;
 
-layout(set = 0, binding = 0, std430) readonly buffer Photons { Photon photons[]; } photons;
-layout(set = 0, binding = 1, std430) readonly buffer PhotonCounters { uint stored; uint overflowed; uint rays; uint next_path; } photon_counters;
-layout(set = 0, binding = 2, std430) readonly buffer Levels { Level levels[]; } levels;
-layout(set = 0, binding = 3, std430) readonly buffer Nodes { Node nodes[]; } nodes;
-layout(set = 0, binding = 4, std430) buffer NodeCounts { uint counts[]; } node_counts;
-layout(set = 0, binding = 5, std430) writeonly buffer SplatRecords { SplatRecord records[]; } splat_records;
-layout(set = 0, binding = 6, std430) buffer SplatCounters {
+layout(set = 1, binding = 0, std430) readonly buffer Photons { Photon photons[]; } photons;
+layout(set = 1, binding = 1, std430) readonly buffer PhotonCounters { uint stored; uint overflowed; uint rays; uint next_path; } photon_counters;
+layout(set = 1, binding = 2, std430) readonly buffer Levels { Level levels[]; } levels;
+layout(set = 1, binding = 3, std430) readonly buffer Nodes { Node nodes[]; } nodes;
+layout(set = 1, binding = 4, std430) buffer NodeCounts { uint counts[]; } node_counts;
+layout(set = 1, binding = 5, std430) writeonly buffer SplatRecords { SplatRecord records[]; } splat_records;
+layout(set = 1, binding = 6, std430) buffer SplatCounters {
     uint entries_used;      // list entries recorded (and attempted beyond capacity)
     uint entries_dropped;   // entries that did not fit: their contributions are lost
     uint nodes_visited;     // node tests made by all photons
     uint photons_listed;    // photons some list took
 } splat_counters;
-layout(set = 0, binding = 7, std430) writeonly buffer PhotonListed { uint listed[]; } photon_listed;
-layout(set = 0, binding = 8, std430) writeonly buffer PhotonPositions { PhotonPosition positions[]; } photon_positions;
+layout(set = 1, binding = 7, std430) writeonly buffer PhotonListed { uint listed[]; } photon_listed;
+layout(set = 1, binding = 8, std430) writeonly buffer PhotonPositions { PhotonPosition positions[]; } photon_positions;
 layout(push_constant) uniform SplatParams {
     float radius;           // the largest radius any sample gathers within
     uint trivial_accept;

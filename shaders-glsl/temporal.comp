@@ -53,33 +53,33 @@ const uint MODE_STILL = 2u;
 
 FRAME_BLOCK(0);
 GBUFFER_BINDINGS(1)
-layout(set = 0, binding = 4, rgba32f) uniform readonly image2D direct;
-layout(set = 0, binding = 5, rgba32f) uniform readonly image2D indirect;
-layout(set = 0, binding = 6, rgba32f) uniform readonly image2D history_previous;
-layout(set = 0, binding = 7, rgba32f) uniform writeonly image2D history_current;
-layout(set = 0, binding = 8, rgba32f) uniform readonly image2D surface_previous;
-layout(set = 0, binding = 9, rgba32f) uniform writeonly image2D surface_current;
-layout(set = 0, binding = 10, rgba32f) uniform readonly image2D normal_previous;
-layout(set = 0, binding = 11, rgba32f) uniform writeonly image2D normal_current;
-layout(set = 0, binding = 12, rgba32f) uniform writeonly image2D reused_indirect;
-layout(set = 0, binding = 13, rgba32f) uniform writeonly image2D reused_radiance;
-layout(set = 0, binding = 15, rgba32f) uniform readonly image2D radiance;
+layout(set = 1, binding = 4, rgba32f) uniform readonly image2D direct;
+layout(set = 1, binding = 5, rgba32f) uniform readonly image2D indirect;
+layout(set = 1, binding = 6, rgba32f) uniform readonly image2D history_previous;
+layout(set = 1, binding = 7, rgba32f) uniform writeonly image2D history_current;
+layout(set = 1, binding = 8, rgba32f) uniform readonly image2D surface_previous;
+layout(set = 1, binding = 9, rgba32f) uniform writeonly image2D surface_current;
+layout(set = 1, binding = 10, rgba32f) uniform readonly image2D normal_previous;
+layout(set = 1, binding = 11, rgba32f) uniform writeonly image2D normal_current;
+layout(set = 1, binding = 12, rgba32f) uniform writeonly image2D reused_indirect;
+layout(set = 1, binding = 13, rgba32f) uniform writeonly image2D reused_radiance;
+layout(set = 1, binding = 15, rgba32f) uniform readonly image2D radiance;
 // The frame's irradiance after spatial reuse (read only when `spatial`).
-layout(set = 0, binding = 16, rgba32f) uniform readonly image2D filtered;
+layout(set = 1, binding = 16, rgba32f) uniform readonly image2D filtered;
 // The long means of the filtered (.rgb, over .a frames) and of the own (.rgb) irradiance.
-layout(set = 0, binding = 17, rgba32f) uniform readonly image2D filtered_mean_previous;
-layout(set = 0, binding = 18, rgba32f) uniform writeonly image2D filtered_mean_current;
-layout(set = 0, binding = 24, rgba32f) uniform readonly image2D own_mean_previous;
-layout(set = 0, binding = 25, rgba32f) uniform writeonly image2D own_mean_current;
+layout(set = 1, binding = 17, rgba32f) uniform readonly image2D filtered_mean_previous;
+layout(set = 1, binding = 18, rgba32f) uniform writeonly image2D filtered_mean_current;
+layout(set = 1, binding = 20, rgba32f) uniform readonly image2D own_mean_previous;
+layout(set = 1, binding = 21, rgba32f) uniform writeonly image2D own_mean_current;
 // The light's level (lighting_level.comp): .r the factor a moving frame's shown history is
 // scaled by, measured over the frames before.
-layout(set = 0, binding = 19, rgba32f) uniform readonly image2D level_previous;
+layout(set = 1, binding = 19, rgba32f) uniform readonly image2D level_previous;
 // Per workgroup, Σ luminance of the new estimate and of the history it is blended with, over the
 // pixels that have one (.xy), and their count (.z).
-layout(set = 0, binding = 26, std430) writeonly buffer LevelPartials { vec4 sums[]; } level_partials;
+layout(set = 1, binding = 22, std430) writeonly buffer LevelPartials { vec4 sums[]; } level_partials;
 // The animated instances' vertex positions as they were in the history's frame, from the first
 // moving triangle's first vertex on (read only when `instances_moved`).
-layout(set = 0, binding = 14, std430) readonly buffer PreviousPositions { float xyz[]; } previous_positions;
+layout(set = 1, binding = 14, std430) readonly buffer PreviousPositions { float xyz[]; } previous_positions;
 
 layout(push_constant) uniform TemporalParams {
     mat4 previous_view_proj;  // the history's frame's camera

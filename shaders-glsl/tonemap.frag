@@ -5,8 +5,8 @@
 // the window's swapchain image and the PNG a render saves.
 #include "display.glsl"
 
-layout(set = 0, binding = 0, rgba32f) uniform readonly image2D displayed;
-layout(set = 0, binding = 1, std430) readonly buffer LuminanceStats {
+layout(set = 1, binding = 0, rgba32f) uniform readonly image2D displayed;
+layout(set = 1, binding = 1, std430) readonly buffer LuminanceStats {
     float log_sum;
     float lit_pixels;
     float indirect_sum;

@@ -35,7 +35,7 @@ bool trace_alpha_pass(uint triangle, vec2 barycentrics) {
 // One instance per part of the scene (the static triangles; each animated instance), its custom
 // index the part's first scene triangle: custom index + primitive index names the triangle in
 // the scene's list, as the compute backend's hits do.
-layout(set = 0, binding = TRACE_BINDING) uniform accelerationStructureEXT tlas;
+layout(set = FRAME_SET, binding = BINDING_TLAS) uniform accelerationStructureEXT tlas;
 
 Hit trace_backend(vec3 origin, vec3 dir, float tmin, float tmax, bool any_hit) {
     rayQueryEXT q;

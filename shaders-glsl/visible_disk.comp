@@ -41,10 +41,10 @@ layout(local_size_x = 8, local_size_y = 8) in;  // TILE × TILE (visible_disk.rs
 
 FRAME_BLOCK(0);
 GBUFFER_BINDINGS(1)
-layout(set = 0, binding = 4, rgba32f) uniform writeonly image2D disk_mass;
+layout(set = 1, binding = 4, rgba32f) uniform writeonly image2D disk_mass;
 // Per triangle, its coplanar neighbour across edge k (vertices k, k + 1), or NO_NEIGHBOUR
 // (Scene::coplanar_neighbours says which triangles are linked).
-layout(set = 0, binding = 5, std430) readonly buffer CoplanarNeighbours { uint ids[]; } coplanar_neighbours;
+layout(set = 1, binding = 5, std430) readonly buffer CoplanarNeighbours { uint ids[]; } coplanar_neighbours;
 layout(push_constant) uniform VisibleDiskParams {
     float radius;   // this frame's gather radius
     uint seed;      // this frame's seed (the rays' rotation)

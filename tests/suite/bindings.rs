@@ -2,6 +2,7 @@
 //! both trace backends (no GPU needed: this is the build-time reflection against the Rust
 //! declarations that pipeline creation also checks).
 
+use leakless::frame_set::FRAME_SET;
 use leakless::passes::{direct, gather, gbuffer, splat, tonemap, FRAME_PASSES, TOOL_PASSES};
 use leakless::shaders;
 use leakless::Backend;
@@ -14,7 +15,7 @@ fn every_compute_pass_matches_its_shader_on_both_backends() {
     for backend in [Backend::Compute, Backend::RayQuery] {
         for pass in FRAME_PASSES.iter().chain(TOOL_PASSES.iter()) {
             let (shader, name) = (pass.shader(backend), pass.name.label);
-            if let Err(e) = check_bindings(shader, name, &pass.decls(backend)) {
+            if let Err(e) = check_bindings(shader, name, FRAME_SET, &pass.decls()) {
                 errors.push(format!("{backend:?}: {e}"));
             }
             if let Err(e) = check_push_constants(shader, name, pass.push.as_ref()) {
@@ -37,18 +38,14 @@ fn every_compute_pass_matches_its_shader_on_both_backends() {
 fn raster_passes_match_each_stage() {
     // A graphics pass's bindings are split over two stages: each stage's subset must match.
     let passes: [(&str, [&ShaderInfo; 2], Vec<BindingDecl>); 2] = [
-        (
-            "gbuffer",
-            [&shaders::GBUFFER_VERT, &shaders::GBUFFER_FRAG],
-            [gbuffer::RasterBindings::DECLS, leakless::gpu_scene::SceneBindings::DECLS].concat(),
-        ),
+        ("gbuffer", [&shaders::GBUFFER_VERT, &shaders::GBUFFER_FRAG], gbuffer::RasterBindings::DECLS.to_vec()),
         ("tonemap", [&shaders::TONEMAP_VERT, &shaders::TONEMAP_FRAG], tonemap::TonemapBindings::DECLS.to_vec()),
     ];
     for (pass, stages, decls) in passes {
         for shader in stages {
             let reflected = shader.reflection.expect("naga parses raster modules");
             let used: Vec<_> = decls.iter().copied().filter(|d| reflected.iter().any(|r| r.name == d.name)).collect();
-            check_bindings(shader, pass, &used).unwrap();
+            check_bindings(shader, pass, FRAME_SET, &used).unwrap();
         }
     }
     check_push_constants(&shaders::TONEMAP_FRAG, "tonemap", Some(&tonemap::TonemapParams::LAYOUT)).unwrap();
@@ -56,9 +53,9 @@ fn raster_passes_match_each_stage() {
 
 #[test]
 fn a_wrong_declaration_names_shader_binding_and_pass() {
-    let mut decls = direct::DIRECT.decls(Backend::Compute);
+    let mut decls = direct::DIRECT.decls();
     decls.retain(|d| d.name != "lights");
-    let err = check_bindings(&shaders::DIRECT_COMP_COMPUTE, "direct", &decls).unwrap_err().to_string();
+    let err = check_bindings(&shaders::DIRECT_COMP_COMPUTE, "direct", FRAME_SET, &decls).unwrap_err().to_string();
     assert!(err.contains("direct.comp:compute") && err.contains("lights") && err.contains("pass direct"), "{err}");
     // A push-constant struct with a member moved fails too, naming the member.
     let err = check_push_constants(gather::GATHER.shader(Backend::Compute), "gather", splat::SPLAT.push.as_ref())
@@ -99,4 +96,21 @@ fn every_compute_module_belongs_to_a_registered_pass() {
     let count = labels.len();
     labels.dedup();
     assert_eq!(labels.len(), count, "two passes share a name");
+}
+
+/// What a frame binds once is in set 0 at the frame set's numbers; each module's own bindings
+/// are in set 1, numbered from 0 without gaps.
+#[test]
+fn each_module_numbers_its_own_bindings_from_zero_after_the_frame_set() {
+    for s in shaders::ALL {
+        let reflected = s.reflection.expect("checked by every_module_is_spirv_and_reflected");
+        let mut own: Vec<u32> =
+            reflected.iter().filter(|r| r.set == leakless_device::PASS_SET).map(|r| r.binding).collect();
+        own.sort();
+        assert_eq!(own, (0..own.len() as u32).collect::<Vec<_>>(), "{}: the pass's bindings in set 1", s.name);
+        for r in reflected.iter().filter(|r| r.set == leakless_device::FRAME_SET) {
+            let frame = FRAME_SET.iter().find(|f| f.decl.name == r.name);
+            assert_eq!(frame.map(|f| f.binding), Some(r.binding), "{}: {} in set 0", s.name, r.name);
+        }
+    }
 }

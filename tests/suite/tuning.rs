@@ -129,7 +129,8 @@ fn the_tuning_specializes_the_modules_it_names() {
         &gpu,
         "test",
         &shaders::SPLAT_COMP,
-        &pass.decls(leakless::Backend::Compute),
+        leakless::frame_set::FRAME_SET,
+        &pass.decls(),
         pass.push.as_ref(),
         &spec,
     )

@@ -3,14 +3,19 @@
 
 use ash::vk;
 
-use crate::bind::Bound;
+use crate::bind::{Bound, FRAME_SET, PASS_SET};
 use crate::error::{DeviceError, Result};
+use crate::frame_set::{write_descriptors, BoundFrameSet};
 use crate::pipeline::{ComputePipeline, GraphicsPipeline, Layout};
 use crate::{Buffer, Gpu, Image, TimestampPool};
 
 pub struct Cmd<'a> {
     pub(crate) gpu: &'a Gpu,
     pub(crate) raw: vk::CommandBuffer,
+    /// The frame set of the frame being recorded ([`Cmd::use_frame_set`]).
+    pub(crate) frame: Option<BoundFrameSet>,
+    /// Whether it is bound at the compute and at the graphics bind point.
+    pub(crate) frame_bound: [bool; 2],
 }
 
 impl<'a> Cmd<'a> {
@@ -24,7 +29,9 @@ impl<'a> Cmd<'a> {
 
     /// The raw command buffer, for libraries that record their own commands (the overlay's UI
     /// renderer). Everything they record must be declared to the pass graph like any pass.
-    pub fn raw(&self) -> vk::CommandBuffer {
+    /// Their pipelines may disturb the frame set, which the next pass that uses it binds again.
+    pub fn raw(&mut self) -> vk::CommandBuffer {
+        self.frame_bound = [false; 2];
         self.raw
     }
 
@@ -45,9 +52,18 @@ impl<'a> Cmd<'a> {
         Ok(())
     }
 
-    /// Pushes the descriptors of `layout`, each resource found by its declared name.
+    /// Binds the frame set `set` for the pipelines recorded from now on (bound at each bind
+    /// point the first time a pipeline there uses it).
+    pub fn use_frame_set(&mut self, set: &BoundFrameSet) {
+        self.frame = Some(set.clone());
+        self.frame_bound = [false; 2];
+    }
+
+    /// Pushes the descriptors of `layout`, each resource found by its declared name, and binds
+    /// the frame set if the pipeline uses it and it is not bound at `bind_point` yet; the set
+    /// must hold every binding of it the pipeline uses.
     fn push_bindings(
-        &self,
+        &mut self,
         bind_point: vk::PipelineBindPoint,
         layout: &Layout,
         bound: &[(&str, Bound<'_>)],
@@ -61,68 +77,43 @@ impl<'a> Cmd<'a> {
         if let Some((name, _)) = bound.iter().find(|(n, _)| !layout.bindings.iter().any(|(d, _)| d.name == *n)) {
             return Err(problem(name, "bound at record time but not declared by the pass"));
         }
-        let mut buffer_infos = Vec::new();
-        let mut image_infos = Vec::new();
-        let mut accels = Vec::new();
-        for (decl, _) in &layout.bindings {
+        let held = |name: &&str| self.frame.as_ref().is_some_and(|f| f.holds(name));
+        if let Some(name) = layout.frame_uses.iter().find(|n| !held(n)) {
+            return Err(problem(name, "used by the shader, but the frame's graph binds no frame set holding it"));
+        }
+        let mut entries = Vec::with_capacity(layout.bindings.len());
+        for &(decl, number) in &layout.bindings {
             let resource = bound
                 .iter()
                 .find(|(n, _)| *n == decl.name)
                 .map(|(_, r)| *r)
                 .ok_or_else(|| problem(decl.name, "declared but not bound"))?;
-            match resource {
-                Bound::Buffer(b) => {
-                    buffer_infos.push(vk::DescriptorBufferInfo::default().buffer(b.raw()).range(vk::WHOLE_SIZE))
-                }
-                Bound::Image(i) => image_infos.push(
-                    vk::DescriptorImageInfo::default().image_view(i.view()).image_layout(vk::ImageLayout::GENERAL),
-                ),
-                Bound::Accel(a) => accels.push(a),
-            }
+            entries.push((decl, number, resource));
         }
-        let mut accel_writes: Vec<_> = accels
-            .iter()
-            .map(|a| {
-                vk::WriteDescriptorSetAccelerationStructureKHR::default()
-                    .acceleration_structures(std::slice::from_ref(a))
-            })
-            .collect();
-        let (mut bi, mut ii, mut ai) = (0, 0, 0);
-        let mut writes = Vec::with_capacity(layout.bindings.len());
-        let mut accel_iter = accel_writes.iter_mut();
-        for (decl, number) in &layout.bindings {
-            let resource = bound.iter().find(|(n, _)| *n == decl.name).map(|(_, r)| *r).expect("checked above");
-            let write =
-                vk::WriteDescriptorSet::default().dst_binding(*number).descriptor_type(decl.kind.descriptor_type());
-            let write = match resource {
-                Bound::Buffer(_) => {
-                    bi += 1;
-                    write.buffer_info(std::slice::from_ref(&buffer_infos[bi - 1]))
-                }
-                Bound::Image(_) => {
-                    ii += 1;
-                    write.image_info(std::slice::from_ref(&image_infos[ii - 1]))
-                }
-                Bound::Accel(_) => {
-                    ai += 1;
-                    // ash 0.38 does not derive the count from a pushed-next struct.
-                    write.descriptor_count(1).push_next(accel_iter.next().expect("one per accel"))
-                }
+        let point = usize::from(bind_point == vk::PipelineBindPoint::GRAPHICS);
+        if !layout.frame_uses.is_empty() && !self.frame_bound[point] {
+            let set = self.frame.as_ref().expect("checked above: the pass's frame bindings are held").set;
+            // SAFETY: recording state; the set was written for a layout identical to set 0 of
+            // every pipeline layout (frame_set.rs), and outlives the frame's command buffers.
+            unsafe {
+                self.device().cmd_bind_descriptor_sets(
+                    self.raw,
+                    bind_point,
+                    layout.pipeline_layout,
+                    FRAME_SET,
+                    &[set],
+                    &[],
+                )
             };
-            writes.push(write);
+            self.frame_bound[point] = true;
         }
-        let _ = ai;
-        // SAFETY: the layout was created with the push-descriptor flag; every write targets a
-        // binding of it with the declared type, and the infos outlive the call.
-        unsafe {
-            self.gpu.shared.push_descriptor.cmd_push_descriptor_set(
-                self.raw,
-                bind_point,
-                layout.pipeline_layout,
-                0,
-                &writes,
-            )
-        };
+        let push_descriptor = &self.gpu.shared.push_descriptor;
+        let (raw, pipeline_layout) = (self.raw, layout.pipeline_layout);
+        write_descriptors(&entries, |writes| {
+            // SAFETY: set 1 of the layout was created with the push-descriptor flag; every write
+            // targets a binding of it with the declared type, and the infos outlive the call.
+            unsafe { push_descriptor.cmd_push_descriptor_set(raw, bind_point, pipeline_layout, PASS_SET, writes) };
+        });
         Ok(())
     }
 
@@ -246,7 +237,7 @@ impl<'a> Cmd<'a> {
             min_depth: 0.0,
             max_depth: 1.0,
         };
-        let device = self.device();
+        let device = self.gpu.device();
         // SAFETY: recording state outside any rendering; attachments are in the layouts the
         // pass graph transitioned them to; pipeline formats match the attachments.
         unsafe {
@@ -284,7 +275,7 @@ impl<'a> Cmd<'a> {
         // SAFETY: recording state outside any rendering; the graph put `target` in the
         // attachment layout.
         unsafe { self.device().cmd_begin_rendering(self.raw, &info) };
-        let recorded = record(self.raw);
+        let recorded = record(self.raw());
         // SAFETY: ends the rendering begun above, whatever `record` did.
         unsafe { self.device().cmd_end_rendering(self.raw) };
         recorded

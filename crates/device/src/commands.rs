@@ -137,7 +137,7 @@ impl CommandSlot {
         let begin = vk::CommandBufferBeginInfo::default().flags(vk::CommandBufferUsageFlags::ONE_TIME_SUBMIT);
         // SAFETY: the buffer is in the initial state after the pool reset.
         unsafe { device.begin_command_buffer(self.raw, &begin) }.vk("vkBeginCommandBuffer")?;
-        let mut cmd = Cmd { gpu, raw: self.raw };
+        let mut cmd = Cmd { gpu, raw: self.raw, frame: None, frame_bound: [false; 2] };
         let value = record(&mut cmd);
         // SAFETY: recording state (ended even when `record` failed, so the pool reset next time
         // finds no buffer left recording).

@@ -269,7 +269,7 @@ impl Gpu {
             let begin = vk::CommandBufferBeginInfo::default().flags(vk::CommandBufferUsageFlags::ONE_TIME_SUBMIT);
             // SAFETY: freshly allocated command buffer.
             unsafe { device.begin_command_buffer(cmd_raw, &begin) }.vk("vkBeginCommandBuffer")?;
-            let mut cmd = Cmd { gpu: self, raw: cmd_raw };
+            let mut cmd = Cmd { gpu: self, raw: cmd_raw, frame: None, frame_bound: [false; 2] };
             let value = record(&mut cmd)?;
             // SAFETY: recording state.
             unsafe { device.end_command_buffer(cmd_raw) }.vk("vkEndCommandBuffer")?;

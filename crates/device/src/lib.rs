@@ -12,6 +12,7 @@ mod bind;
 mod cmd;
 mod commands;
 mod error;
+mod frame_set;
 mod gpu;
 mod instance;
 mod layout;
@@ -28,10 +29,13 @@ pub use accel::{
     AccelerationStructure,
 };
 pub use ash::vk;
-pub use bind::{check_bindings, check_push_constants, BindingDecl, Bound, Contents};
+pub use bind::{
+    check_bindings, check_push_constants, BindingDecl, Bound, Contents, MatchedBindings, FRAME_SET, PASS_SET,
+};
 pub use cmd::Cmd;
 pub use commands::{CommandSlot, Semaphore, SubmitSync};
 pub use error::{DeviceError, Result};
+pub use frame_set::{BoundFrameSet, FrameBinding, FrameSet, PUSH_RANGE};
 pub use gpu::{Capabilities, Gpu, GpuOptions, RawVulkan, WindowHandles};
 pub use layout::{GpuStruct, PushConstants, RustLayout};
 pub use memory::{Buffer, BufferDesc, Image, ImageDesc, MemoryLocation};

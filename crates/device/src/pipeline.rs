@@ -1,23 +1,28 @@
-//! Compute and graphics pipelines from embedded SPIR-V, each with one push-descriptor set
-//! whose bindings were checked against reflection.
+//! Compute and graphics pipelines from embedded SPIR-V, their bindings checked against
+//! reflection: the frame set in set 0 ([`FrameBinding`]) and the pass's own bindings in a
+//! push-descriptor set 1.
 
 use std::sync::Arc;
 
 use ash::vk;
 
-use crate::bind::{check_bindings, check_push_constants, BindingDecl};
+use crate::bind::{check_bindings, check_push_constants, BindingDecl, MatchedBindings};
 use crate::error::{DeviceError, Result, VkContext};
+use crate::frame_set::{frame_set_layout, FrameBinding, PUSH_RANGE};
 use crate::gpu::{Gpu, Shared};
 use crate::layout::RustLayout;
 use crate::shader::{ShaderInfo, ShaderStage};
 
-/// The descriptor-set layout and pipeline layout a pass's bindings produce.
+/// The descriptor-set layouts and pipeline layout a pass's bindings produce.
 pub(crate) struct Layout {
     shared: Arc<Shared>,
+    frame_layout: vk::DescriptorSetLayout,
     pub set_layout: vk::DescriptorSetLayout,
     pub pipeline_layout: vk::PipelineLayout,
-    /// (declaration, binding number), in declaration order.
+    /// The pass's own bindings (set 1): (declaration, binding number), in declaration order.
     pub bindings: Vec<(BindingDecl, u32)>,
+    /// The frame set's bindings the pipeline uses (set 0), by name.
+    pub frame_uses: Vec<&'static str>,
     /// Bytes of the push-constant block (0: none), and the stages that see it.
     pub push_size: u32,
     pub push_stages: vk::ShaderStageFlags,
@@ -28,16 +33,23 @@ impl Layout {
     fn new(
         gpu: &Gpu,
         pass: &str,
+        frame: &[FrameBinding],
         decls: &[BindingDecl],
-        numbers: Vec<u32>,
+        matched: MatchedBindings,
         stages: vk::ShaderStageFlags,
         push_size: u32,
     ) -> Result<Layout> {
+        if push_size > PUSH_RANGE {
+            return Err(DeviceError::Limit(format!(
+                "pass {pass}: a {push_size}-byte push-constant block; every layout's range holds {PUSH_RANGE}"
+            )));
+        }
         let device = gpu.device();
-        let vk_bindings: Vec<_> = decls
+        let MatchedBindings { numbers, frame_uses } = matched;
+        let own: Vec<(BindingDecl, u32)> = decls.iter().copied().zip(numbers).collect();
+        let vk_bindings: Vec<_> = own
             .iter()
-            .zip(&numbers)
-            .map(|(d, &n)| {
+            .map(|&(d, n)| {
                 vk::DescriptorSetLayoutBinding::default()
                     .binding(n)
                     .descriptor_type(d.kind.descriptor_type())
@@ -51,18 +63,21 @@ impl Layout {
         // SAFETY: valid device and create info.
         let set_layout =
             unsafe { device.create_descriptor_set_layout(&info, None) }.vk("vkCreateDescriptorSetLayout")?;
-        let set_layouts = [set_layout];
-        let ranges = [vk::PushConstantRange { stage_flags: stages, offset: 0, size: push_size }];
-        let ranges = if push_size > 0 { &ranges[..] } else { &[] };
-        let info = vk::PipelineLayoutCreateInfo::default().set_layouts(&set_layouts).push_constant_ranges(ranges);
+        let frame_layout = frame_set_layout(gpu, frame)?;
+        let set_layouts = [frame_layout, set_layout];
+        // One range in every layout of a bind point, whatever the pass pushes (see PUSH_RANGE).
+        let ranges = [vk::PushConstantRange { stage_flags: stages, offset: 0, size: PUSH_RANGE }];
+        let info = vk::PipelineLayoutCreateInfo::default().set_layouts(&set_layouts).push_constant_ranges(&ranges);
         // SAFETY: valid device and create info.
         let pipeline_layout = unsafe { device.create_pipeline_layout(&info, None) }.vk("vkCreatePipelineLayout")?;
         gpu.set_name(pipeline_layout, pass);
         Ok(Layout {
             shared: gpu.shared.clone(),
+            frame_layout,
             set_layout,
             pipeline_layout,
-            bindings: decls.iter().copied().zip(numbers).collect(),
+            bindings: own,
+            frame_uses,
             push_size,
             push_stages: stages,
             pass: pass.to_string(),
@@ -76,6 +91,7 @@ impl Drop for Layout {
         unsafe {
             self.shared.device.destroy_pipeline_layout(self.pipeline_layout, None);
             self.shared.device.destroy_descriptor_set_layout(self.set_layout, None);
+            self.shared.device.destroy_descriptor_set_layout(self.frame_layout, None);
         }
     }
 }
@@ -155,18 +171,19 @@ pub struct ComputePipeline {
 
 impl ComputePipeline {
     /// Builds the pipeline of pass `pass` from `shader` specialized with `spec`, checking
-    /// `decls` and the push-constant block `push` (`None`: the pass pushes nothing) against the
-    /// shader's reflection.
+    /// `decls` (in the frame set `frame` or the pass's own set) and the push-constant block
+    /// `push` (`None`: the pass pushes nothing) against the shader's reflection.
     pub fn new(
         gpu: &Gpu,
         pass: &str,
         shader: &ShaderInfo,
+        frame: &[FrameBinding],
         decls: &[BindingDecl],
         push: Option<&RustLayout>,
         spec: &Specialization,
     ) -> Result<Self> {
         assert_eq!(shader.stage, ShaderStage::Compute, "{} is not a compute shader", shader.name);
-        let numbers = check_bindings(shader, pass, decls)?;
+        let matched = check_bindings(shader, pass, frame, decls)?;
         let push_size = check_push_constants(shader, pass, push)?;
         let entries = spec.entries(shader, pass)?;
         let workgroup_size = spec.workgroup_size(shader);
@@ -176,7 +193,7 @@ impl ComputePipeline {
                 "pass {pass}: workgroup size {workgroup_size:?} exceeds maxComputeWorkGroupInvocations ({most})"
             )));
         }
-        let layout = Layout::new(gpu, pass, decls, numbers, vk::ShaderStageFlags::COMPUTE, push_size)?;
+        let layout = Layout::new(gpu, pass, frame, decls, matched, vk::ShaderStageFlags::COMPUTE, push_size)?;
         let module = shader_module(gpu, shader)?;
         let map: Vec<vk::SpecializationMapEntry> = (0..entries.len() as u32)
             .map(|i| vk::SpecializationMapEntry { constant_id: entries[i as usize].0, offset: 4 * i, size: 4 })
@@ -203,6 +220,11 @@ impl ComputePipeline {
     }
     pub fn workgroup_size(&self) -> [u32; 3] {
         self.workgroup_size
+    }
+
+    /// The frame set's bindings its shader uses: a pass that runs it reads what they hold.
+    pub fn frame_uses(&self) -> &[&'static str] {
+        &self.layout.frame_uses
     }
 }
 
@@ -247,10 +269,16 @@ pub struct GraphicsPipeline {
 }
 
 impl GraphicsPipeline {
-    pub fn new(gpu: &Gpu, pass: &str, desc: &GraphicsDesc<'_>, decls: &[BindingDecl]) -> Result<Self> {
+    pub fn new(
+        gpu: &Gpu,
+        pass: &str,
+        desc: &GraphicsDesc<'_>,
+        frame: &[FrameBinding],
+        decls: &[BindingDecl],
+    ) -> Result<Self> {
         // Each declaration must be found in the stage(s) that use it; a binding may appear in
         // both stages, so check per stage the subset that stage reflects.
-        let numbers = merged_numbers(desc, pass, decls)?;
+        let matched = merged_bindings(desc, pass, frame, decls)?;
         // A block declared in either stage must match the pass's; a stage may omit it.
         let mut push_size = 0;
         for shader in [desc.vertex, desc.fragment] {
@@ -262,7 +290,7 @@ impl GraphicsPipeline {
             check_push_constants(desc.fragment, pass, desc.push.as_ref())?;
         }
         let stages = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT;
-        let layout = Layout::new(gpu, pass, decls, numbers, stages, push_size)?;
+        let layout = Layout::new(gpu, pass, frame, decls, matched, stages, push_size)?;
         let vs = shader_module(gpu, desc.vertex)?;
         let fs = shader_module(gpu, desc.fragment)?;
         let stages = [
@@ -346,16 +374,27 @@ impl GraphicsPipeline {
     }
 }
 
-/// Binding numbers for a graphics pass: every declaration must be bound in at least one stage
-/// with one number, and every binding of either stage must be declared.
-fn merged_numbers(desc: &GraphicsDesc<'_>, pass: &str, decls: &[BindingDecl]) -> Result<Vec<u32>> {
+/// Bindings for a graphics pass: every declaration must be bound in at least one stage with
+/// one number, and every binding of either stage must be declared or the frame set's.
+fn merged_bindings(
+    desc: &GraphicsDesc<'_>,
+    pass: &str,
+    frame: &[FrameBinding],
+    decls: &[BindingDecl],
+) -> Result<MatchedBindings> {
     let mut numbers = vec![None; decls.len()];
+    let mut frame_uses: Vec<&'static str> = Vec::new();
     for shader in [desc.vertex, desc.fragment] {
         let reflected = shader.reflection.unwrap_or(&[]);
         let used: Vec<BindingDecl> =
             decls.iter().copied().filter(|d| reflected.iter().any(|r| r.name == d.name)).collect();
-        let found = check_bindings(shader, pass, &used)?;
-        for (d, n) in used.iter().zip(found) {
+        let found = check_bindings(shader, pass, frame, &used)?;
+        for name in found.frame_uses {
+            if !frame_uses.contains(&name) {
+                frame_uses.push(name);
+            }
+        }
+        for (d, n) in used.iter().zip(found.numbers) {
             let i = decls.iter().position(|x| x.name == d.name).expect("subset");
             match numbers[i] {
                 Some(prev) if prev != n => {
@@ -370,7 +409,7 @@ fn merged_numbers(desc: &GraphicsDesc<'_>, pass: &str, decls: &[BindingDecl]) ->
             }
         }
     }
-    decls
+    let numbers = decls
         .iter()
         .zip(numbers)
         .map(|(d, n)| {
@@ -381,7 +420,8 @@ fn merged_numbers(desc: &GraphicsDesc<'_>, pass: &str, decls: &[BindingDecl]) ->
                 problem: "declared by the pass but in neither stage".into(),
             })
         })
-        .collect()
+        .collect::<Result<_>>()?;
+    Ok(MatchedBindings { numbers, frame_uses })
 }
 
 impl Drop for GraphicsPipeline {

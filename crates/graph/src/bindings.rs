@@ -47,6 +47,15 @@ impl Bindings for () {
     fn bind<'a>(&self, _: Resolved<'a>, _: &mut Vec<(&'static str, Bound<'a>)>) {}
 }
 
+/// A group bound only where present (what a device without it leaves out).
+impl<B: Bindings> Bindings for Option<B> {
+    fn bind<'a>(&self, res: Resolved<'a>, out: &mut Vec<(&'static str, Bound<'a>)>) {
+        if let Some(b) = self {
+            b.bind(res, out);
+        }
+    }
+}
+
 /// The resources struct of a [`shader_bindings!`] group: it declares its handles' uses on a
 /// pass and gives the bindings a dispatch binds. A compute pass's definition takes it, so that
 /// adding the pass is one call with its resources (`COMPOSE.add(graph, ComposeResources { … },

@@ -3,7 +3,7 @@
 
 use leakless_device::sync::Access;
 use leakless_device::{
-    Buffer, BufferDesc, ComputePipeline, DeviceError, Gpu, Image, ImageDesc, MemoryLocation, Result,
+    Buffer, BufferDesc, ComputePipeline, DeviceError, FrameBinding, Gpu, Image, ImageDesc, MemoryLocation, Result,
 };
 
 use crate::bindings::{Bindings, PassContext};
@@ -89,6 +89,16 @@ pub struct Graph<'r> {
     pub(crate) passes: Vec<Pass<'r>>,
     /// The pipelines passes ask for ([`Graph::pipeline`]).
     pub(crate) pipelines: Option<&'r PipelineTable>,
+    /// What the frame binds once, in set 0 of every pipeline ([`Graph::bind_frame_set`]).
+    pub(crate) frame_set: Option<FrameSetUses<'r>>,
+}
+
+/// The frame set a graph was given: its declaration, the groups that bind it, and the reads
+/// of the resources behind it that each pass running a shader of the frame set makes.
+pub(crate) struct FrameSetUses<'r> {
+    pub frame: &'static [FrameBinding],
+    pub groups: Box<dyn Bindings + 'r>,
+    uses: Vec<(usize, Access)>,
 }
 
 /// Why the graph refuses a second handle to a pool resource: two handles of one resource would
@@ -224,15 +234,22 @@ impl<'r> Graph<'r> {
     /// time counts under, and the pipeline its dispatch runs ([`PassBuilder::runs`] names
     /// another).
     pub fn pass<'g>(&'g mut self, name: PassName) -> PassBuilder<'g, 'r> {
-        let (label, group) = (name.label.to_string(), name.group);
-        PassBuilder { graph: self, name: label, group, pipeline: Some(name), uses: Vec::new(), extends: None }
+        self.builder(name.label.to_string(), name.group, Some(name))
+    }
+
+    fn builder<'g>(
+        &'g mut self,
+        label: String,
+        group: &'static str,
+        pipeline: Option<PassName>,
+    ) -> PassBuilder<'g, 'r> {
+        PassBuilder { graph: self, name: label, group, pipeline, uses: Vec::new(), extends: None }
     }
 
     /// Starts pass number `index` of a repeated pass ("sort histogram 2"), running `name`'s
     /// pipeline.
     pub fn pass_numbered<'g>(&'g mut self, name: PassName, index: u32) -> PassBuilder<'g, 'r> {
-        let (label, group) = (format!("{} {index}", name.label), name.group);
-        PassBuilder { graph: self, name: label, group, pipeline: Some(name), uses: Vec::new(), extends: None }
+        self.builder(format!("{} {index}", name.label), name.group, Some(name))
     }
 
     /// Continues the last pass labelled `label`: what the builder declares joins its uses, and what
@@ -242,7 +259,23 @@ impl<'r> Graph<'r> {
     pub fn extend_pass<'g>(&'g mut self, label: &str) -> Option<PassBuilder<'g, 'r>> {
         let index = self.passes.iter().rposition(|p| p.name == label)?;
         let (uses, group) = (self.passes[index].uses.clone(), self.passes[index].group);
-        Some(PassBuilder { graph: self, name: label.to_string(), group, pipeline: None, uses, extends: Some(index) })
+        Some(PassBuilder { uses, extends: Some(index), ..self.builder(label.to_string(), group, None) })
+    }
+
+    /// Binds the groups `declare` returns as the frame set `frame` (set 0 of every pipeline),
+    /// written once before the frame records and bound once per command buffer. The reads
+    /// `declare` declares become every later pass's whose shader uses the frame set, so the
+    /// graph derives their barriers (a TLAS rebuilt, vertices placed earlier in the frame).
+    pub fn bind_frame_set<G: Bindings + 'r>(
+        &mut self,
+        frame: &'static [FrameBinding],
+        declare: impl FnOnce(&mut PassBuilder<'_, 'r>) -> G,
+    ) {
+        let mut builder = self.builder("frame set".into(), "frame set", None);
+        let groups = Box::new(declare(&mut builder));
+        let uses = builder.uses;
+        assert!(uses.iter().all(|(_, a)| !a.info().writes), "the frame set is read only");
+        self.frame_set = Some(FrameSetUses { frame, groups, uses });
     }
 
     pub fn pass_names(&self) -> impl Iterator<Item = &str> {
@@ -274,25 +307,21 @@ pub trait Handle {
     fn make_use(id: usize) -> Self::Use;
 }
 
-impl Handle for BufferHandle {
-    type Use = Buf;
-    fn id(&self) -> usize {
-        self.id
-    }
-    fn make_use(id: usize) -> Buf {
-        Buf(id)
-    }
+/// `Handle` for a handle type and the use its declarations hand back.
+macro_rules! handle {
+    ($($handle:ident => $use:ident),*) => {$(
+        impl Handle for $handle {
+            type Use = $use;
+            fn id(&self) -> usize {
+                self.id
+            }
+            fn make_use(id: usize) -> $use {
+                $use(id)
+            }
+        }
+    )*};
 }
-
-impl Handle for ImageHandle {
-    type Use = Img;
-    fn id(&self) -> usize {
-        self.id
-    }
-    fn make_use(id: usize) -> Img {
-        Img(id)
-    }
-}
+handle!(BufferHandle => Buf, ImageHandle => Img);
 
 impl<'r> PassBuilder<'_, 'r> {
     fn declare<H: Handle>(&mut self, handle: &H, access: Access) -> H::Use {
@@ -361,8 +390,28 @@ impl<'r> PassBuilder<'_, 'r> {
         self.record(move |ctx| ctx.dispatch_indirect(pipeline, &[&groups], &push, args, most_threads));
     }
 
+    /// Declares the frame set's reads when the pass's pipeline uses the frame set.
+    fn declare_frame_set_reads(&mut self) {
+        let pipeline = self.pipeline.and_then(|name| self.graph.pipelines.and_then(|t| t.get(name)));
+        if pipeline.is_none_or(|p| p.frame_uses().is_empty()) {
+            return;
+        }
+        let Some(frame_set) = &self.graph.frame_set else {
+            panic!(
+                "pass {}: its shader reads the frame set, which its graph was not given (Graph::bind_frame_set)",
+                self.name
+            )
+        };
+        for &(id, access) in &frame_set.uses {
+            if !self.uses.iter().any(|&(own, _)| own == id) {
+                self.uses.push((id, access));
+            }
+        }
+    }
+
     /// Ends the declaration with the commands the pass records when the frame executes.
-    pub fn record(self, record: impl FnOnce(&mut PassContext<'_, '_, '_>) -> Result<()> + 'r) {
+    pub fn record(mut self, record: impl FnOnce(&mut PassContext<'_, '_, '_>) -> Result<()> + 'r) {
+        self.declare_frame_set_reads();
         match self.extends {
             None => self.graph.passes.push(Pass {
                 name: self.name,

@@ -7,12 +7,13 @@ use std::time::Instant;
 
 use ash::vk;
 use leakless_device::{
-    Buffer, BufferDesc, Cmd, CommandSlot, DeviceError, Gpu, MemoryLocation, Result, SubmitSync, TimestampPool,
+    BoundFrameSet, Buffer, BufferDesc, Cmd, CommandSlot, DeviceError, FrameSet, Gpu, MemoryLocation, Result,
+    SubmitSync, TimestampPool,
 };
 
 use crate::barrier::{ResourceState, Transition};
 use crate::bindings::{PassContext, Resolved, Resource};
-use crate::graph::{Graph, Pass, Source};
+use crate::graph::{FrameSetUses, Graph, Pass, Source};
 use crate::pool::{PoolKey, ResourcePool};
 
 /// Time of one pass.
@@ -77,6 +78,8 @@ struct Slot {
     /// Two words per pass, set to 1 when the GPU starts and ends the pass: after a lost
     /// device they show which pass was running.
     markers: Buffer,
+    /// The frame set's descriptors, made for the first graph that binds one.
+    frame_set: Option<FrameSet>,
     running: Option<Running>,
 }
 
@@ -113,6 +116,7 @@ impl GraphRunner {
                             location: MemoryLocation::GpuToCpu,
                         },
                     )?,
+                    frame_set: None,
                     running: None,
                 })
             })
@@ -192,7 +196,7 @@ impl GraphRunner {
     /// Starts the next frame's graph (waiting for its slot if needed).
     pub fn graph<'r>(&'r mut self, gpu: &'r Gpu) -> Result<Graph<'r>> {
         self.acquire_slot(gpu)?;
-        Ok(Graph { gpu, runner: self, sources: Vec::new(), passes: Vec::new(), pipelines: None })
+        Ok(Graph { gpu, runner: self, sources: Vec::new(), passes: Vec::new(), pipelines: None, frame_set: None })
     }
 
     /// Waits for every frame in flight, oldest first, and returns them.
@@ -276,7 +280,7 @@ impl Graph<'_> {
     /// Records every pass in order with derived barriers into this frame's slot and submits
     /// it, waiting for `sync`'s semaphores and signalling its own; does not wait for the GPU.
     pub fn submit(self, sync: &SubmitSync<'_>) -> Result<Submitted> {
-        let Graph { gpu, runner, sources, passes, .. } = self;
+        let Graph { gpu, runner, sources, passes, frame_set, .. } = self;
         let on_lost = runner.on_lost.as_deref();
         if passes.len() as u32 > MAX_PASSES {
             return Err(DeviceError::Capacity {
@@ -313,17 +317,28 @@ impl Graph<'_> {
         let slot = &mut runner.slots[slot_index];
         slot.timestamps.reset();
         slot.markers.write(0, &vec![0u8; 8 * passes.len()])?;
-        let ctx = RecordContext {
-            res: Resolved { resources: &resources },
-            markers: &slot.markers,
-            timestamps: &slot.timestamps,
+        let res = Resolved { resources: &resources };
+        let frame_set = match frame_set {
+            Some(FrameSetUses { frame, groups, .. }) => {
+                let set = match &mut slot.frame_set {
+                    Some(set) if std::ptr::eq(set.frame(), frame) => set,
+                    made => made.insert(FrameSet::new(gpu, frame)?),
+                };
+                let mut bound = Vec::new();
+                groups.bind(res, &mut bound);
+                Some(set.write(gpu, &bound)?)
+            }
+            None => None,
         };
+        let ctx =
+            RecordContext { res, frame_set: frame_set.as_ref(), markers: &slot.markers, timestamps: &slot.timestamps };
         let mut wall_ms = vec![None; passes.len()];
         let frame = runner.frame;
         let recorded: Result<()> = match runner.timing {
             Timing::Timestamps => slot
                 .commands
                 .record(gpu, |cmd| {
+                    ctx.begin(cmd);
                     for (index, pass) in passes.into_iter().enumerate() {
                         ctx.record(cmd, index, pass, &mut states)?;
                     }
@@ -334,7 +349,10 @@ impl Graph<'_> {
                 let count = passes.len();
                 passes.into_iter().enumerate().try_for_each(|(index, pass)| {
                     let start = Instant::now();
-                    slot.commands.record(gpu, |cmd| ctx.record(cmd, index, pass, &mut states))?;
+                    slot.commands.record(gpu, |cmd| {
+                        ctx.begin(cmd);
+                        ctx.record(cmd, index, pass, &mut states)
+                    })?;
                     // The frame's semaphores go on its first and last submissions.
                     let part = SubmitSync {
                         wait: if index == 0 { sync.wait.clone() } else { vec![] },
@@ -380,11 +398,20 @@ impl Graph<'_> {
 /// What recording one pass needs besides the pass itself.
 struct RecordContext<'a> {
     res: Resolved<'a>,
+    /// The graph's frame set, written for this frame.
+    frame_set: Option<&'a BoundFrameSet>,
     markers: &'a Buffer,
     timestamps: &'a TimestampPool,
 }
 
 impl RecordContext<'_> {
+    /// Starts a command buffer of the frame: its passes bind the frame's set.
+    fn begin(&self, cmd: &mut Cmd<'_>) {
+        if let Some(set) = self.frame_set {
+            cmd.use_frame_set(set);
+        }
+    }
+
     /// Derived barriers, then the pass between its label, timestamps and crash markers.
     fn record(&self, cmd: &mut Cmd<'_>, index: usize, pass: Pass<'_>, states: &mut [ResourceState]) -> Result<()> {
         let mut buffer_barriers = Vec::new();

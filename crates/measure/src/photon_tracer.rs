@@ -171,26 +171,17 @@ impl<'g> PhotonTracer<'g> {
         let mut graph = self.runner.graph(self.gpu)?.with_pipelines(self.pipelines.table(self.backend));
         let scene = self.scene.import(&mut graph);
         let trace = self.trace.import(&mut graph, &self.scene, &self.pose)?;
+        leakless::frame_set::bind(&mut graph, &scene, &trace);
         let lights = upload_lights(&mut graph, &self.lights, &self.scene.emitter_table, &self.bounds)?;
         let mut photons = graph.import_buffer(&self.photons);
         let mut counters = graph.import_buffer(&self.counters);
         // The pass writes up to the capacity, never into the guard after it.
         let params = PhotonParams { paths_per_thread: params.paths_per_thread.or(self.paths_per_thread), ..*params };
-        photons::add(
-            &mut graph,
-            &params,
-            self.pipelines.tuning(),
-            &scene,
-            &trace,
-            &lights,
-            &mut photons,
-            capacity,
-            &mut counters,
-        )?;
+        photons::add(&mut graph, &params, self.pipelines.tuning(), &lights, &mut photons, capacity, &mut counters)?;
         let mut clearance = clearance_buffer.as_ref().map(|b| graph.import_buffer(b));
         if let (Some(out), Some(radius)) = (&mut clearance, clearance_radius) {
             let dispatch = photon_dispatch::add(&mut graph, &counters, capacity)?;
-            photon_clearance::add(&mut graph, &trace, &photons, &counters, &dispatch, radius, Needed::All, out)?;
+            photon_clearance::add(&mut graph, &photons, &counters, &dispatch, radius, Needed::All, out)?;
         }
         let mut host = graph.pass(names::TO_HOST);
         host.read(&photons, Access::HostRead);

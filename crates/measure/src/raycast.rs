@@ -123,13 +123,14 @@ impl<'g> RayCaster<'g> {
         let mut graph = self.runner.graph(self.gpu)?.with_pipelines(pipelines.table(self.backend));
         let scene = self.scene.import(&mut graph);
         let trace = self.trace.import(&mut graph, &self.scene, &self.pose)?;
+        leakless::frame_set::bind(&mut graph, &scene, &trace);
         let rays_h = graph.import_buffer(&ray_buffer);
         let mut hits_h = graph.import_buffer(&hit_buffer);
         let mut work_h = graph.import_buffer(&work_buffer);
         let mut hits_host = graph.import_buffer(&hits_for_host);
         let mut work_host = graph.import_buffer(&work_for_host);
         let cast = (rays.len() as u32, occlusion);
-        raycast::add(&mut graph, def, cast, &scene, &trace, &rays_h, &mut hits_h, &mut work_h);
+        raycast::add(&mut graph, def, cast, &rays_h, &mut hits_h, &mut work_h);
         // The copies for the host are a pass of their own, outside the timed one.
         let mut copy = graph.pass(names::READBACK);
         let copies =

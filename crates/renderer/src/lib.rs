@@ -6,6 +6,7 @@
 pub mod emitters;
 pub mod error;
 pub mod frame_budget;
+pub mod frame_set;
 pub mod gpu_scene;
 pub mod gpu_types;
 pub mod limits;

@@ -8,8 +8,8 @@ use leakless_accel::{
     BVH_TRIANGLE_LAYOUT,
 };
 use leakless_device::shader::ShaderInfo;
-use leakless_device::{gpu_struct, vk, BindingDecl, Bound, Buffer, Capabilities, DeviceType, Gpu, GpuStruct};
-use leakless_graph::{shader_bindings, Access, Bindings, BufferHandle, Graph, PassBuilder, Resolved, Stage};
+use leakless_device::{gpu_struct, vk, Buffer, Capabilities, DeviceType, Gpu, GpuStruct};
+use leakless_graph::{shader_bindings, Access, BufferHandle, Graph, PassBuilder, Stage};
 use leakless_scene::{Scene, Vertex};
 
 use crate::error::{RenderError, Result};
@@ -104,14 +104,6 @@ impl Backend {
             Backend::Compute => compute,
         }
     }
-
-    /// What `trace.glsl` binds on this backend.
-    pub fn bindings(self) -> &'static [BindingDecl] {
-        match self {
-            Backend::RayQuery => RayQueryTrace::DECLS,
-            Backend::Compute => ComputeTrace::DECLS,
-        }
-    }
 }
 
 gpu_struct! {
@@ -144,22 +136,6 @@ shader_bindings! {
         bvh_instances: read array(BVH_INSTANCE_LAYOUT),
     }
     pub struct ComputeTraceResources;
-}
-
-/// A tracing pass's trace bindings, on whichever backend runs.
-#[derive(Clone, Copy, Debug)]
-pub enum TraceBindings {
-    RayQuery(RayQueryTrace),
-    Compute(ComputeTrace),
-}
-
-impl Bindings for TraceBindings {
-    fn bind<'a>(&self, res: Resolved<'a>, out: &mut Vec<(&'static str, Bound<'a>)>) {
-        match self {
-            TraceBindings::RayQuery(b) => b.bind(res, out),
-            TraceBindings::Compute(b) => b.bind(res, out),
-        }
-    }
 }
 
 /// The size offsets are relative to: the scene's bounding radius.
@@ -367,25 +343,18 @@ pub struct TraceHandles {
 }
 
 impl TraceHandles {
-    /// Declares that `pass` traces rays.
-    pub fn declare(&self, pass: &mut PassBuilder<'_, '_>) -> TraceBindings {
-        match &self.rayquery {
-            Some(rq) => {
-                // Traversal reads the BLASes through the TLAS: all are declared, only the TLAS
-                // is bound.
-                pass.read(&rq.tlas_buffer, Access::RayQueryRead);
-                for b in &rq.blas_buffers {
-                    pass.read(b, Access::RayQueryRead);
-                }
-                let resources = RayQueryTraceResources { tlas: rq.tlas, trace_scale: &self.scale };
-                TraceBindings::RayQuery(RayQueryTrace::declare(pass, Stage::Compute, resources))
+    /// Declares what the frame set holds of the trace structures: the TLAS where the frame
+    /// has one (and the BLASes its traversal reads, declared only), and the BVH that the
+    /// compute backend traverses and every backend's clearance pass searches.
+    pub fn declare_frame_set(&self, set: &mut PassBuilder<'_, '_>) -> (Option<RayQueryTrace>, ComputeTrace) {
+        let rayquery = self.rayquery.as_ref().map(|rq| {
+            set.read(&rq.tlas_buffer, Access::RayQueryRead);
+            for b in &rq.blas_buffers {
+                set.read(b, Access::RayQueryRead);
             }
-            None => TraceBindings::Compute(self.declare_bvh(pass)),
-        }
-    }
-
-    /// Declares that `pass` searches the scene's BVH (on any backend).
-    pub fn declare_bvh(&self, pass: &mut PassBuilder<'_, '_>) -> ComputeTrace {
+            let resources = RayQueryTraceResources { tlas: rq.tlas, trace_scale: &self.scale };
+            RayQueryTrace::declare(set, Stage::Compute, resources)
+        });
         let resources = ComputeTraceResources {
             bvh_nodes: &self.nodes,
             bvh_triangles: &self.triangles,
@@ -393,6 +362,6 @@ impl TraceHandles {
             bvh_top: &self.top,
             bvh_instances: &self.instances,
         };
-        ComputeTrace::declare(pass, Stage::Compute, resources)
+        (rayquery, ComputeTrace::declare(set, Stage::Compute, resources))
     }
 }

@@ -6,10 +6,8 @@ use bytemuck::{Pod, Zeroable};
 use leakless_device::gpu_struct;
 use leakless_graph::{shader_bindings, Graph, ImageHandle, PassName};
 
-use crate::gpu_scene::{EmitterBindings, SceneBindings};
-use crate::passes::gbuffer::GBufferBindings;
 use crate::passes::names::group;
-use crate::passes::{ViewBindings, ViewInputs};
+use crate::passes::{ViewInputs, VIEW_GROUPS};
 use crate::pipelines::{compute_pass, ComputePass, Threads};
 use crate::shaders;
 
@@ -50,12 +48,12 @@ compute_pass! {
         ComputePass::traced(
             PassName::new("direct", group::DIRECT),
             (&shaders::DIRECT_COMP_RAYQUERY, &shaders::DIRECT_COMP_COMPUTE),
-            &[ViewBindings::DECLS, GBufferBindings::DECLS, SceneBindings::DECLS, EmitterBindings::DECLS],
+            VIEW_GROUPS,
         );
 }
 
 pub fn add<'r>(graph: &mut Graph<'r>, params: DirectParams, view: &ViewInputs<'_>, direct: &mut ImageHandle) {
     let extent = direct.extent();
     let threads = Threads::Fixed([extent.width, extent.height, 1]);
-    DIRECT.add_with(graph, DirectResources { direct }, |pass| view.declare_lit(pass), params, threads);
+    DIRECT.add_with(graph, DirectResources { direct }, |pass| view.declare(pass), params, threads);
 }

@@ -5,10 +5,9 @@
 use ash::vk;
 use bytemuck::{Pod, Zeroable};
 use leakless_device::{gpu_struct, BufferDesc, GpuStruct, MemoryLocation};
-use leakless_graph::{shader_bindings, BufferHandle, Fill, Graph, ImageHandle, PassName, Stage};
+use leakless_graph::{shader_bindings, BufferHandle, Fill, Graph, ImageHandle, PassName};
 
 use crate::error::Result;
-use crate::gpu_scene::{SceneBindings, SceneHandles};
 use crate::passes::gbuffer::{GBufferBindings, GBufferHandles};
 use crate::passes::hierarchy::{HierarchyHandles, Level, Shape};
 use crate::passes::names::group;
@@ -17,7 +16,6 @@ use crate::passes::photons::Photon;
 use crate::passes::splat::{NodeListHandles, PhotonPosition};
 use crate::pipelines::{compute_pass, ComputePass, Threads};
 use crate::shaders;
-use crate::trace::TraceHandles;
 
 gpu_struct! {
     /// The `GatherParams` push constants of gather.comp.
@@ -112,7 +110,7 @@ compute_pass! {
         ComputePass::traced(
             PassName::new("gather", group::GATHER),
             (&shaders::GATHER_COMP_RAYQUERY, &shaders::GATHER_COMP_COMPUTE),
-            &[GBufferBindings::DECLS, SceneBindings::DECLS],
+            &[GBufferBindings::DECLS],
         ).specialize(crate::tuning::DeviceTuning::gather);
 }
 
@@ -177,8 +175,6 @@ pub fn add<'r>(
     shape: &Shape,
     input: GatherInputs<'_>,
     gbuffer: &GBufferHandles,
-    scene: &SceneHandles,
-    trace: &TraceHandles,
     hierarchy: &HierarchyHandles,
     lists: &NodeListHandles,
     out: GatherOutputs<'_>,
@@ -211,11 +207,6 @@ pub fn add<'r>(
         disk_mass: input.disk_mass,
         photon_positions: &lists.positions,
     };
-    GATHER.add_with(
-        graph,
-        resources,
-        |pass| (gbuffer.declare(pass), scene.declare(pass, Stage::Compute), trace.declare(pass)),
-        params,
-        Threads::Fixed([shape.sample_count, 1, 1]),
-    );
+    let threads = Threads::Fixed([shape.sample_count, 1, 1]);
+    GATHER.add_with(graph, resources, |pass| gbuffer.declare(pass), params, threads);
 }

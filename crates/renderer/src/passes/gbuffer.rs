@@ -6,7 +6,8 @@ use leakless_device::{ColorTarget, Gpu, GpuStruct, GraphicsDesc, GraphicsPipelin
 use leakless_graph::{shader_bindings, Access, BufferHandle, Graph, ImageHandle, PassBuilder, Stage};
 
 use crate::error::Result;
-use crate::gpu_scene::{SceneBindings, SceneHandles};
+use crate::frame_set::FRAME_SET;
+use crate::gpu_scene::SceneHandles;
 use crate::gpu_types::Frame;
 use crate::passes::names;
 use crate::shaders;
@@ -88,8 +89,8 @@ impl GBufferPass {
             cull: vk::CullModeFlags::NONE,
             push: None,
         };
-        let decls = [RasterBindings::DECLS, SceneBindings::DECLS].concat();
-        Ok(GBufferPass { pipeline: GraphicsPipeline::new(gpu, "gbuffer", &desc, &decls)? })
+        let pipeline = GraphicsPipeline::new(gpu, "gbuffer", &desc, FRAME_SET, RasterBindings::DECLS)?;
+        Ok(GBufferPass { pipeline })
     }
 
     pub fn add<'r>(
@@ -102,9 +103,10 @@ impl GBufferPass {
     ) {
         let mut pass = graph.pass(names::GBUFFER);
         let own = RasterBindings::declare(&mut pass, Stage::Vertex, RasterResources { frame });
-        pass.read(frame, Access::FragmentRead); // the fragment stage reads it too
-                                                // Both stages read the surfaces: the vertex stage their corners, the fragment stage the rest.
-        let surfaces = scene.declare(&mut pass, Stage::Vertex);
+        // The fragment stage reads the frame too. Both stages read the surfaces, which the
+        // frame set binds: the vertex stage their corners, the fragment stage the rest.
+        pass.read(frame, Access::FragmentRead);
+        scene.declare(&mut pass, Stage::Vertex);
         scene.declare(&mut pass, Stage::Fragment);
         let position = pass.write(&mut out.position, Access::ColorAttachmentWrite);
         let normal = pass.write(&mut out.normal, Access::ColorAttachmentWrite);
@@ -112,7 +114,7 @@ impl GBufferPass {
         let depth = pass.write(&mut out.depth, Access::DepthAttachmentWrite);
         pass.record(move |ctx| {
             let targets = [(position, [0.0; 4]), (normal, [0.0; 4]), (albedo, [0.0; 4])];
-            ctx.draw(&self.pipeline, &[&own, &surfaces], &(), &targets, Some(depth), None, vertex_count)
+            ctx.draw(&self.pipeline, &[&own], &(), &targets, Some(depth), None, vertex_count)
         });
     }
 }

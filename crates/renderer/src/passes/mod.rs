@@ -35,10 +35,9 @@ pub mod visible_disk;
 use leakless_device::GpuStruct;
 use leakless_graph::{shader_bindings, BufferHandle, PassBuilder, Stage};
 
-use crate::gpu_scene::{SceneBindings, SceneHandles};
+use crate::gpu_scene::SceneHandles;
 use crate::gpu_types::{Frame, Light};
 use crate::pipelines::ComputePassDef;
-use crate::trace::{TraceBindings, TraceHandles};
 use gbuffer::{GBufferBindings, GBufferHandles};
 
 /// Every compute pass a frame may run, collected from their definitions (`compute_pass!`
@@ -57,13 +56,12 @@ pub fn frame_passes() -> Vec<&'static ComputePassDef> {
     FRAME_PASSES.to_vec()
 }
 
-/// What every pass that shades view samples reads: the frame, the lights, the G-buffer, the
-/// scene's surfaces and the trace structures.
+/// What the passes that shade view samples bind besides the frame set: the frame, the
+/// lights, the G-buffer, and the scene's buffers outside the frame set.
 pub struct ViewInputs<'a> {
     pub frame: &'a BufferHandle,
     pub lights: &'a BufferHandle,
     pub scene: &'a SceneHandles,
-    pub trace: &'a TraceHandles,
     pub gbuffer: &'a GBufferHandles,
 }
 
@@ -76,24 +74,13 @@ shader_bindings! {
     pub struct ViewResources;
 }
 
-/// What a view-sample pass binds of [`ViewInputs`].
-pub type ViewUses = (ViewBindings, GBufferBindings, SceneBindings, TraceBindings);
+/// The groups a view-sample pass binds of [`ViewInputs`]: what it is defined with.
+pub const VIEW_GROUPS: &[&[leakless_device::BindingDecl]] = &[ViewBindings::DECLS, GBufferBindings::DECLS];
 
 impl ViewInputs<'_> {
-    /// Declares the compute reads of [`ViewInputs`] and of the scene's emitters: what a pass
-    /// that lights view samples binds (direct light, the reference).
-    pub fn declare_lit(&self, pass: &mut PassBuilder<'_, '_>) -> (ViewUses, crate::gpu_scene::EmitterBindings) {
-        (self.declare(pass), self.scene.declare_emitters(pass, Stage::Compute))
-    }
-
     /// Declares the compute reads of [`ViewInputs`].
-    pub fn declare(&self, pass: &mut PassBuilder<'_, '_>) -> ViewUses {
+    pub fn declare(&self, pass: &mut PassBuilder<'_, '_>) -> (ViewBindings, GBufferBindings) {
         let resources = ViewResources { frame: self.frame, lights: self.lights };
-        (
-            ViewBindings::declare(pass, Stage::Compute, resources),
-            self.gbuffer.declare(pass),
-            self.scene.declare(pass, Stage::Compute),
-            self.trace.declare(pass),
-        )
+        (ViewBindings::declare(pass, Stage::Compute, resources), self.gbuffer.declare(pass))
     }
 }

@@ -13,7 +13,6 @@ use crate::passes::photon_dispatch::{PhotonDispatch, PHOTON_WORKGROUP};
 use crate::passes::photons::{Photon, PhotonCounters};
 use crate::pipelines::{compute_pass, ComputePass, Threads};
 use crate::shaders;
-use crate::trace::{ComputeTrace, TraceHandles};
 
 gpu_struct! {
     /// The `ClearanceParams` push constants of photon_clearance.comp.
@@ -71,7 +70,7 @@ compute_pass! {
         ComputePass::any(
             PassName::new("photon clearance", group::CLEARANCE),
             &shaders::PHOTON_CLEARANCE_COMP,
-            &[ComputeTrace::DECLS],
+            &[],
         ).workgroup([PHOTON_WORKGROUP, 1, 1]);
 }
 
@@ -81,7 +80,6 @@ compute_pass! {
 #[allow(clippy::too_many_arguments)]
 pub fn add<'r>(
     graph: &mut Graph<'r>,
-    trace: &TraceHandles,
     photons: &BufferHandle,
     photon_counters: &BufferHandle,
     dispatch: &PhotonDispatch,
@@ -106,6 +104,6 @@ pub fn add<'r>(
     let params = ClearanceParams { max_radius, capacity: dispatch.capacity, only_listed, ..Default::default() };
     let resources = ClearanceResources { photons, photon_counters, clearance, photon_listed: listed };
     let threads = Threads::Indirect(dispatch);
-    PHOTON_CLEARANCE.add_with(graph, resources, |pass| trace.declare_bvh(pass), params, threads);
+    PHOTON_CLEARANCE.add_with(graph, resources, |_| (), params, threads);
     Ok(())
 }

@@ -11,18 +11,15 @@
 use ash::vk;
 use bytemuck::{Pod, Zeroable};
 use leakless_device::{gpu_struct, GpuStruct};
-use leakless_graph::{shader_bindings, BufferHandle, Fill, Graph, PassName, Stage};
+use leakless_graph::{shader_bindings, BufferHandle, Fill, Graph, PassName};
 
 use crate::error::{RenderError, Result};
-use crate::gpu_scene::{EmitterBindings, SceneBindings, SceneHandles};
 use crate::gpu_types::Light;
 use crate::passes::emission_order::{self, EmissionOrderParams};
 use crate::passes::names::group;
 use crate::photon_lights::LightHandles;
-use crate::pipelines::Threads;
 use crate::pipelines::{compute_pass, ComputePass};
 use crate::shaders;
-use crate::trace::TraceHandles;
 use crate::tuning::DeviceTuning;
 
 gpu_struct! {
@@ -174,7 +171,7 @@ compute_pass! {
         ComputePass::traced(
             PassName::new("photons", group::PHOTONS),
             (&shaders::PHOTONS_COMP_RAYQUERY, &shaders::PHOTONS_COMP_COMPUTE),
-            &[SceneBindings::DECLS, EmitterBindings::DECLS],
+            &[],
         ).specialize(DeviceTuning::counters);
 }
 
@@ -187,8 +184,6 @@ pub fn add<'r>(
     graph: &mut Graph<'r>,
     params: &PhotonParams,
     tuning: &DeviceTuning,
-    scene: &SceneHandles,
-    trace: &TraceHandles,
     lights: &LightHandles,
     photons: &mut BufferHandle,
     capacity: u32,
@@ -243,12 +238,6 @@ pub fn add<'r>(
         photons,
         photon_counters: counters,
     };
-    PHOTONS.add_with(
-        graph,
-        resources,
-        |pass| (scene.declare(pass, Stage::Compute), scene.declare_emitters(pass, Stage::Compute), trace.declare(pass)),
-        push,
-        Threads::Fixed([push.threads, 1, 1]),
-    );
+    PHOTONS.add(graph, resources, push, [push.threads, 1, 1]);
     Ok(())
 }

@@ -4,15 +4,13 @@
 
 use bytemuck::{Pod, Zeroable};
 use leakless_device::{gpu_struct, GpuStruct};
-use leakless_graph::{shader_bindings, BufferHandle, Graph, PassName, Stage};
+use leakless_graph::{shader_bindings, BufferHandle, Graph, PassName};
 
-use crate::gpu_scene::{SceneBindings, SceneHandles};
 use crate::gpu_types::Frame;
 use crate::passes::gbuffer::GBufferHandles;
 use crate::passes::names::group;
-use crate::pipelines::{compute_pass, ComputePass, Threads};
+use crate::pipelines::{compute_pass, ComputePass};
 use crate::shaders;
-use crate::trace::TraceHandles;
 
 gpu_struct! {
     /// The `PrimaryRaysParams` push constants of primary_rays.comp.
@@ -43,17 +41,12 @@ compute_pass! {
         ComputePass::traced(
             PassName::new("primary rays", group::VIEW),
             (&shaders::PRIMARY_RAYS_COMP_RAYQUERY, &shaders::PRIMARY_RAYS_COMP_COMPUTE),
-            &[SceneBindings::DECLS],
+            &[],
         );
 }
 
 /// Writes `out`'s position, normal and albedo (its depth is the raster's alone).
-pub fn add<'r>(
-    graph: &mut Graph<'r>,
-    params: PrimaryRaysParams,
-    (frame, scene, trace): (&BufferHandle, &SceneHandles, &TraceHandles),
-    out: &mut GBufferHandles,
-) {
+pub fn add<'r>(graph: &mut Graph<'r>, params: PrimaryRaysParams, frame: &BufferHandle, out: &mut GBufferHandles) {
     let extent = out.position.extent();
     let resources = PrimaryRaysResources {
         frame,
@@ -61,12 +54,5 @@ pub fn add<'r>(
         gbuffer_normal: &mut out.normal,
         gbuffer_albedo: &mut out.albedo,
     };
-    let threads = Threads::Fixed([extent.width, extent.height, 1]);
-    PRIMARY_RAYS.add_with(
-        graph,
-        resources,
-        |pass| (scene.declare(pass, Stage::Compute), trace.declare(pass)),
-        params,
-        threads,
-    );
+    PRIMARY_RAYS.add(graph, resources, params, [extent.width, extent.height, 1]);
 }

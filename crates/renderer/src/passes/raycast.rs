@@ -2,14 +2,12 @@
 
 use bytemuck::{Pod, Zeroable};
 use leakless_device::{gpu_struct, GpuStruct, Specialization};
-use leakless_graph::{shader_bindings, BufferHandle, Graph, PassName, Stage};
+use leakless_graph::{shader_bindings, BufferHandle, Graph, PassName};
 
-use crate::gpu_scene::{SceneBindings, SceneHandles};
 use crate::gpu_types::{GpuRay, RayHit};
 use crate::passes::names::group;
-use crate::pipelines::{compute_pass, ComputePass, Threads};
+use crate::pipelines::{compute_pass, ComputePass};
 use crate::shaders;
-use crate::trace::TraceHandles;
 
 gpu_struct! {
     /// The `RaycastParams` push constants of raycast.comp.
@@ -49,7 +47,7 @@ compute_pass! {
         ComputePass::traced(
             PassName::new("raycast", group::TOOLS),
             (&shaders::RAYCAST_COMP_RAYQUERY, &shaders::RAYCAST_COMP_COMPUTE),
-            &[SceneBindings::DECLS],
+            &[],
         );
 }
 
@@ -59,7 +57,7 @@ compute_pass! {
 pub static RAYCAST_COUNTING: ComputePass<RaycastBindings, RaycastParams> = ComputePass::traced(
     PassName::new("raycast counting", group::TOOLS),
     (&shaders::RAYCAST_COMP_RAYQUERY, &shaders::RAYCAST_COMP_COMPUTE),
-    &[SceneBindings::DECLS],
+    &[],
 )
 .specialize(|_| Specialization::new().with("TRACE_COUNT_WORK", 1));
 
@@ -69,19 +67,11 @@ pub fn add<'r>(
     graph: &mut Graph<'r>,
     def: &ComputePass<RaycastBindings, RaycastParams>,
     (ray_count, occlusion): (u32, bool),
-    scene: &SceneHandles,
-    trace: &TraceHandles,
     rays: &BufferHandle,
     hits: &mut BufferHandle,
     work: &mut BufferHandle,
 ) {
     let params = RaycastParams { ray_count, occlusion: occlusion as u32, ..Default::default() };
     let resources = RaycastResources { rays, ray_hits: hits, ray_work: work };
-    def.add_with(
-        graph,
-        resources,
-        |pass| (scene.declare(pass, Stage::Compute), trace.declare(pass)),
-        params,
-        Threads::Fixed([ray_count, 1, 1]),
-    );
+    def.add(graph, resources, params, [ray_count, 1, 1]);
 }

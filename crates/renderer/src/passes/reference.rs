@@ -5,10 +5,8 @@ use bytemuck::{Pod, Zeroable};
 use leakless_device::gpu_struct;
 use leakless_graph::{shader_bindings, Graph, ImageHandle, PassName};
 
-use crate::gpu_scene::{EmitterBindings, SceneBindings};
-use crate::passes::gbuffer::GBufferBindings;
 use crate::passes::names::group;
-use crate::passes::{ViewBindings, ViewInputs};
+use crate::passes::{ViewInputs, VIEW_GROUPS};
 use crate::pipelines::{compute_pass, ComputePass, Threads};
 use crate::shaders;
 
@@ -46,7 +44,7 @@ compute_pass! {
         ComputePass::traced(
             PassName::new("reference", group::REFERENCE),
             (&shaders::REFERENCE_COMP_RAYQUERY, &shaders::REFERENCE_COMP_COMPUTE),
-            &[ViewBindings::DECLS, GBufferBindings::DECLS, SceneBindings::DECLS, EmitterBindings::DECLS],
+            VIEW_GROUPS,
         );
 }
 
@@ -57,7 +55,7 @@ pub fn add<'r>(graph: &mut Graph<'r>, params: ReferenceParams, view: &ViewInputs
     let extent = accumulated.extent();
     for params in dispatches(params, extent.width as u64 * extent.height as u64) {
         let threads = Threads::Fixed([extent.width, extent.height, 1]);
-        REFERENCE.add_with(graph, ReferenceResources { accumulated }, |pass| view.declare_lit(pass), params, threads);
+        REFERENCE.add_with(graph, ReferenceResources { accumulated }, |pass| view.declare(pass), params, threads);
     }
 }
 

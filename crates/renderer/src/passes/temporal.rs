@@ -6,10 +6,9 @@
 use ash::vk;
 use bytemuck::{Pod, Zeroable};
 use leakless_device::{gpu_struct, GpuStruct, ImageDesc};
-use leakless_graph::{shader_bindings, BufferHandle, Graph, History, ImageHandle, PassName, Stage};
+use leakless_graph::{shader_bindings, BufferHandle, Graph, History, ImageHandle, PassName};
 
 use crate::error::Result;
-use crate::gpu_scene::{SceneBindings, SceneHandles};
 use crate::gpu_types::Frame;
 use crate::passes::gbuffer::{self, GBufferBindings, GBufferHandles};
 use crate::passes::lighting_level;
@@ -113,7 +112,7 @@ compute_pass! {
         ComputePass::any(
             PassName::new("temporal reuse", group::REUSE),
             &shaders::TEMPORAL_COMP,
-            &[GBufferBindings::DECLS, SceneBindings::DECLS],
+            &[GBufferBindings::DECLS],
         );
 }
 
@@ -163,7 +162,6 @@ impl TemporalHistories {
 pub struct TemporalInputs<'a> {
     pub frame: &'a BufferHandle,
     pub gbuffer: &'a GBufferHandles,
-    pub scene: &'a SceneHandles,
     /// The animated instances' vertices in the history's frame (any buffer when they did not
     /// move).
     pub previous_positions: &'a BufferHandle,
@@ -213,11 +211,5 @@ pub fn add<'r>(
         level_partials: inputs.level_partials,
     };
     let threads = Threads::Fixed([extent.width, extent.height, 1]);
-    TEMPORAL.add_with(
-        graph,
-        resources,
-        |pass| (inputs.gbuffer.declare(pass), inputs.scene.declare(pass, Stage::Compute)),
-        params,
-        threads,
-    );
+    TEMPORAL.add_with(graph, resources, |pass| inputs.gbuffer.declare(pass), params, threads);
 }

@@ -118,7 +118,16 @@ impl TonemapPass {
             cull: vk::CullModeFlags::NONE,
             push: Some(TonemapParams::LAYOUT),
         };
-        Ok(TonemapPass { pipeline: GraphicsPipeline::new(gpu, "tonemap", &desc, TonemapBindings::DECLS)?, format })
+        Ok(TonemapPass {
+            pipeline: GraphicsPipeline::new(
+                gpu,
+                "tonemap",
+                &desc,
+                crate::frame_set::FRAME_SET,
+                TonemapBindings::DECLS,
+            )?,
+            format,
+        })
     }
 
     pub fn format(&self) -> vk::Format {

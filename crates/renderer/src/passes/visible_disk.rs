@@ -9,16 +9,15 @@
 use ash::vk;
 use bytemuck::{Pod, Zeroable};
 use leakless_device::{gpu_struct, GpuStruct, ImageDesc};
-use leakless_graph::{shader_bindings, BufferHandle, Graph, ImageHandle, PassName, Stage};
+use leakless_graph::{shader_bindings, BufferHandle, Graph, ImageHandle, PassName};
 
 use crate::error::Result;
-use crate::gpu_scene::{SceneBindings, SceneHandles};
+use crate::gpu_scene::SceneHandles;
 use crate::gpu_types::Frame;
 use crate::passes::gbuffer::{self, GBufferBindings, GBufferHandles};
 use crate::passes::names::group;
 use crate::pipelines::{compute_pass, ComputePass, Threads};
 use crate::shaders;
-use crate::trace::TraceHandles;
 
 gpu_struct! {
     /// The `VisibleDiskParams` push constants of visible_disk.comp.
@@ -92,7 +91,7 @@ compute_pass! {
         ComputePass::traced(
             PassName::new("visible disk", group::VISIBLE_DISK),
             (&shaders::VISIBLE_DISK_COMP_RAYQUERY, &shaders::VISIBLE_DISK_COMP_COMPUTE),
-            &[GBufferBindings::DECLS, SceneBindings::DECLS],
+            &[GBufferBindings::DECLS],
         );
 }
 
@@ -105,20 +104,13 @@ pub fn add<'r>(
     frame: &BufferHandle,
     gbuffer: &GBufferHandles,
     scene: &SceneHandles,
-    trace: &TraceHandles,
     disk_mass: &mut ImageHandle,
 ) {
     let extent = disk_mass.extent();
     let resources = VisibleDiskResources { frame, disk_mass, coplanar_neighbours: &scene.coplanar_neighbours };
     // One more tile each way: the tiles start up to TILE − 1 pixels before pixel 0.
     let threads = Threads::Fixed([extent.width + TILE - 1, extent.height + TILE - 1, 1]);
-    VISIBLE_DISK.add_with(
-        graph,
-        resources,
-        |pass| (gbuffer.declare(pass), scene.declare(pass, Stage::Compute), trace.declare(pass)),
-        params,
-        threads,
-    );
+    VISIBLE_DISK.add_with(graph, resources, |pass| gbuffer.declare(pass), params, threads);
 }
 
 /// The side of visible_disk.comp's workgroups, whose samples share their directions' masses.

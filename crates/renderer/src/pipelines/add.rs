@@ -30,8 +30,8 @@ impl<B: BindingGroup + 'static, P: PushConstants> ComputePass<B, P> {
         self.record(graph.pass(self.name), resources, |_| (), push, Threads::Fixed(threads));
     }
 
-    /// Adds the pass with its own bindings and the shared groups `extra` declares (the
-    /// G-buffer, the scene, the trace structures).
+    /// Adds the pass with its own bindings and the shared groups `extra` declares (the frame
+    /// and lights, the G-buffer).
     pub fn add_with<'r, R: DeclareBindings<Bindings = B>, E: Bindings + 'r>(
         &self,
         graph: &mut Graph<'r>,

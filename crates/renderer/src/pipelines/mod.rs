@@ -20,6 +20,7 @@ use leakless_device::{BindingDecl, ComputePipeline, Gpu, PushConstants, RustLayo
 use leakless_graph::{BindingGroup, PassName, PipelineTable};
 
 use crate::error::{RenderError, Result};
+use crate::frame_set::FRAME_SET;
 use crate::trace::Backend;
 use crate::tuning::DeviceTuning;
 
@@ -41,9 +42,9 @@ pub struct ComputePassDef {
     pub shader: PassShader,
     /// Its own binding group, the one the resources it is added with declare.
     pub own: &'static [BindingDecl],
-    /// The groups it shares with other passes (the G-buffer, the scene), declared where it is
-    /// added; bindings are matched with the shader by name in any order, and a pass whose
-    /// shader traces also binds its backend's trace structures.
+    /// The groups it shares with other passes (the frame and lights, the G-buffer), declared
+    /// where it is added; bindings are matched with the shader by name in any order. What the
+    /// frame set holds (the scene, the emitters, the trace structures) is no pass's to declare.
     pub shared: &'static [&'static [BindingDecl]],
     pub push: Option<RustLayout>,
     /// The workgroup size the pass's dispatch arithmetic assumes, checked when the pipeline is
@@ -168,13 +169,10 @@ impl ComputePassDef {
         }
     }
 
-    /// Every binding the pass declares on `backend`.
-    pub fn decls(&self, backend: Backend) -> Vec<BindingDecl> {
-        let trace: &[BindingDecl] = match self.shader {
-            PassShader::Any(_) => &[],
-            PassShader::PerBackend { .. } => backend.bindings(),
-        };
-        [self.own].into_iter().chain(self.shared.iter().copied()).chain([trace]).flatten().copied().collect()
+    /// Every binding the pass declares: its own group and the shared ones it is added with
+    /// (the frame set's are not a pass's: `frame_set.rs`).
+    pub fn decls(&self) -> Vec<BindingDecl> {
+        [self.own].into_iter().chain(self.shared.iter().copied()).flatten().copied().collect()
     }
 
     /// Makes the pass's pipeline for `backend` under `tuning`, its bindings checked against
@@ -182,8 +180,8 @@ impl ComputePassDef {
     pub fn create(&self, gpu: &Gpu, backend: Backend, tuning: &DeviceTuning) -> Result<ComputePipeline> {
         let shader = self.shader(backend);
         let spec = self.specialization(tuning);
-        let pipeline =
-            ComputePipeline::new(gpu, self.name.label, shader, &self.decls(backend), self.push.as_ref(), &spec)?;
+        let (label, decls, push) = (self.name.label, self.decls(), self.push.as_ref());
+        let pipeline = ComputePipeline::new(gpu, label, shader, FRAME_SET, &decls, push, &spec)?;
         match self.workgroup {
             Some(want) if pipeline.workgroup_size() != want => Err(RenderError::Settings(format!(
                 "{} has workgroup size {:?}; the {} pass dispatches for {want:?}",

@@ -16,6 +16,7 @@ use super::stages::{self, FrameStage, Layers};
 use super::view_samples::ViewSamples;
 use super::{FrameReport, Pending, Renderer};
 use crate::error::Result;
+use crate::frame_set;
 use crate::gpu_types::Frame;
 use crate::passes::gather::GatherCounters;
 use crate::passes::gbuffer::{self, GBufferHandles};
@@ -122,16 +123,16 @@ impl Renderer {
             instance_vertices::add(&mut g, &self.pose.vertices, first_vertex, &mut scene)?;
         }
         let trace = trace_scene.import(&mut g, &self.gpu_scene, &self.pose)?;
+        frame_set::bind(&mut g, &scene, &trace);
 
         // View samples and their direct light.
         let mut gbuffer = GBufferHandles::new(&mut g, extent)?;
         if render {
-            view_samples.add(&mut g, (&frame, &scene, &trace), &mut gbuffer);
+            view_samples.add(&mut g, (&frame, &scene), &mut gbuffer);
         }
         let stage = FrameStage { plan: &plan, settings: &self.settings, method, seed, extent };
         let mut direct = layer(&mut g, extent, "direct")?;
-        let view =
-            ViewInputs { frame: &frame, lights: &lights.lights, scene: &scene, trace: &trace, gbuffer: &gbuffer };
+        let view = ViewInputs { frame: &frame, lights: &lights.lights, scene: &scene, gbuffer: &gbuffer };
         let seen = display.is_some() || request.is_some();
         stages::direct_light(&mut g, &stage, self.accumulation.accumulated, seen, &view, &mut direct);
 
@@ -151,7 +152,6 @@ impl Renderer {
             let input = ReuseInputs {
                 frame: &frame,
                 gbuffer: &gbuffer,
-                scene: &scene,
                 pose_version: self.pose.version,
                 first_moving_triangle: self.scene.static_triangle_count() as u32,
                 kernel_pixels,

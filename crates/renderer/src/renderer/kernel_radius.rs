@@ -210,10 +210,10 @@ impl Renderer {
         // Instances moved since the last frame are where it placed them: the probe estimates.
         let scene = self.gpu_scene.import(&mut g);
         let trace = trace_scene.import(&mut g, &self.gpu_scene, &self.pose)?;
+        crate::frame_set::bind(&mut g, &scene, &trace);
         let mut gbuffer = GBufferHandles::new(&mut g, extent)?;
-        view_samples.add(&mut g, (&frame, &scene, &trace), &mut gbuffer);
-        let view =
-            ViewInputs { frame: &frame, lights: &lights.lights, scene: &scene, trace: &trace, gbuffer: &gbuffer };
+        view_samples.add(&mut g, (&frame, &scene), &mut gbuffer);
+        let view = ViewInputs { frame: &frame, lights: &lights.lights, scene: &scene, gbuffer: &gbuffer };
         let mut indirect_sum = super::frame::layer(&mut g, extent, "indirect sum")?;
         let mut leaked = super::frame::layer(&mut g, extent, "leaked")?;
         let mut counts = super::frame::layer(&mut g, extent, "gather counts")?;

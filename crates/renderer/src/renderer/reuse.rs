@@ -10,7 +10,6 @@ use leakless_scene::Vertex;
 use super::frame::layer;
 use super::stages::{FrameStage, Layers};
 use crate::error::Result;
-use crate::gpu_scene::SceneHandles;
 use crate::passes::gbuffer::GBufferHandles;
 use crate::passes::lighting_level;
 use crate::passes::spatial::{self, SpatialImages};
@@ -97,7 +96,6 @@ impl ReuseState {
 pub(super) struct ReuseInputs<'a> {
     pub frame: &'a BufferHandle,
     pub gbuffer: &'a GBufferHandles,
-    pub scene: &'a SceneHandles,
     /// The scene's pose now (its version) and its first animated triangle.
     pub pose_version: u64,
     pub first_moving_triangle: u32,
@@ -145,7 +143,6 @@ impl ReuseState {
         let inputs = TemporalInputs {
             frame: input.frame,
             gbuffer: input.gbuffer,
-            scene: input.scene,
             previous_positions: &previous_positions,
             direct: &layers.direct,
             indirect: &layers.indirect,

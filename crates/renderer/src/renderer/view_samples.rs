@@ -9,7 +9,6 @@ use crate::gpu_types::Frame;
 use crate::passes::gbuffer::{GBufferHandles, GBufferPass};
 use crate::passes::primary_rays::{self, PrimaryRaysParams};
 use crate::settings::Primary;
-use crate::trace::TraceHandles;
 
 /// How a frame finds its view samples: rasterised by `raster` (`vertex_count` corners), or by
 /// a ray a pixel with `rays`' camera.
@@ -23,12 +22,12 @@ impl<'p> ViewSamples<'p> {
     pub(super) fn add(
         self,
         g: &mut Graph<'p>,
-        (frame, scene, trace): (&BufferHandle, &SceneHandles, &TraceHandles),
+        (frame, scene): (&BufferHandle, &SceneHandles),
         gbuffer: &mut GBufferHandles,
     ) {
         match self {
             ViewSamples::Raster(pass, vertex_count) => pass.add(g, frame, scene, vertex_count, gbuffer),
-            ViewSamples::Rays(params) => primary_rays::add(g, params, (frame, scene, trace), gbuffer),
+            ViewSamples::Rays(params) => primary_rays::add(g, params, frame, gbuffer),
         }
     }
 

@@ -123,17 +123,7 @@ pub fn add<'r>(
         emission_order: frame.settings.cap.is_none() && frame.tuning.emission_order,
         paths_per_thread: None,
     };
-    photons::add(
-        graph,
-        &params,
-        &frame.tuning,
-        input.scene,
-        input.trace,
-        lights,
-        &mut photons,
-        capacity,
-        &mut photon_counters,
-    )?;
+    photons::add(graph, &params, &frame.tuning, lights, &mut photons, capacity, &mut photon_counters)?;
 
     let dispatch = photon_dispatch::add(graph, &photon_counters, capacity)?;
     // Not for leakless-capped either: its cap keeps a list's first photons, which in cell order
@@ -170,12 +160,12 @@ pub fn add<'r>(
     // accumulation keeps every sample's own.
     if visible_disk && disk.share_distance > 0.0 {
         let mut measured = visible_disk::measured_image(graph, extent)?;
-        visible_disk::add(graph, disk, input.frame, input.gbuffer, input.scene, input.trace, &mut measured);
+        visible_disk::add(graph, disk, input.frame, input.gbuffer, input.scene, &mut measured);
         let smooth =
             DiskSmoothParams { radius: frame.radius, share_distance: disk.share_distance, ..Default::default() };
         disk_smooth::add(graph, smooth, input.frame, input.gbuffer, &measured, &mut disk_mass);
     } else {
-        visible_disk::add(graph, disk, input.frame, input.gbuffer, input.scene, input.trace, &mut disk_mass);
+        visible_disk::add(graph, disk, input.frame, input.gbuffer, input.scene, &mut disk_mass);
     }
     let largest_radius = largest_gather_radius(frame.radius, frame.first_batch, partial);
     let mut h = HierarchyHandles::new(graph, &shape)?;
@@ -200,16 +190,7 @@ pub fn add<'r>(
     if frame.settings.visibility {
         let max_radius = 1.01 * largest_radius;
         let needed = Needed::Listed(&lists.listed);
-        photon_clearance::add(
-            graph,
-            input.trace,
-            &photons,
-            &photon_counters,
-            &dispatch,
-            max_radius,
-            needed,
-            &mut clearance,
-        )?;
+        photon_clearance::add(graph, &photons, &photon_counters, &dispatch, max_radius, needed, &mut clearance)?;
     }
     let table = &lights.table;
     let max_flux = table.entries.iter().flat_map(|e| e.flux).fold(0.0f32, f32::max) / frame.settings.paths as f32;
@@ -225,6 +206,6 @@ pub fn add<'r>(
         visible_disk,
         disk_mass: &disk_mass,
     };
-    gather::add(graph, &shape, gather_input, input.gbuffer, input.scene, input.trace, &h, &lists, out);
+    gather::add(graph, &shape, gather_input, input.gbuffer, &h, &lists, out);
     Ok(SplatCounterHandles { photons: photon_counters, lists: lists.counters })
 }

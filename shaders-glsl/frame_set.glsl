@@ -1,0 +1,28 @@
+// The frame set: descriptor set 0 of every pipeline, what a frame binds once at numbers every
+// shader shares (crates/renderer/src/frame_set.rs declares the same; the bindings test checks
+// every module). A pass's own bindings are in PASS_SET, numbered from 0 in each shader.
+#ifndef LEAKLESS_FRAME_SET_GLSL
+#define LEAKLESS_FRAME_SET_GLSL
+
+#define FRAME_SET 0
+#define PASS_SET 1
+
+// scene.glsl
+#define BINDING_VERTEX_POSITIONS 0
+#define BINDING_VERTEX_NORMALS 1
+#define BINDING_VERTEX_UVS 2
+#define BINDING_TRIANGLE_MATERIALS 3
+#define BINDING_MATERIALS 4
+#define BINDING_TEXELS 5
+// emitters.glsl
+#define BINDING_EMITTERS 6
+// trace.glsl (ray queries), offset.glsl
+#define BINDING_TLAS 7
+#define BINDING_TRACE_SCALE 8
+// bvh.glsl
+#define BINDING_BVH_NODES 9
+#define BINDING_BVH_TRIANGLES 10
+#define BINDING_BVH_TOP 11
+#define BINDING_BVH_INSTANCES 12
+
+#endif
