@@ -14,6 +14,7 @@ use ash::vk::Handle;
 use crate::bind::{BindingDecl, Bound};
 use crate::error::{DeviceError, Result, VkContext};
 use crate::gpu::{Gpu, Shared};
+use crate::select::PerStageLimits;
 use crate::shader::BindingKind;
 
 /// One binding of the frame set: its declaration and the number every shader gives it.
@@ -42,6 +43,45 @@ const FRAME_STAGES: vk::ShaderStageFlags = vk::ShaderStageFlags::from_raw(
 fn supported<'f>(gpu: &Gpu, frame: &'f [FrameBinding]) -> impl Iterator<Item = &'f FrameBinding> {
     let accel = gpu.capabilities().acceleration_structure;
     frame.iter().filter(move |b| accel || b.decl.kind != BindingKind::AccelerationStructure)
+}
+
+/// Checks that one stage can use every binding of the frame set (as this device holds it) and
+/// `own` together, and that the device takes the layouts' push-constant range.
+pub(crate) fn check_stage_limits(gpu: &Gpu, pass: &str, frame: &[FrameBinding], own: &[BindingDecl]) -> Result<()> {
+    let limits = &gpu.report().limits;
+    let kinds = supported(gpu, frame).map(|b| b.decl.kind).chain(own.iter().map(|d| d.kind));
+    stage_limits(&limits.max_per_stage, limits.max_push_constants_size, pass, kinds)
+}
+
+fn stage_limits(
+    most: &PerStageLimits,
+    push_size: u32,
+    pass: &str,
+    kinds: impl Iterator<Item = BindingKind>,
+) -> Result<()> {
+    let (mut buffers, mut images, mut uniforms, mut resources) = (0, 0, 0, 0);
+    for kind in kinds {
+        resources += 1;
+        match kind {
+            BindingKind::StorageBuffer => buffers += 1,
+            BindingKind::StorageImage => images += 1,
+            BindingKind::UniformBuffer => uniforms += 1,
+            _ => {}
+        }
+    }
+    let over = [
+        (buffers, most.storage_buffers, "maxPerStageDescriptorStorageBuffers"),
+        (images, most.storage_images, "maxPerStageDescriptorStorageImages"),
+        (uniforms, most.uniform_buffers, "maxPerStageDescriptorUniformBuffers"),
+        (resources, most.resources, "maxPerStageResources"),
+        (PUSH_RANGE, push_size, "maxPushConstantsSize"),
+    ];
+    match over.into_iter().find(|(count, most, _)| count > most) {
+        Some((count, most, limit)) => Err(DeviceError::Limit(format!(
+            "pass {pass}: its pipeline layout (the frame set and its own bindings) needs {count} where the device's {limit} is {most}"
+        ))),
+        None => Ok(()),
+    }
 }
 
 /// A descriptor-set layout of `frame`; identical for identical `frame`, so layouts made apart
@@ -223,4 +263,29 @@ pub(crate) fn write_descriptors(
         })
         .collect();
     use_writes(&writes);
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A layout over any per-stage limit, or a device whose push constants are smaller than the
+    /// layouts' range, is refused naming the limit; at the limit it is not.
+    #[test]
+    fn a_layout_over_a_per_stage_limit_is_refused_by_name() {
+        let most = PerStageLimits { storage_buffers: 2, storage_images: 1, uniform_buffers: 1, resources: 4 };
+        let (sb, si, ub) = (BindingKind::StorageBuffer, BindingKind::StorageImage, BindingKind::UniformBuffer);
+        assert!(stage_limits(&most, 128, "p", [sb, sb, si, ub].into_iter()).is_ok());
+        for (kinds, limit) in [
+            (vec![sb, sb, sb], "StorageBuffers"),
+            (vec![si, si], "StorageImages"),
+            (vec![ub, ub], "UniformBuffers"),
+            (vec![sb, sb, si, ub, BindingKind::AccelerationStructure], "maxPerStageResources"),
+        ] {
+            let e = stage_limits(&most, 128, "p", kinds.into_iter()).unwrap_err().to_string();
+            assert!(e.contains(limit) && e.contains("pass p"), "{e}");
+        }
+        let e = stage_limits(&most, 64, "p", [sb].into_iter()).unwrap_err().to_string();
+        assert!(e.contains("maxPushConstantsSize"), "{e}");
+    }
 }

@@ -41,6 +41,6 @@ pub use layout::{GpuStruct, PushConstants, RustLayout};
 pub use memory::{Buffer, BufferDesc, Image, ImageDesc, MemoryLocation};
 pub use pipeline::{ColorTarget, ComputePipeline, GraphicsDesc, GraphicsPipeline, Specialization, VertexLayout};
 pub use query::TimestampPool;
-pub use select::{DeviceLimits, DeviceReport, DeviceType};
+pub use select::{DeviceLimits, DeviceReport, DeviceType, PerStageLimits};
 pub use shader::BindingAccess;
 pub use swapchain::{Acquired, PresentMode, PresentOutcome, Swapchain};

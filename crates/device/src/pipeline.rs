@@ -8,7 +8,7 @@ use ash::vk;
 
 use crate::bind::{check_bindings, check_push_constants, BindingDecl, MatchedBindings};
 use crate::error::{DeviceError, Result, VkContext};
-use crate::frame_set::{frame_set_layout, FrameBinding, PUSH_RANGE};
+use crate::frame_set::{check_stage_limits, frame_set_layout, FrameBinding, PUSH_RANGE};
 use crate::gpu::{Gpu, Shared};
 use crate::layout::RustLayout;
 use crate::shader::{ShaderInfo, ShaderStage};
@@ -45,6 +45,7 @@ impl Layout {
             )));
         }
         let device = gpu.device();
+        check_stage_limits(gpu, pass, frame, decls)?;
         let MatchedBindings { numbers, frame_uses } = matched;
         let own: Vec<(BindingDecl, u32)> = decls.iter().copied().zip(numbers).collect();
         let vk_bindings: Vec<_> = own

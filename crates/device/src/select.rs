@@ -92,6 +92,21 @@ pub struct DeviceLimits {
     pub max_primitive_count: u64,
     /// The largest device-local memory heap, in bytes.
     pub device_local_heap: u64,
+    /// What one shader stage may bind across a pipeline layout's sets:
+    /// `maxPerStageDescriptorStorageBuffers`, `…StorageImages`, `…UniformBuffers`, and
+    /// `maxPerStageResources`.
+    pub max_per_stage: PerStageLimits,
+    /// `maxPushConstantsSize`.
+    pub max_push_constants_size: u32,
+}
+
+/// Descriptors one shader stage may use across a pipeline layout.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct PerStageLimits {
+    pub storage_buffers: u32,
+    pub storage_images: u32,
+    pub uniform_buffers: u32,
+    pub resources: u32,
 }
 
 pub(crate) const RAY_EXTENSIONS: [&CStr; 3] =
@@ -240,6 +255,13 @@ fn describe(
             max_compute_work_group_invocations: props.limits.max_compute_work_group_invocations,
             max_primitive_count: if ray_exts { accel_props.max_primitive_count } else { 0 },
             device_local_heap: device_local_heap(instance, pd),
+            max_per_stage: PerStageLimits {
+                storage_buffers: props.limits.max_per_stage_descriptor_storage_buffers,
+                storage_images: props.limits.max_per_stage_descriptor_storage_images,
+                uniform_buffers: props.limits.max_per_stage_descriptor_uniform_buffers,
+                resources: props.limits.max_per_stage_resources,
+            },
+            max_push_constants_size: props.limits.max_push_constants_size,
         },
         rejected,
         physical: pd,

@@ -207,6 +207,13 @@ mod tests {
             max_compute_work_group_invocations: 1024,
             max_primitive_count: 1,
             device_local_heap: 1 << 32,
+            max_per_stage: leakless_device::PerStageLimits {
+                storage_buffers: 4,
+                storage_images: 4,
+                uniform_buffers: 12,
+                resources: 128,
+            },
+            max_push_constants_size: 128,
         }
     }
 
