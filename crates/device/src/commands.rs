@@ -8,7 +8,9 @@ use std::time::Duration;
 
 use ash::vk;
 
+use crate::bind::Bound;
 use crate::error::{DeviceError, Result, VkContext};
+use crate::frame_set::{BoundFrameSet, FrameBinding, FrameSet};
 use crate::gpu::{Gpu, Shared};
 use crate::Cmd;
 
@@ -56,6 +58,9 @@ pub struct CommandSlot {
     /// Whether a submission's fence has not been waited for yet.
     in_flight: bool,
     timeout: Duration,
+    /// The frame set its frames bind, made by the first that writes one (dropped after the
+    /// wait in `drop`).
+    frame_set: Option<FrameSet>,
 }
 
 impl CommandSlot {
@@ -81,7 +86,25 @@ impl CommandSlot {
         let fence = unsafe { device.create_fence(&vk::FenceCreateInfo::default(), None) }.vk("vkCreateFence")?;
         gpu.set_name(raw, name);
         gpu.set_name(fence, name);
-        Ok(CommandSlot { shared: gpu.shared.clone(), pool, raw, fence, in_flight: false, timeout: gpu.timeout() })
+        let timeout = gpu.timeout();
+        Ok(CommandSlot { shared: gpu.shared.clone(), pool, raw, fence, in_flight: false, timeout, frame_set: None })
+    }
+
+    /// Writes the slot's frame set, declared by `frame`, with `bound` (each resource by its
+    /// binding's name; [`FrameSet::write`]) once the slot's last submission, which may still
+    /// read the set it wrote before, has completed.
+    pub fn write_frame_set(
+        &mut self,
+        gpu: &Gpu,
+        frame: &'static [FrameBinding],
+        bound: &[(&'static str, Bound<'_>)],
+    ) -> Result<BoundFrameSet> {
+        self.wait()?;
+        let set = match &mut self.frame_set {
+            Some(set) if std::ptr::eq(set.frame(), frame) => set,
+            made => made.insert(FrameSet::new(gpu, frame)?),
+        };
+        set.write(gpu, bound)
     }
 
     /// Whether the slot's last submission may still be running.

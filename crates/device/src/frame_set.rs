@@ -101,9 +101,10 @@ pub(crate) fn frame_set_layout(gpu: &Gpu, frame: &[FrameBinding]) -> Result<vk::
     unsafe { gpu.device().create_descriptor_set_layout(&info, None) }.vk("vkCreateDescriptorSetLayout")
 }
 
-/// The frame set of one frame slot: a pool holding one set, written anew by each frame that
-/// runs in the slot (the slot's previous frame has completed by then).
-pub struct FrameSet {
+/// The frame set of one frame slot ([`CommandSlot::write_frame_set`](crate::CommandSlot)): a
+/// pool holding one set, written anew by each frame that runs in the slot once the slot's
+/// previous frame has completed.
+pub(crate) struct FrameSet {
     shared: Arc<Shared>,
     frame: &'static [FrameBinding],
     layout: vk::DescriptorSetLayout,
@@ -111,7 +112,7 @@ pub struct FrameSet {
 }
 
 impl FrameSet {
-    pub fn new(gpu: &Gpu, frame: &'static [FrameBinding]) -> Result<FrameSet> {
+    pub(crate) fn new(gpu: &Gpu, frame: &'static [FrameBinding]) -> Result<FrameSet> {
         let layout = frame_set_layout(gpu, frame)?;
         let mut sizes: Vec<vk::DescriptorPoolSize> = Vec::new();
         for b in supported(gpu, frame) {
@@ -136,16 +137,17 @@ impl FrameSet {
     }
 
     /// The declaration the set was made for.
-    pub fn frame(&self) -> &'static [FrameBinding] {
+    pub(crate) fn frame(&self) -> &'static [FrameBinding] {
         self.frame
     }
 
     /// Writes `bound` (each resource by its binding's name; a name bound twice must be the
-    /// same resource) into a fresh set, which no frame may still be using. Bindings left out
-    /// stay unwritten: a pipeline that uses one fails when it binds the set.
-    pub fn write(&mut self, gpu: &Gpu, bound: &[(&'static str, Bound<'_>)]) -> Result<BoundFrameSet> {
+    /// same resource) into a fresh set. Only its slot calls it, after waiting for the slot's
+    /// last submission. Bindings left out stay unwritten: a pipeline that uses one fails when
+    /// it binds the set.
+    pub(crate) fn write(&mut self, gpu: &Gpu, bound: &[(&'static str, Bound<'_>)]) -> Result<BoundFrameSet> {
         let device = gpu.device();
-        // SAFETY: the caller guarantees no submitted work uses the pool's set any longer.
+        // SAFETY: the slot waited for its last submission, the only one that could use the set.
         unsafe { device.reset_descriptor_pool(self.pool, vk::DescriptorPoolResetFlags::empty()) }
             .vk("vkResetDescriptorPool")?;
         let layouts = [self.layout];
@@ -181,7 +183,7 @@ impl FrameSet {
 
 impl Drop for FrameSet {
     fn drop(&mut self) {
-        // SAFETY: the runner that owns the slot waited for its frames before dropping it.
+        // SAFETY: its slot waited for its last submission (in `drop`, or before replacing it).
         unsafe {
             self.shared.device.destroy_descriptor_pool(self.pool, None);
             self.shared.device.destroy_descriptor_set_layout(self.layout, None);

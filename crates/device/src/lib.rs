@@ -35,7 +35,7 @@ pub use bind::{
 pub use cmd::Cmd;
 pub use commands::{CommandSlot, Semaphore, SubmitSync};
 pub use error::{DeviceError, Result};
-pub use frame_set::{BoundFrameSet, FrameBinding, FrameSet, PUSH_RANGE};
+pub use frame_set::{BoundFrameSet, FrameBinding, PUSH_RANGE};
 pub use gpu::{Capabilities, Gpu, GpuOptions, RawVulkan, WindowHandles};
 pub use layout::{GpuStruct, PushConstants, RustLayout};
 pub use memory::{Buffer, BufferDesc, Image, ImageDesc, MemoryLocation};

@@ -7,8 +7,8 @@ use std::time::Instant;
 
 use ash::vk;
 use leakless_device::{
-    BoundFrameSet, Buffer, BufferDesc, Cmd, CommandSlot, DeviceError, FrameSet, Gpu, MemoryLocation, Result,
-    SubmitSync, TimestampPool,
+    BoundFrameSet, Buffer, BufferDesc, Cmd, CommandSlot, DeviceError, Gpu, MemoryLocation, Result, SubmitSync,
+    TimestampPool,
 };
 
 use crate::barrier::{ResourceState, Transition};
@@ -78,8 +78,6 @@ struct Slot {
     /// Two words per pass, set to 1 when the GPU starts and ends the pass: after a lost
     /// device they show which pass was running.
     markers: Buffer,
-    /// The frame set's descriptors, made for the first graph that binds one.
-    frame_set: Option<FrameSet>,
     running: Option<Running>,
 }
 
@@ -116,7 +114,6 @@ impl GraphRunner {
                             location: MemoryLocation::GpuToCpu,
                         },
                     )?,
-                    frame_set: None,
                     running: None,
                 })
             })
@@ -320,13 +317,9 @@ impl Graph<'_> {
         let res = Resolved { resources: &resources };
         let frame_set = match frame_set {
             Some(FrameSetUses { frame, groups, .. }) => {
-                let set = match &mut slot.frame_set {
-                    Some(set) if std::ptr::eq(set.frame(), frame) => set,
-                    made => made.insert(FrameSet::new(gpu, frame)?),
-                };
                 let mut bound = Vec::new();
                 groups.bind(res, &mut bound);
-                Some(set.write(gpu, &bound)?)
+                Some(slot.commands.write_frame_set(gpu, frame, &bound)?)
             }
             None => None,
         };
