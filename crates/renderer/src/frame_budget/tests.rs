@@ -34,6 +34,12 @@ impl Device {
 }
 
 /// Runs `frames` budgeted frames; returns each frame's paths and time.
+/// A steady device (`fixed` ms and `per_path` ms a path, no jitter) and a 150 ms budget that
+/// starts at `start` paths.
+fn at_150_ms(fixed: f64, per_path: f64, start: u32) -> (Device, FrameBudget) {
+    (Device::new(fixed, per_path, 0.0), FrameBudget::new(150.0, start, MIN_BUDGET_PATHS, 1 << 20))
+}
+
 fn run(budget: &mut FrameBudget, device: &mut Device, frames: usize) -> Vec<(u32, f64)> {
     (0..frames)
         .map(|_| {
@@ -55,8 +61,7 @@ fn median_of(v: impl Iterator<Item = f64>) -> f64 {
 fn it_converges_to_the_target_from_above_and_from_below() {
     // 150 ms: 40 fixed, 11 µs a path, so 10 000 paths fit.
     for start in [1024, 2_000, 40_000, 200_000] {
-        let mut device = Device::new(40.0, 0.011, 0.0);
-        let mut budget = FrameBudget::new(150.0, start, MIN_BUDGET_PATHS, 1 << 20);
+        let (mut device, mut budget) = at_150_ms(40.0, 0.011, start);
         let frames = run(&mut budget, &mut device, 30);
         let (paths, ms) = frames[frames.len() - 1];
         let ideal = device.ideal(150.0);
@@ -95,8 +100,7 @@ fn noisy_times_neither_move_the_paths_much_nor_make_them_oscillate() {
 
 #[test]
 fn it_recovers_within_a_few_frames_of_a_sudden_change() {
-    let mut device = Device::new(20.0, 0.013, 0.0);
-    let mut budget = FrameBudget::new(150.0, 10_000, MIN_BUDGET_PATHS, 1 << 20);
+    let (mut device, mut budget) = at_150_ms(20.0, 0.013, 10_000);
     run(&mut budget, &mut device, 20);
     // The scene becomes twice as costly (a wider view of it, a heavier part)...
     device.fixed *= 2.0;
@@ -114,8 +118,7 @@ fn it_recovers_within_a_few_frames_of_a_sudden_change() {
 
 #[test]
 fn a_fixed_part_beyond_the_target_is_reported_and_the_fewest_paths_are_traced() {
-    let mut device = Device::new(200.0, 0.01, 0.0);
-    let mut budget = FrameBudget::new(150.0, 10_000, MIN_BUDGET_PATHS, 1 << 20);
+    let (mut device, mut budget) = at_150_ms(200.0, 0.01, 10_000);
     run(&mut budget, &mut device, 20);
     assert_eq!(budget.paths(), MIN_BUDGET_PATHS);
     assert!(budget.over_budget());
@@ -195,8 +198,7 @@ fn a_frame_mostly_fixed_settles_when_its_passes_are_timed_rarely() {
 #[test]
 fn the_render_size_steps_down_where_the_fewest_paths_miss_and_back_up_with_room() {
     // The fixed part (the pixels' cost) alone takes 300 ms of a 150 ms budget.
-    let mut device = Device::new(300.0, 0.01, 0.0);
-    let mut budget = FrameBudget::new(150.0, 10_000, MIN_BUDGET_PATHS, 1 << 20);
+    let (mut device, mut budget) = at_150_ms(300.0, 0.01, 10_000);
     let mut changes = Vec::new();
     for _ in 0..100 {
         run(&mut budget, &mut device, 1);
@@ -236,8 +238,7 @@ fn the_render_size_steps_down_where_the_fewest_paths_miss_and_back_up_with_room(
 #[test]
 fn a_change_of_size_carries_the_estimates_to_the_paths_that_fit_it() {
     // Both parts follow the pixels here (a path's gather is per sample): 40 ms fixed, 11 µs a path.
-    let mut device = Device::new(40.0, 0.011, 0.0);
-    let mut budget = FrameBudget::new(150.0, 10_000, MIN_BUDGET_PATHS, 1 << 20);
+    let (mut device, mut budget) = at_150_ms(40.0, 0.011, 10_000);
     run(&mut budget, &mut device, 20);
     let before = budget.paths();
     // A step up: the first frame at the larger size already fits, with fewer paths.
@@ -263,8 +264,7 @@ fn a_change_of_size_carries_the_estimates_to_the_paths_that_fit_it() {
 
 #[test]
 fn the_size_steps_down_after_a_few_frames_and_up_only_after_many() {
-    let mut device = Device::new(20.0, 0.001, 0.0);
-    let mut budget = FrameBudget::new(150.0, 10_000, MIN_BUDGET_PATHS, 1 << 20);
+    let (mut device, mut budget) = at_150_ms(20.0, 0.001, 10_000);
     budget.resize(0.5);
     // Room to grow at once, but a larger size waits for RESOLUTION_UP_FRAMES measured frames.
     for i in 1..=20 {
@@ -286,8 +286,7 @@ fn the_size_steps_down_after_a_few_frames_and_up_only_after_many() {
 #[test]
 fn the_first_frame_moves_the_paths_and_the_size_at_once() {
     // 250 ms fixed, 15 µs a path: 9728 paths take 396 ms, a third of the fixed part fits.
-    let mut device = Device::new(250.0, 0.015, 0.0);
-    let mut budget = FrameBudget::new(150.0, 9728, MIN_BUDGET_PATHS, 1 << 20);
+    let (mut device, mut budget) = at_150_ms(250.0, 0.015, 9728);
     run(&mut budget, &mut device, 1);
     assert_eq!(budget.paths(), MIN_BUDGET_PATHS, "the fixed part alone misses: the fewest paths");
     let factor = budget.resolution_factor();
@@ -305,8 +304,7 @@ fn the_first_frame_moves_the_paths_and_the_size_at_once() {
 #[test]
 fn only_the_first_frame_moves_the_paths_past_the_step_limit() {
     // 20 ms fixed, 1 µs a path: 130 000 paths fit 150 ms.
-    let mut device = Device::new(20.0, 0.001, 0.0);
-    let mut budget = FrameBudget::new(150.0, 9728, MIN_BUDGET_PATHS, 1 << 20);
+    let (mut device, mut budget) = at_150_ms(20.0, 0.001, 9728);
     run(&mut budget, &mut device, 1);
     let first = budget.paths();
     assert!(first as f64 > 4.0 * 9728.0, "the first frame moved only to {first}");
