@@ -118,13 +118,21 @@ i64vec3 contribution_of(Photon ph, float d, float r) {
 
 // The subgroup's walk (see main): a specialization constant the device tuning sets where the
 // device has subgroup arithmetic in compute shaders; without it every lane walks alone, and
-// these are the lane's own values. naga parses no subgroup operation (counters.glsl).
+// these are the lane's own values (WALK_READ(X, K) of lane K's X). naga parses no subgroup
+// operation (counters.glsl).
 #ifdef LEAKLESS_REFLECTION
 #define SHARED_WALK false
 #define subgroupMin(X) (X)
 #define subgroupMax(X) (X)
+#define WALK_LANE 0u
+#define WALK_WIDTH 1u
+#define WALK_READ(X, K) (X)
 #else
+#extension GL_KHR_shader_subgroup_shuffle : require
 layout(constant_id = 3) const bool SHARED_WALK = false;
+#define WALK_LANE (SHARED_WALK ? gl_SubgroupInvocationID : 0u)
+#define WALK_WIDTH (SHARED_WALK ? gl_SubgroupSize : 1u)
+#define WALK_READ(X, K) (SHARED_WALK ? subgroupShuffle(X, K) : (X))
 #endif
 #define WALK_MIN(X) (SHARED_WALK ? subgroupMin(X) : (X))
 #define WALK_ANY(X) (SHARED_WALK ? subgroupMax(uint(X)) != 0u : (X))
@@ -159,17 +167,12 @@ void trace_queued(uint count, vec3 x, vec3 from, float r, inout i64vec3 kept,
 
 void main() {
     uint s = gl_GlobalInvocationID.x;
-    if (s >= params.sample_count) {
-        return;
-    }
-    uint pixel = sorted_samples.pixels[s];
+    // A lane without a surface to gather for still takes part in its subgroup's walk (it reads
+    // list entries for the others) and stops at the end.
+    bool in_range = s < params.sample_count;
+    uint pixel = in_range ? sorted_samples.pixels[s] : 0u;
     ivec2 xy = ivec2(pixel % params.image_width, pixel / params.image_width);
-    if (sorted_keys.keys[s] == INVALID_SAMPLE_KEY) {
-        imageStore(indirect_sum, xy, vec4(0.0, 0.0, 0.0, 1.0));
-        imageStore(leaked, xy, vec4(0.0));
-        imageStore(gather_counts, xy, vec4(0.0));
-        return;
-    }
+    bool valid = in_range && sorted_keys.keys[s] != INVALID_SAMPLE_KEY;
     vec4 position = imageLoad(gbuffer_position, xy);
     vec3 x = position.xyz;
     vec3 n = imageLoad(gbuffer_normal, xy).xyz;
@@ -178,7 +181,7 @@ void main() {
     vec3 from = x;
     vec3 ng = n;
     float curvature = 0.0;
-    if (params.visibility != 0u) {
+    if (valid && params.visibility != 0u) {
         uint triangle = uint(position.w) - 1u;
         ng = sample_geometric_normal(triangle, n);
         from = offset_ray(nudge_toward(x, params.eye), ng);
@@ -204,18 +207,23 @@ void main() {
     uvec2 occluder = uvec2(NO_HIT);  // the surface that blocked this sample's last blocked segment
     uint queued = 0u;
     bool capped = false;
+    bool done = !valid;  // capped, or nothing to gather
     // The lists of the leaf and its ancestors, walked as one sequence of (level, node, entry)
     // that stops whenever a queue is full, so the traversal has a single call site (inlined
     // twice, it made the pass slower than tracing where segments arise). A list is a run of
     // photon indices: the next entry's address does not wait on this one's load.
     //
     // With SHARED_WALK the lanes of a subgroup walk together: each round takes the lowest node
-    // any lane still has to walk at this level, every lane reads its entries (the same address
-    // for all: one load, and on a CPU driver one scalar load instead of a gather), and the
-    // lanes of that node test them. The samples of a leaf are consecutive, so a subgroup
-    // no wider than the leaf walks one list a level; a wider one walks its leaves in turn.
-    // Without it each lane walks its own lists. Either way each lane tests the same photons
-    // in the same order.
+    // any lane still has to walk at this level, and the list is read a subgroup's width at a
+    // time, each lane reading one entry and its photon (one coalesced read on a GPU; on a CPU
+    // driver, where a load whose address differs between lanes costs a branch per lane, a
+    // subgroup-wide chunk is read once instead of once per lane), which every lane then takes
+    // in turn from the lane that read it (a shuffle: one permute on lavapipe). The lanes of
+    // that node test them. The samples of a leaf are consecutive, so a subgroup no wider than
+    // the leaf walks one list a level; a wider one walks its leaves in turn. Without it each
+    // lane walks its own lists, an entry at a time. Either way each lane tests the same
+    // photons in the same order, and a chunk is taken only while every lane's queue has room
+    // for all of it.
     uint level = 0u;
     uint e = 0u;
     uint end = 0u;
@@ -227,13 +235,13 @@ void main() {
         while (true) {
             if (e == end) {
                 if (!WALK_ANY(to_walk)) {
-                    if (level == params.level_count || !WALK_ANY(!capped)) {
+                    if (level == params.level_count || !WALK_ANY(!done)) {
                         walked = true;
                         break;
                     }
                     Level lv = levels.levels[level++];
                     my_node = lv.offset + s / lv.span;
-                    to_walk = !capped;
+                    to_walk = !done;
                 }
                 uint node = WALK_MIN(to_walk ? my_node : 0xffffffffu);
                 mine = to_walk && my_node == node;
@@ -242,43 +250,86 @@ void main() {
                 end = node_ends.ends[node];
                 continue;
             }
-            if (WALK_ANY(queued == RAY_QUEUE)) {
+            uint count = min(min(end - e, WALK_WIDTH), RAY_QUEUE);
+            if (WALK_ANY(queued + count > RAY_QUEUE)) {
                 break;
             }
-            uint index = list_photons.photons[e++];
-            if (!mine || capped) {
-                continue;
+            // Lane k reads entry e + k of the list and what is tested of its photon; the lanes
+            // then take each entry from the lane that read it (WALK_READ), in list order. Walking
+            // alone, a lane reads its entry's position, and the rest only within the radius.
+            uint lane_photon = 0u;
+            vec3 lane_position = vec3(0.0);
+            Photon lane_ph;
+            Clearance lane_clearance;
+            if (WALK_LANE < count) {
+                lane_photon = list_photons.photons[e + WALK_LANE];
+                lane_position = photon_positions.positions[lane_photon].position;
+                if (SHARED_WALK) {
+                    lane_ph = photons.photons[lane_photon];
+                    if (params.visibility != 0u) {
+                        lane_clearance = clearance.items[lane_photon];
+                    }
+                }
             }
-            candidates += 1u;
-            // Most candidates fail on distance alone: read the rest of the photon after it.
-            float d = distance(x, photon_positions.positions[index].position);
-            if (d >= r) {
-                continue;
+            e += count;
+            for (uint k = 0u; k < count; ++k) {
+                uint index = WALK_READ(lane_photon, k);
+                Photon ph;
+                ph.position = WALK_READ(lane_position, k);
+                Clearance photon_clearance;
+                if (SHARED_WALK) {  // in uniform control flow: every lane's values are there to read
+                    ph.normal = WALK_READ(lane_ph.normal, k);
+                    ph.direction = WALK_READ(lane_ph.direction, k);
+                    ph.flux = WALK_READ(lane_ph.flux, k);
+                    if (params.visibility != 0u) {
+                        photon_clearance.lifted = WALK_READ(lane_clearance.lifted, k);
+                        photon_clearance.radius = WALK_READ(lane_clearance.radius, k);
+                    }
+                }
+                if (mine && !done) {
+                    candidates += 1u;
+                    // Most candidates fail on distance alone: read the rest of the photon after it.
+                    float d = distance(x, ph.position);
+                    if (d < r) {
+                        if (!SHARED_WALK) {
+                            ph = photons.photons[index];
+                        }
+                        if (dot(n, -ph.direction) > 0.0
+                            && (params.visible_disk == 0u || on_own_surface(x, ng, curvature, ph.position, ph.normal))) {
+                            if (params.cap != 0u && accepted == params.cap) {
+                                capped = true;
+                                done = true;
+                            } else {
+                                accepted += 1u;
+                                if (params.visibility != 0u && !SHARED_WALK) {
+                                    photon_clearance = clearance.items[index];
+                                }
+                                if (params.visibility != 0u && !proven_clear(from, ph, photon_clearance)) {
+                                    queue[queued++] = index;
+                                } else {
+                                    proven += params.visibility != 0u ? 1u : 0u;
+                                    kept += contribution_of(ph, d, r);
+                                }
+                            }
+                        }
+                    }
+                }
             }
-            Photon ph = photons.photons[index];
-            if (dot(n, -ph.direction) <= 0.0) {
-                continue;
-            }
-            if (params.visible_disk != 0u && !on_own_surface(x, ng, curvature, ph.position, ph.normal)) {
-                continue;
-            }
-            if (params.cap != 0u && accepted == params.cap) {
-                capped = true;
-                continue;
-            }
-            accepted += 1u;
-            if (params.visibility != 0u && !proven_clear(from, ph, clearance.items[index])) {
-                queue[queued++] = index;
-                continue;
-            }
-            proven += params.visibility != 0u ? 1u : 0u;
-            kept += contribution_of(ph, d, r);
         }
         trace_queued(queued, x, from, r, kept, lost, occluded, occluder);
         queued = 0u;
         if (walked) {
             break;
         }
+    }
+    if (!in_range) {
+        return;
+    }
+    if (!valid) {
+        imageStore(indirect_sum, xy, vec4(0.0, 0.0, 0.0, 1.0));
+        imageStore(leaked, xy, vec4(0.0));
+        imageStore(gather_counts, xy, vec4(0.0));
+        return;
     }
     vec3 albedo_over_pi = imageLoad(gbuffer_albedo, xy).rgb / PI;
     float mass = disk.x;

@@ -60,8 +60,9 @@ pub struct DeviceReport {
     pub push_descriptor: bool,
     pub timestamp_period_ns: f32,
     pub subgroup_size: u32,
-    /// Subgroup ballot and arithmetic operations in compute shaders: required (the modules
-    /// with the tuning's subgroup counters declare them even where the tuning leaves them off).
+    /// Subgroup ballot, arithmetic and shuffle operations in compute shaders: required (the
+    /// modules with the tuning's subgroup counters and the gather's shared walk declare them
+    /// even where the tuning leaves them off).
     pub subgroup_arithmetic: bool,
     /// `vendorID` (PCI vendor: 0x10de NVIDIA, 0x1002 AMD, 0x8086 Intel; 0x10005 Mesa).
     pub vendor_id: u32,
@@ -188,9 +189,9 @@ fn describe(
     let ray_query = acceleration_structure && frq.ray_query == vk::TRUE;
 
     let subgroup_arithmetic = subgroup.supported_stages.contains(vk::ShaderStageFlags::COMPUTE)
-        && subgroup
-            .supported_operations
-            .contains(vk::SubgroupFeatureFlags::BALLOT | vk::SubgroupFeatureFlags::ARITHMETIC);
+        && subgroup.supported_operations.contains(
+            vk::SubgroupFeatureFlags::BALLOT | vk::SubgroupFeatureFlags::ARITHMETIC | vk::SubgroupFeatureFlags::SHUFFLE,
+        );
     let mut missing = Vec::new();
     if api_version < (1, 3, 0) {
         missing.push(format!("Vulkan {}.{} < 1.3", api_version.0, api_version.1));
@@ -205,8 +206,9 @@ fn describe(
         missing.push("maintenance4".into());
     }
     if !subgroup_arithmetic {
-        // counters.glsl declares the capabilities even where the tuning leaves them unused.
-        missing.push("subgroup ballot and arithmetic in compute shaders".into());
+        // counters.glsl and gather.comp declare the capabilities even where the tuning leaves
+        // them unused.
+        missing.push("subgroup ballot, arithmetic and shuffle in compute shaders".into());
     }
     if f12.host_query_reset != vk::TRUE {
         missing.push("hostQueryReset".into());

@@ -81,11 +81,11 @@ pub struct DeviceTuning {
     /// arithmetic in compute shaders.
     pub subgroup_counters: bool,
     /// The lanes of a subgroup walk the gather's node lists together (`SHARED_WALK`,
-    /// gather.comp): each entry read once for the subgroup, the lanes of its node testing it.
-    /// On where the device has subgroup arithmetic in compute shaders and a subgroup is no
-    /// wider than a leaf (lavapipe: 8 lanes, branching 8, where it measures the same as
-    /// per-lane walks); the GPU report's sweep measures it on a GPU. The same candidates in
-    /// the same order either way.
+    /// gather.comp): a subgroup's width of entries read at once, one a lane, and shuffled to
+    /// the lanes of its node, which test them. On where the device has subgroup operations in
+    /// compute shaders and a subgroup is no wider than a leaf (lavapipe: 8 lanes, branching 8,
+    /// where the gather takes 0.53–0.66× the per-lane walk's time, docs/results.md); the GPU
+    /// report's sweep measures it on a GPU. The same candidates in the same order either way.
     pub shared_walk: bool,
     /// How `bench` and `render --stats` time passes: each submitted alone and timed on the
     /// host (lavapipe runs dispatches asynchronously to its timestamp writes, so only the host

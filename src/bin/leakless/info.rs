@@ -38,7 +38,7 @@ pub fn describe(backend: BackendChoice, tuning: leakless::TuningChoice) -> anyho
         )?;
         writeln!(
             out,
-            "    vendor: {}, ray queries: {}, acceleration structures: {}, subgroup size: {} (ballot and arithmetic: {}), timestamp period: {} ns",
+            "    vendor: {}, ray queries: {}, acceleration structures: {}, subgroup size: {} (ballot, arithmetic and shuffle: {}), timestamp period: {} ns",
             r.vendor(),
             yes(r.ray_query),
             yes(r.acceleration_structure),
