@@ -13,6 +13,8 @@ layout(set = FRAME_SET, binding = BINDING_TRACE_SCALE) uniform TraceScale {
     float pad0;
     float pad1;
     float pad2;
+    uvec2 bvh_nodes_address;      // bvh.glsl: where the compute BVH's nodes and triangles are
+    uvec2 bvh_triangles_address;
 } trace_scale;
 
 // Moves a ray origin on a surface off it along the geometric normal `n` (pointing to the side

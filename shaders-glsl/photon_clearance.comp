@@ -122,7 +122,7 @@ float static_distance2(vec3 q, Photon ph, float tau, uint root, float best2) {
         if (!bvh_is_leaf(node)) {
             uint next, far;
             float next_d2, far_d2;
-            search_step(q, bvh_nodes.nodes[node], ph, tau, best2, next, next_d2, far, far_d2);
+            search_step(q, BVH_NODE(node), ph, tau, best2, next, next_d2, far, far_d2);
             if (far != BVH_NO_CHILD && sp < uint(STACK_SIZE)) {  // the tree is at most BVH_MAX_DEPTH deep
                 stack[sp] = far;
                 stack_d2[sp] = far_d2;
@@ -135,7 +135,7 @@ float static_distance2(vec3 q, Photon ph, float tau, uint root, float best2) {
         } else {
             uint first = bvh_leaf_first(node);
             for (uint t = first; t < first + bvh_leaf_count(node); t++) {
-                BvhTriangle tri = bvh_triangles.triangles[t];
+                BvhTriangle tri = BVH_TRIANGLE(t);
                 vec3 v0 = bvh_vertex(tri.v0), v1 = bvh_vertex(tri.v1), v2 = bvh_vertex(tri.v2);
                 if (below(v0, ph.position, ph.normal, tau) && below(v1, ph.position, ph.normal, tau)
                     && below(v2, ph.position, ph.normal, tau)) {

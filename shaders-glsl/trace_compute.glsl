@@ -182,7 +182,7 @@ bool trace_bvh_part(BvhRay ray, uint root, float tmin, bool any_hit, inout Hit h
             }
             uint next, far;
             // hit.t shrinks as hits are found, culling everything behind the closest one.
-            bvh_step(ray, bvh_nodes.nodes[node], tmin, hit.t, next, far);
+            bvh_step(ray, BVH_NODE(node), tmin, hit.t, next, far);
             if (far != NO_HIT && sp < uint(BVH_STACK_SIZE)) {  // always room (see BVH_STACK_SIZE)
                 stack[sp] = far;
                 sp++;
@@ -205,7 +205,7 @@ bool trace_bvh_part(BvhRay ray, uint root, float tmin, bool any_hit, inout Hit h
             if (TRACE_COUNT_WORK) {
                 trace_triangles_tested++;
             }
-            BvhTriangle tri = bvh_triangles.triangles[i];
+            BvhTriangle tri = BVH_TRIANGLE(i);
             float t;
             vec2 barycentrics;
             if (bvh_triangle(ray, tri, tmin, hit.t, t, barycentrics) && trace_alpha_pass(tri.triangle, barycentrics)) {
@@ -287,7 +287,7 @@ Hit trace_bvh(vec3 origin, vec3 dir, float tmin, float tmax, bool any_hit) {
 // traversal moves it), so the answer is the traversal's.
 bool trace_bvh_occluded_cached(vec3 origin, vec3 dir, float tmin, float tmax, inout uvec2 cached_slot) {
     if (cached_slot.x != NO_HIT) {
-        BvhTriangle tri = bvh_triangles.triangles[cached_slot.x];
+        BvhTriangle tri = BVH_TRIANGLE(cached_slot.x);
         BvhRay ray = bvh_part_ray(cached_slot.y, bvh_ray(origin, dir), origin, dir);
         float t;
         vec2 barycentrics;

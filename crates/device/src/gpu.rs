@@ -166,7 +166,7 @@ impl Gpu {
             device: device.clone(),
             physical_device: report.physical,
             debug_settings: Default::default(),
-            buffer_device_address: ray_tracing,
+            buffer_device_address: true,
             allocation_sizes: Default::default(),
         })
         .map_err(|e| DeviceError::Alloc { what: "the allocator".into(), message: e.to_string() })?;
@@ -369,7 +369,7 @@ fn create_device(
         .fragment_stores_and_atomics(false);
     let mut f12 = vk::PhysicalDeviceVulkan12Features::default()
         .host_query_reset(true)
-        .buffer_device_address(ray_tracing)
+        .buffer_device_address(true)
         .scalar_block_layout(false);
     // maintenance4: the gather's workgroup size is a specialization constant (LocalSizeId in SPIR-V 1.6).
     let mut f13 =

@@ -210,6 +210,10 @@ fn describe(
         // them unused.
         missing.push("subgroup ballot, arithmetic and shuffle in compute shaders".into());
     }
+    if f12.buffer_device_address != vk::TRUE {
+        // The compute BVH's nodes and triangles are read through their addresses (bvh.glsl).
+        missing.push("bufferDeviceAddress".into());
+    }
     if f12.host_query_reset != vk::TRUE {
         missing.push("hostQueryReset".into());
     }

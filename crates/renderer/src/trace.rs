@@ -114,6 +114,9 @@ gpu_struct! {
         pub pad0: f32,
         pub pad1: f32,
         pub pad2: f32,
+        /// The device addresses of the BVH's nodes and triangles (bvh.glsl).
+        pub bvh_nodes_address: [u32; 2],
+        pub bvh_triangles_address: [u32; 2],
     }
 }
 
@@ -314,12 +317,21 @@ impl SceneBvh {
                 scene.triangle_count()
             )));
         }
-        let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
+        let storage = vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::SHADER_DEVICE_ADDRESS;
         let nodes = Buffer::with_data(gpu, "bvh nodes", storage, bytemuck::cast_slice(&bvh.nodes))?;
         let triangles = Buffer::with_data(gpu, "bvh triangles", storage, bytemuck::cast_slice(&bvh.triangles))?;
         // Only the parts are needed from here on.
         (bvh.nodes, bvh.triangles) = (Vec::new(), Vec::new());
-        let scale = TraceScale { scene_scale: scene_scale(scene), ..Default::default() };
+        let words = |buffer: &Buffer| {
+            let address = buffer.device_address().unwrap_or(0);
+            [address as u32, (address >> 32) as u32]
+        };
+        let scale = TraceScale {
+            scene_scale: scene_scale(scene),
+            bvh_nodes_address: words(&nodes),
+            bvh_triangles_address: words(&triangles),
+            ..Default::default()
+        };
         let scale =
             Buffer::with_data(gpu, "trace scale", vk::BufferUsageFlags::UNIFORM_BUFFER, bytemuck::bytes_of(&scale))?;
         Ok(SceneBvh { nodes, triangles, scale, bvh })
