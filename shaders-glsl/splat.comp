@@ -43,9 +43,17 @@ layout(push_constant) uniform SplatParams {
     uint capacity;          // entries the record and list buffers hold
     uint photon_capacity;   // photons the photon buffer holds
     uint node_radius;       // 1: samples' radii differ upward; test each node's radius_max
-    uint pad1;
-    uint pad2;
+    uvec2 nodes_address;    // `nodes`, read through its address (device_address.rs says why)
 } params;
+
+#ifdef LEAKLESS_REFLECTION
+#define NODE(I) nodes.nodes[I]
+#else
+#extension GL_EXT_buffer_reference : require
+#extension GL_EXT_buffer_reference_uvec2 : require
+layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer NodesAt { Node nodes[]; };
+#define NODE(I) NodesAt(params.nodes_address).nodes[I]
+#endif
 
 // Deep enough for levels·(B−1)+1 pending nodes; the Rust side checks the hierarchy fits.
 #define SPLAT_STACK 192
@@ -81,7 +89,7 @@ uint classify(uint index, Node node, Photon ph, float r, vec3 toward_light) {
         return CULL;
     }
     if (params.node_radius != 0u) {
-        r = nodes.nodes[index].radius_max;
+        r = NODE(index).radius_max;
         if (dot(to_near, to_near) >= r * r) {
             return CULL;
         }
@@ -117,7 +125,7 @@ void main() {
     uint stack[SPLAT_STACK];
     uint top = 0u;
     uint visited = 1u;
-    uint root = classify(params.root, nodes.nodes[params.root], ph, r, toward_light);
+    uint root = classify(params.root, NODE(params.root), ph, r, toward_light);
     bool listed = root == TAKE;
     if (root == TAKE) {
         append(params.root, photon_index);
@@ -125,10 +133,10 @@ void main() {
         stack[top++] = params.root;
     }
     while (top > 0u) {
-        Node node = nodes.nodes[stack[--top]];
+        Node node = NODE(stack[--top]);
         for (uint c = node.first_child; c < node.first_child + node.child_count; ++c) {
             visited += 1u;
-            uint k = classify(c, nodes.nodes[c], ph, r, toward_light);
+            uint k = classify(c, NODE(c), ph, r, toward_light);
             if (k == TAKE) {
                 append(c, photon_index);
                 listed = true;

@@ -135,6 +135,17 @@ impl<'r> Graph<'r> {
         self.runner.frames_in_flight()
     }
 
+    /// The device address of the buffer behind `handle`, where it was made with
+    /// `SHADER_DEVICE_ADDRESS` usage. A pass that reads a buffer through its address still binds
+    /// it: the binding is what the graph orders the pass by and what reflection checks.
+    pub fn buffer_address(&self, handle: &BufferHandle) -> Option<vk::DeviceAddress> {
+        match &self.sources[handle.id] {
+            Source::Buffer(b) => b.device_address(),
+            Source::PoolBuffer(key) => self.runner.pool.buffer(key).device_address(),
+            _ => None,
+        }
+    }
+
     pub fn import_buffer(&mut self, buffer: &'r Buffer) -> BufferHandle {
         self.sources.push(Source::Buffer(buffer));
         BufferHandle { id: self.sources.len() - 1, size: buffer.size() }

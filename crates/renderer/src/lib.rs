@@ -3,6 +3,7 @@
 //! The frame, top to bottom, is `renderer/frame.rs`; docs/architecture.md walks through it.
 //! Each pass lives in `passes/`, one file per pass, next to its shader in `shaders-glsl/`.
 
+pub mod device_address;
 pub mod emitters;
 pub mod error;
 pub mod frame_budget;

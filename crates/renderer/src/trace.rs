@@ -12,6 +12,7 @@ use leakless_device::{gpu_struct, vk, Buffer, Capabilities, DeviceType, Gpu, Gpu
 use leakless_graph::{shader_bindings, Access, BufferHandle, Graph, PassBuilder, Stage};
 use leakless_scene::{Scene, Vertex};
 
+use crate::device_address::address_words;
 use crate::error::{RenderError, Result};
 use crate::gpu_scene::GpuScene;
 use crate::scene_pose::ScenePose;
@@ -322,14 +323,10 @@ impl SceneBvh {
         let triangles = Buffer::with_data(gpu, "bvh triangles", storage, bytemuck::cast_slice(&bvh.triangles))?;
         // Only the parts are needed from here on.
         (bvh.nodes, bvh.triangles) = (Vec::new(), Vec::new());
-        let words = |buffer: &Buffer| {
-            let address = buffer.device_address().unwrap_or(0);
-            [address as u32, (address >> 32) as u32]
-        };
         let scale = TraceScale {
             scene_scale: scene_scale(scene),
-            bvh_nodes_address: words(&nodes),
-            bvh_triangles_address: words(&triangles),
+            bvh_nodes_address: address_words(nodes.device_address()),
+            bvh_triangles_address: address_words(triangles.device_address()),
             ..Default::default()
         };
         let scale =

@@ -8,6 +8,7 @@ use bytemuck::{Pod, Zeroable};
 use leakless_device::{gpu_struct, BufferDesc, GpuStruct, MemoryLocation};
 use leakless_graph::{shader_bindings, BufferHandle, Fill, Graph, PassName};
 
+use crate::device_address::address_words;
 use crate::error::Result;
 use crate::passes::hierarchy::{HierarchyHandles, Level, Node, Shape};
 use crate::passes::names::group;
@@ -63,8 +64,8 @@ gpu_struct! {
         pub photon_capacity: u32,
         /// 1: some samples gather beyond the frame's radius; test each node's own largest.
         pub node_radius: u32,
-        pub pad1: u32,
-        pub pad2: u32,
+        /// The hierarchy's nodes, read through their device address (splat.comp says why).
+        pub nodes_address: [u32; 2],
     }
 }
 
@@ -181,7 +182,7 @@ pub fn add<'r>(
         root: shape.root(),
         capacity: lists.capacity,
         photon_capacity: input.dispatch.capacity,
-        ..Default::default()
+        nodes_address: address_words(graph.buffer_address(&hierarchy.nodes)),
     };
     let zero = [Fill::whole(0)];
     graph.fill(SPLAT_CLEAR, &mut [(&mut lists.ends, &zero), (&mut lists.counters, &zero)]);
