@@ -16,7 +16,7 @@ struct TextureRef {
 
 vec4 fetch_texel(TextureRef t, ivec2 p) {
     p = ((p % t.size) + t.size) % t.size;
-    vec4 c = unpackUnorm4x8(texels.words[t.offset + uint(p.y) * uint(t.size.x) + uint(p.x)]);
+    vec4 c = unpackUnorm4x8(SCENE_TEXEL(t.offset + uint(p.y) * uint(t.size.x) + uint(p.x)));
     return vec4(srgb_to_linear(c.rgb), c.a);
 }
 

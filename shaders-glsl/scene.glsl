@@ -15,18 +15,51 @@ layout(set = FRAME_SET, binding = BINDING_TRIANGLE_MATERIALS, std430) readonly b
 layout(set = FRAME_SET, binding = BINDING_MATERIALS, std430) readonly buffer Materials { Material materials[]; } materials;
 layout(set = FRAME_SET, binding = BINDING_TEXELS, std430) readonly buffer Texels { uint words[]; } texels;
 
+// The same buffers' device addresses: the shaders read the surfaces through them
+// (crates/renderer/src/device_address.rs says why); the bindings above are what reflection
+// checks and what orders passes after the instance vertices are written.
+layout(set = FRAME_SET, binding = BINDING_SCENE_ADDRESSES) uniform SceneAddresses {
+    uvec2 positions;
+    uvec2 normals;
+    uvec2 uvs;
+    uvec2 triangle_materials;
+    uvec2 materials;
+    uvec2 texels;
+} scene_addresses;
+
+#ifdef LEAKLESS_REFLECTION
+#define SCENE_POSITION(I) vertex_positions.xyz[I]
+#define SCENE_NORMAL(I) vertex_normals.xyz[I]
+#define SCENE_UV(I) vertex_uvs.uv[I]
+#define SCENE_TRIANGLE_MATERIAL(I) triangle_materials.ids[I]
+#define SCENE_MATERIAL(I) materials.materials[I]
+#define SCENE_TEXEL(I) texels.words[I]
+#else
+#extension GL_EXT_buffer_reference : require
+#extension GL_EXT_buffer_reference_uvec2 : require
+layout(buffer_reference, std430, buffer_reference_align = 4) readonly buffer SceneFloatsAt { float values[]; };
+layout(buffer_reference, std430, buffer_reference_align = 4) readonly buffer SceneWordsAt { uint values[]; };
+layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer SceneMaterialsAt { Material values[]; };
+#define SCENE_POSITION(I) SceneFloatsAt(scene_addresses.positions).values[I]
+#define SCENE_NORMAL(I) SceneFloatsAt(scene_addresses.normals).values[I]
+#define SCENE_UV(I) SceneFloatsAt(scene_addresses.uvs).values[I]
+#define SCENE_TRIANGLE_MATERIAL(I) SceneWordsAt(scene_addresses.triangle_materials).values[I]
+#define SCENE_MATERIAL(I) SceneMaterialsAt(scene_addresses.materials).values[I]
+#define SCENE_TEXEL(I) SceneWordsAt(scene_addresses.texels).values[I]
+#endif
+
 #include "material.glsl"
 
 vec3 vertex_position(uint v) {
-    return vec3(vertex_positions.xyz[3u * v], vertex_positions.xyz[3u * v + 1u], vertex_positions.xyz[3u * v + 2u]);
+    return vec3(SCENE_POSITION(3u * v), SCENE_POSITION(3u * v + 1u), SCENE_POSITION(3u * v + 2u));
 }
 
 vec3 vertex_normal(uint v) {
-    return vec3(vertex_normals.xyz[3u * v], vertex_normals.xyz[3u * v + 1u], vertex_normals.xyz[3u * v + 2u]);
+    return vec3(SCENE_NORMAL(3u * v), SCENE_NORMAL(3u * v + 1u), SCENE_NORMAL(3u * v + 2u));
 }
 
 vec2 vertex_uv(uint v) {
-    return vec2(vertex_uvs.uv[2u * v], vertex_uvs.uv[2u * v + 1u]);
+    return vec2(SCENE_UV(2u * v), SCENE_UV(2u * v + 1u));
 }
 
 // Barycentric interpolation with the ray-query convention: p = (1-u-v) v0 + u v1 + v v2.
@@ -57,7 +90,7 @@ vec3 triangle_geometric_normal(uint triangle) {
 }
 
 Material triangle_material(uint triangle) {
-    return materials.materials[triangle_materials.ids[triangle]];
+    return SCENE_MATERIAL(SCENE_TRIANGLE_MATERIAL(triangle));
 }
 
 #endif

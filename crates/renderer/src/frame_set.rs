@@ -16,7 +16,7 @@ const GROUPS: [&[BindingDecl]; 4] =
 
 /// The frame set's bindings: each binding of [`GROUPS`] once (both backends' trace groups hold
 /// `trace_scale`), numbered from 0 in order.
-pub static FRAME_SET: &[FrameBinding] = &numbered::<13>(GROUPS);
+pub static FRAME_SET: &[FrameBinding] = &numbered::<14>(GROUPS);
 
 /// The distinct bindings of `groups`, numbered in order of first appearance; fails to compile
 /// unless there are `N`.
@@ -86,6 +86,6 @@ mod tests {
         let numbers: Vec<u32> = FRAME_SET.iter().map(|b| b.binding).collect();
         assert_eq!(numbers, (0..FRAME_SET.len() as u32).collect::<Vec<_>>());
         let names: Vec<&str> = FRAME_SET.iter().map(|b| b.decl.name).collect();
-        assert_eq!(names[6..9], ["emitters", "tlas", "trace_scale"]);
+        assert_eq!(names[6..10], ["scene_addresses", "emitters", "tlas", "trace_scale"]);
     }
 }

@@ -7,18 +7,34 @@
 //! triangles, where the 96-byte `Vertex` bound 1.4M.
 
 use ash::vk;
+use bytemuck::{Pod, Zeroable};
 use glam::Vec3;
-use leakless_device::{Buffer, Gpu, GpuStruct};
+use leakless_device::{gpu_struct, Buffer, Gpu, GpuStruct};
 use leakless_graph::{shader_bindings, BufferHandle, Graph, PassBuilder, Stage};
 use leakless_scene::{LightKind, Scene, Vertex};
 
+use crate::device_address::address_words;
 use crate::emitters::EmitterTable;
 use crate::error::{RenderError, Result};
 use crate::gpu_types::{self, Emitter, Light, Material};
 use crate::trace::SceneBvh;
 
+gpu_struct! {
+    /// The `SceneAddresses` block of scene.glsl: the device addresses the shaders read the
+    /// surfaces through (device_address.rs says why), each as a `uvec2`.
+    #[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
+    pub struct SceneAddresses {
+        pub positions: [u32; 2],
+        pub normals: [u32; 2],
+        pub uvs: [u32; 2],
+        pub triangle_materials: [u32; 2],
+        pub materials: [u32; 2],
+        pub texels: [u32; 2],
+    }
+}
+
 shader_bindings! {
-    /// What `scene.glsl` binds: the surfaces, by triangle index.
+    /// What `scene.glsl` binds: the surfaces, by triangle index, and their addresses.
     pub struct SceneBindings {
         vertex_positions: read array(f32::LAYOUT),
         vertex_normals: read array(f32::LAYOUT),
@@ -26,6 +42,7 @@ shader_bindings! {
         triangle_materials: read array(u32::LAYOUT),
         materials: read array(Material::LAYOUT),
         texels: read array(u32::LAYOUT),
+        scene_addresses: read uniform(SceneAddresses::LAYOUT),
     }
     pub struct SceneResources;
 }
@@ -88,6 +105,8 @@ pub struct GpuScene {
     pub emitter_table: EmitterTable,
     /// The pose version whose instance vertices `vertices` holds (`ScenePose::version`).
     pub placed_version: u64,
+    /// The surfaces' device addresses (`SceneAddresses`).
+    pub addresses: Buffer,
 }
 
 impl GpuScene {
@@ -99,11 +118,10 @@ impl GpuScene {
                 scene.triangle_count()
             )));
         }
-        let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
+        let storage = vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::SHADER_DEVICE_ADDRESS;
         let mut position_usage = storage;
         if gpu.capabilities().acceleration_structure {
-            position_usage |= vk::BufferUsageFlags::ACCELERATION_STRUCTURE_BUILD_INPUT_READ_ONLY_KHR
-                | vk::BufferUsageFlags::SHADER_DEVICE_ADDRESS;
+            position_usage |= vk::BufferUsageFlags::ACCELERATION_STRUCTURE_BUILD_INPUT_READ_ONLY_KHR;
         }
         let streams = VertexStreams::split(&scene.vertices);
         let vertices = VertexBuffers {
@@ -164,7 +182,22 @@ impl GpuScene {
         let emitter_table = EmitterTable::from_scene(scene);
         let emitters = Buffer::with_data(gpu, "emitters", storage, bytemuck::cast_slice(&emitter_table.emitters))?;
         let bvh = SceneBvh::build(gpu, scene)?;
+        let addresses = SceneAddresses {
+            positions: address_words(vertices.positions.device_address()),
+            normals: address_words(vertices.normals.device_address()),
+            uvs: address_words(vertices.uvs.device_address()),
+            triangle_materials: address_words(triangle_materials.device_address()),
+            materials: address_words(materials.device_address()),
+            texels: address_words(texels.device_address()),
+        };
+        let addresses = Buffer::with_data(
+            gpu,
+            "scene addresses",
+            vk::BufferUsageFlags::UNIFORM_BUFFER,
+            bytemuck::bytes_of(&addresses),
+        )?;
         Ok(GpuScene {
+            addresses,
             emitters,
             emitter_table,
             vertices,
@@ -190,6 +223,7 @@ impl GpuScene {
             texels: graph.import_buffer(&self.texels),
             coplanar_neighbours: graph.import_buffer(&self.coplanar_neighbours),
             emitters: graph.import_buffer(&self.emitters),
+            addresses: graph.import_buffer(&self.addresses),
         }
     }
 }
@@ -206,6 +240,7 @@ pub struct SceneHandles {
     pub coplanar_neighbours: BufferHandle,
     /// Only the passes that light surfaces or emit photons bind it (`emitters.glsl`).
     pub emitters: BufferHandle,
+    pub addresses: BufferHandle,
 }
 
 impl SceneHandles {
@@ -218,6 +253,7 @@ impl SceneHandles {
             triangle_materials: &self.triangle_materials,
             materials: &self.materials,
             texels: &self.texels,
+            scene_addresses: &self.addresses,
         };
         SceneBindings::declare(pass, stage, resources)
     }
