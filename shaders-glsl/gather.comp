@@ -72,6 +72,10 @@ layout(push_constant) uniform GatherParams {
     uint prove_clear;   // 1: skip the rays photon_clearance.comp proves clear
     vec3 eye;           // the camera's position (segments leave from a point nudged toward it)
     uint visible_disk;  // 1: count photons on the sample's own surface, divided by disk_mass
+    uvec2 list_photons_address;  // the buffers below, read through their addresses
+    uvec2 positions_address;     // (crates/renderer/src/device_address.rs says why)
+    uvec2 photons_address;
+    uvec2 clearance_address;
 } params;
 // Per photon (photon_clearance.comp): its lifted position and its clearance radius.
 layout(set = 1, binding = 14, std430) readonly buffer Clearances { Clearance items[]; } clearance;
@@ -80,6 +84,24 @@ layout(set = 1, binding = 14, std430) readonly buffer Clearances { Clearance ite
 layout(set = 1, binding = 15, rgba32f) uniform readonly image2D disk_mass;
 // Per photon, its position alone (splat.comp copies it): what the distance test reads.
 layout(set = 1, binding = 12, std430) readonly buffer PhotonPositions { PhotonPosition positions[]; } photon_positions;
+
+#ifdef LEAKLESS_REFLECTION
+#define LIST_PHOTON(I) list_photons.photons[I]
+#define PHOTON_POSITION(I) photon_positions.positions[I]
+#define PHOTON(I) photons.photons[I]
+#define CLEARANCE(I) clearance.items[I]
+#else
+#extension GL_EXT_buffer_reference : require
+#extension GL_EXT_buffer_reference_uvec2 : require
+layout(buffer_reference, std430, buffer_reference_align = 4) readonly buffer ListPhotonsAt { uint values[]; };
+layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer PhotonPositionsAt { PhotonPosition values[]; };
+layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer PhotonsAt { Photon values[]; };
+layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer ClearancesAt { Clearance values[]; };
+#define LIST_PHOTON(I) ListPhotonsAt(params.list_photons_address).values[I]
+#define PHOTON_POSITION(I) PhotonPositionsAt(params.positions_address).values[I]
+#define PHOTON(I) PhotonsAt(params.photons_address).values[I]
+#define CLEARANCE(I) ClearancesAt(params.clearance_address).values[I]
+#endif
 
 // Visibility segments run from the lifted sample `from` to a point straight above the photon,
 // at half its lift: on the photon's side of its own surface (a segment arriving from behind a
@@ -154,9 +176,9 @@ void trace_queued(uint count, vec3 x, vec3 from, float r, inout i64vec3 kept,
                   inout i64vec3 lost, inout uint occluded, inout uvec2 occluder) {
     for (uint i = 0u; i < count; ++i) {
         uint index = queue[i];
-        Photon ph = photons.photons[index];
+        Photon ph = PHOTON(index);
         i64vec3 contribution = contribution_of(ph, distance(x, ph.position), r);
-        if (segment_clear(from, ph, clearance.items[index], occluder)) {
+        if (segment_clear(from, ph, CLEARANCE(index), occluder)) {
             kept += contribution;
         } else {
             occluded += 1u;
@@ -262,12 +284,12 @@ void main() {
             Photon lane_ph;
             Clearance lane_clearance;
             if (WALK_LANE < count) {
-                lane_photon = list_photons.photons[e + WALK_LANE];
-                lane_position = photon_positions.positions[lane_photon].position;
+                lane_photon = LIST_PHOTON(e + WALK_LANE);
+                lane_position = PHOTON_POSITION(lane_photon).position;
                 if (SHARED_WALK) {
-                    lane_ph = photons.photons[lane_photon];
+                    lane_ph = PHOTON(lane_photon);
                     if (params.visibility != 0u) {
-                        lane_clearance = clearance.items[lane_photon];
+                        lane_clearance = CLEARANCE(lane_photon);
                     }
                 }
             }
@@ -292,7 +314,7 @@ void main() {
                     float d = distance(x, ph.position);
                     if (d < r) {
                         if (!SHARED_WALK) {
-                            ph = photons.photons[index];
+                            ph = PHOTON(index);
                         }
                         if (dot(n, -ph.direction) > 0.0
                             && (params.visible_disk == 0u || on_own_surface(x, ng, curvature, ph.position, ph.normal))) {
@@ -302,7 +324,7 @@ void main() {
                             } else {
                                 accepted += 1u;
                                 if (params.visibility != 0u && !SHARED_WALK) {
-                                    photon_clearance = clearance.items[index];
+                                    photon_clearance = CLEARANCE(index);
                                 }
                                 if (params.visibility != 0u && !proven_clear(from, ph, photon_clearance)) {
                                     queue[queued++] = index;

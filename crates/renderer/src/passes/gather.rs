@@ -7,6 +7,7 @@ use bytemuck::{Pod, Zeroable};
 use leakless_device::{gpu_struct, BufferDesc, GpuStruct, MemoryLocation};
 use leakless_graph::{shader_bindings, BufferHandle, Fill, Graph, ImageHandle, PassName};
 
+use crate::device_address::address_words;
 use crate::error::Result;
 use crate::passes::gbuffer::{GBufferBindings, GBufferHandles};
 use crate::passes::hierarchy::{HierarchyHandles, Level, Shape};
@@ -37,6 +38,12 @@ gpu_struct! {
         pub eye: [f32; 3],
         /// 1: count photons on the sample's own surface, divided by its `disk_mass`.
         pub visible_disk: u32,
+        /// `list_photons`, `photon_positions`, `photons` and `clearance`, read through their
+        /// device addresses (device_address.rs says why).
+        pub list_photons_address: [u32; 2],
+        pub positions_address: [u32; 2],
+        pub photons_address: [u32; 2],
+        pub clearance_address: [u32; 2],
     }
 }
 
@@ -191,6 +198,10 @@ pub fn add<'r>(
         prove_clear: input.prove_clear as u32,
         eye: input.eye,
         visible_disk: input.visible_disk as u32,
+        list_photons_address: address_words(graph.buffer_address(&lists.photons)),
+        positions_address: address_words(graph.buffer_address(&lists.positions)),
+        photons_address: address_words(graph.buffer_address(input.photons)),
+        clearance_address: address_words(graph.buffer_address(input.clearance)),
     };
     let resources = GatherResources {
         sorted_keys: &hierarchy.keys,

@@ -51,7 +51,9 @@ pub fn buffer(graph: &mut Graph<'_>, capacity: u32) -> Result<BufferHandle> {
     Ok(graph.buffer(&BufferDesc {
         name: "photon clearance",
         size: capacity.max(1) as u64 * std::mem::size_of::<Clearance>() as u64,
-        usage: vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_SRC,
+        usage: vk::BufferUsageFlags::STORAGE_BUFFER
+            | vk::BufferUsageFlags::TRANSFER_SRC
+            | vk::BufferUsageFlags::SHADER_DEVICE_ADDRESS,
         location: MemoryLocation::GpuOnly,
     })?)
 }

@@ -112,7 +112,8 @@ pub const LIST_ENDS: &str = "node list ends";
 pub const LIST_BUFFER_USAGE: vk::BufferUsageFlags = vk::BufferUsageFlags::from_raw(
     vk::BufferUsageFlags::STORAGE_BUFFER.as_raw()
         | vk::BufferUsageFlags::TRANSFER_DST.as_raw()
-        | vk::BufferUsageFlags::TRANSFER_SRC.as_raw(),
+        | vk::BufferUsageFlags::TRANSFER_SRC.as_raw()
+        | vk::BufferUsageFlags::SHADER_DEVICE_ADDRESS.as_raw(),
 );
 
 /// Words the `ends` buffer of `node_count` nodes has: a multiple of the scan's group of 16.
