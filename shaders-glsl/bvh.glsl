@@ -11,6 +11,7 @@
 #ifndef LEAKLESS_BVH_GLSL
 #define LEAKLESS_BVH_GLSL
 
+#include "device_address.glsl"
 #include "offset.glsl"
 
 // An interior node with its two children's boxes, so that a traversal step is one load
@@ -61,21 +62,17 @@ vec3 bvh_vertex(float v[3]) {
 layout(set = FRAME_SET, binding = BINDING_BVH_NODES, std430) readonly buffer BvhNodes { BvhNode nodes[]; } bvh_nodes;
 layout(set = FRAME_SET, binding = BINDING_BVH_TRIANGLES, std430) readonly buffer BvhTriangles { BvhTriangle triangles[]; } bvh_triangles;
 
-// The traversals read them through their device addresses (trace_scale holds them): the same
-// words, but a CPU driver turns a load whose address differs between lanes into one vector
-// gather for a device address, and into a loop over the lanes with a bounds-checked branch
-// per lane and word for a storage buffer. The indices come from the BVH itself, which
-// crates/accel builds and tests; naga, which reflects the bindings, reads no device address.
+// The traversals read them through their device addresses, which trace_scale holds
+// (device_address.glsl); their indices come from the BVH itself, which crates/accel builds and
+// tests.
 #ifdef LEAKLESS_REFLECTION
 #define BVH_NODE(I) bvh_nodes.nodes[I]
 #define BVH_TRIANGLE(I) bvh_triangles.triangles[I]
 #else
-#extension GL_EXT_buffer_reference : require
-#extension GL_EXT_buffer_reference_uvec2 : require
-layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer BvhNodesAt { BvhNode nodes[]; };
-layout(buffer_reference, std430, buffer_reference_align = 4) readonly buffer BvhTrianglesAt { BvhTriangle triangles[]; };
-#define BVH_NODE(I) BvhNodesAt(trace_scale.bvh_nodes_address).nodes[I]
-#define BVH_TRIANGLE(I) BvhTrianglesAt(trace_scale.bvh_triangles_address).triangles[I]
+ARRAY_AT(BvhNodesAt, BvhNode, 16);
+ARRAY_AT(BvhTrianglesAt, BvhTriangle, 4);
+#define BVH_NODE(I) BvhNodesAt(trace_scale.bvh_nodes_address).values[I]
+#define BVH_TRIANGLE(I) BvhTrianglesAt(trace_scale.bvh_triangles_address).values[I]
 #endif
 
 // identity != 0: the static part, traced in world space as is.

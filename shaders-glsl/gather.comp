@@ -30,6 +30,7 @@
 #include "photon.glsl"
 #include "disk.glsl"
 #include "counters.glsl"
+#include "device_address.glsl"
 
 // One thread per view sample; the device tuning sets the workgroup size.
 layout(local_size_x = 64) in;
@@ -91,12 +92,10 @@ layout(set = 1, binding = 12, std430) readonly buffer PhotonPositions { PhotonPo
 #define PHOTON(I) photons.photons[I]
 #define CLEARANCE(I) clearance.items[I]
 #else
-#extension GL_EXT_buffer_reference : require
-#extension GL_EXT_buffer_reference_uvec2 : require
-layout(buffer_reference, std430, buffer_reference_align = 4) readonly buffer ListPhotonsAt { uint values[]; };
-layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer PhotonPositionsAt { PhotonPosition values[]; };
-layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer PhotonsAt { Photon values[]; };
-layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer ClearancesAt { Clearance values[]; };
+ARRAY_AT(ListPhotonsAt, uint, 4);
+ARRAY_AT(PhotonPositionsAt, PhotonPosition, 16);
+ARRAY_AT(PhotonsAt, Photon, 16);
+ARRAY_AT(ClearancesAt, Clearance, 16);
 #define LIST_PHOTON(I) ListPhotonsAt(params.list_photons_address).values[I]
 #define PHOTON_POSITION(I) PhotonPositionsAt(params.positions_address).values[I]
 #define PHOTON(I) PhotonsAt(params.photons_address).values[I]

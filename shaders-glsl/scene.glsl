@@ -3,6 +3,7 @@
 #ifndef LEAKLESS_SCENE_GLSL
 #define LEAKLESS_SCENE_GLSL
 #include "common.glsl"
+#include "device_address.glsl"
 #include "frame_set.glsl"
 
 // The corners of the triangles, three per triangle in world space (leakless_scene::Vertex),
@@ -16,8 +17,8 @@ layout(set = FRAME_SET, binding = BINDING_MATERIALS, std430) readonly buffer Mat
 layout(set = FRAME_SET, binding = BINDING_TEXELS, std430) readonly buffer Texels { uint words[]; } texels;
 
 // The same buffers' device addresses: the shaders read the surfaces through them
-// (crates/renderer/src/device_address.rs says why); the bindings above are what reflection
-// checks and what orders passes after the instance vertices are written.
+// (device_address.glsl); the bindings above are what reflection checks and what orders passes
+// after the instance vertices are written.
 layout(set = FRAME_SET, binding = BINDING_SCENE_ADDRESSES) uniform SceneAddresses {
     uvec2 positions;
     uvec2 normals;
@@ -35,11 +36,9 @@ layout(set = FRAME_SET, binding = BINDING_SCENE_ADDRESSES) uniform SceneAddresse
 #define SCENE_MATERIAL(I) materials.materials[I]
 #define SCENE_TEXEL(I) texels.words[I]
 #else
-#extension GL_EXT_buffer_reference : require
-#extension GL_EXT_buffer_reference_uvec2 : require
-layout(buffer_reference, std430, buffer_reference_align = 4) readonly buffer SceneFloatsAt { float values[]; };
-layout(buffer_reference, std430, buffer_reference_align = 4) readonly buffer SceneWordsAt { uint values[]; };
-layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer SceneMaterialsAt { Material values[]; };
+ARRAY_AT(SceneFloatsAt, float, 4);
+ARRAY_AT(SceneWordsAt, uint, 4);
+ARRAY_AT(SceneMaterialsAt, Material, 16);
 #define SCENE_POSITION(I) SceneFloatsAt(scene_addresses.positions).values[I]
 #define SCENE_NORMAL(I) SceneFloatsAt(scene_addresses.normals).values[I]
 #define SCENE_UV(I) SceneFloatsAt(scene_addresses.uvs).values[I]

@@ -19,6 +19,7 @@
 #include "hierarchy.glsl"
 #include "photon.glsl"
 #include "counters.glsl"
+#include "device_address.glsl"
 
 layout(local_size_x = 64) in;
 
@@ -49,10 +50,8 @@ layout(push_constant) uniform SplatParams {
 #ifdef LEAKLESS_REFLECTION
 #define NODE(I) nodes.nodes[I]
 #else
-#extension GL_EXT_buffer_reference : require
-#extension GL_EXT_buffer_reference_uvec2 : require
-layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer NodesAt { Node nodes[]; };
-#define NODE(I) NodesAt(params.nodes_address).nodes[I]
+ARRAY_AT(NodesAt, Node, 16);
+#define NODE(I) NodesAt(params.nodes_address).values[I]
 #endif
 
 // Deep enough for levels·(B−1)+1 pending nodes; the Rust side checks the hierarchy fits.

@@ -34,14 +34,14 @@ mod tests {
         assert_eq!(s.workgroup_size, [8, 8, 1]);
         assert_eq!(s.spirv[0], 0x0723_0203, "SPIR-V magic number");
         let b = s.reflection.expect("naga parses direct.comp:compute");
-        // The frame set's (set 0): the scene's six, the emitters, the trace backend's five
-        // (bottom-level nodes and triangles, the top level, the scale, the instances); then its
-        // own six (set 1).
-        assert_eq!(b.len(), 18);
+        // The frame set's (set 0): the scene's six and their addresses, the emitters, the trace
+        // backend's five (bottom-level nodes and triangles, the top level, the scale, the
+        // instances); then its own six (set 1).
+        assert_eq!(b.len(), 19);
         let frame_set: Vec<_> = crate::frame_set::FRAME_SET.iter().filter(|f| f.decl.name != "tlas").collect();
-        let names: Vec<_> = b[..12].iter().map(|r| (r.name, r.set, r.binding)).collect();
+        let names: Vec<_> = b[..13].iter().map(|r| (r.name, r.set, r.binding)).collect();
         assert_eq!(names, frame_set.iter().map(|f| (f.decl.name, 0, f.binding)).collect::<Vec<_>>());
-        let b = &b[12..];
+        let b = &b[13..];
 
         use BindingKind::*;
         assert_eq!(id(&b[0]), ("frame", 1, 0, UniformBuffer));
@@ -105,7 +105,8 @@ mod tests {
             assert_eq!(only_in(r, c), ["tlas"], "{}", rq.name);
             assert_eq!(only_in(c, r), ["bvh_nodes", "bvh_triangles", "bvh_top", "bvh_instances"], "{}", cs.name);
             let tlas = r.iter().find(|b| b.name == "tlas").unwrap();
-            assert_eq!((id(tlas), tlas.layout), (("tlas", 0, 7, AccelerationStructure), None), "{}", rq.name);
+            let number = crate::frame_set::FRAME_SET.iter().find(|f| f.decl.name == "tlas").unwrap().binding;
+            assert_eq!((id(tlas), tlas.layout), (("tlas", 0, number, AccelerationStructure), None), "{}", rq.name);
             for b in r.iter().filter(|b| b.name != "tlas") {
                 assert_eq!(Some(b), c.iter().find(|t| t.name == b.name), "{}: {}", rq.name, b.name);
             }
