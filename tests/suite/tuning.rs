@@ -79,6 +79,41 @@ fn every_tuning_renders_the_cpu_presets_image() {
     }
 }
 
+/// The shared walk keeps every lane of a subgroup in the walk, those past the last sample and
+/// those that see no surface included, to read its share of each chunk: an image whose pixel
+/// count is no multiple of the subgroup (47 × 35 = 1645 samples, 5 in the last group of 8),
+/// with pixels outside the Cornell box, renders as each lane's own walk renders it, a one-entry
+/// ray queue clamping the chunks too.
+#[test]
+fn the_shared_walk_renders_an_image_with_a_partial_last_subgroup_as_lanes_alone() {
+    let Some(gpu) = common::gpu() else { return };
+    let report = gpu.report().clone();
+    drop(gpu);
+    if !(report.subgroup_arithmetic && report.subgroup_size > 1) {
+        return;
+    }
+    let cpu = DeviceTuning::choose(&report, TuningChoice::Cpu);
+    for method in [Method::Splat, Method::LeakLess] {
+        let settings = RenderSettings {
+            width: 47,
+            height: 35,
+            method,
+            splat: SplatSettings { paths: 3000, ..Default::default() },
+            ..Default::default()
+        };
+        let alone =
+            frame("scenes/cornell-box.gltf", &settings, DeviceTuning { shared_walk: false, ..cpu.clone() }).unwrap();
+        for ray_queue in [cpu.ray_queue, 1] {
+            let shared = DeviceTuning { shared_walk: true, ray_queue, ..cpu.clone() };
+            let shared = frame("scenes/cornell-box.gltf", &settings, shared).unwrap();
+            assert_same(&alone, &shared, &format!("{}, ray queue {ray_queue}", method.name()));
+        }
+        let stats = alone.splat.as_ref().unwrap();
+        assert!(stats.candidate_tests > 0);
+        assert!(stats.valid_samples < 47 * 35, "some pixels see no surface (outside the box)");
+    }
+}
+
 /// `leakless-capped` keeps each list's first photons, which depend on the order lists are
 /// appended to: its counters still agree.
 #[test]
