@@ -52,7 +52,7 @@ compute_pass! {
 }
 
 /// The same pass counting the compute traversal's work per ray (`TRACE_COUNT_WORK`), in a
-/// pipeline set of its own (one definition per module in a set): `bench rays` times
+/// pipeline set of its own (no frame counts): `bench rays` times
 /// [`RAYCAST`] and counts with this one. The compute backend's only: ray queries count nothing.
 pub static RAYCAST_COUNTING: ComputePass<RaycastBindings, RaycastParams> = ComputePass::traced(
     PassName::new("raycast counting", group::TOOLS),

@@ -195,13 +195,14 @@ impl ComputePassDef {
 }
 
 /// The pipelines of a set of passes: one table per backend (what a frame's graph is lent),
-/// each pipeline made once per shader module, so the passes that trace nothing share theirs
-/// between the backends' tables.
+/// each pass's pipeline made once per shader module, so the passes that trace nothing share
+/// theirs between the backends' tables. Two passes may run one module under different
+/// specializations (the gather's estimators): each makes, and is checked with, its own.
 pub struct Pipelines {
     defs: Vec<&'static ComputePassDef>,
     tuning: DeviceTuning,
-    /// Each module's pipeline and the definition that made it.
-    by_module: HashMap<&'static str, (PassName, Rc<ComputePipeline>)>,
+    /// Each (module, pass)'s pipeline.
+    by_module: HashMap<(&'static str, PassName), Rc<ComputePipeline>>,
     tables: [PipelineTable; 2],
 }
 
@@ -227,20 +228,12 @@ impl Pipelines {
             if table.contains(def.name) {
                 continue;
             }
-            let module = def.shader(backend).name;
-            let pipeline = match self.by_module.get(module) {
-                // A module's pipeline carries one definition's bindings: a second definition of
-                // the same module would be bound without being checked.
-                Some((maker, _)) if *maker != def.name => {
-                    return Err(RenderError::Settings(format!(
-                        "passes {maker} and {} both run {module}: one definition per shader module",
-                        def.name
-                    )))
-                }
-                Some((_, made)) => made.clone(),
+            let key = (def.shader(backend).name, def.name);
+            let pipeline = match self.by_module.get(&key) {
+                Some(made) => made.clone(),
                 None => Rc::new(def.create(gpu, backend, &self.tuning)?),
             };
-            self.by_module.insert(module, (def.name, pipeline.clone()));
+            self.by_module.insert(key, pipeline.clone());
             table.insert(def.name, pipeline);
         }
         Ok(())
