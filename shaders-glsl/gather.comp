@@ -67,16 +67,15 @@ layout(push_constant) uniform GatherParams {
     float fixed_scale;  // fixed-point units per W/m²; chosen so no sum can overflow
     uint level_count;
     uint sample_count;
-    uint image_width;
-    uint visibility;    // 1: trace a visibility segment to every photon
-    uint cap;           // 0: no cap; else gather at most this many photons per sample
-    uint prove_clear;   // 1: skip the rays photon_clearance.comp proves clear
     vec3 eye;           // the camera's position (segments leave from a point nudged toward it)
-    uint visible_disk;  // 1: count photons on the sample's own surface, divided by disk_mass
+    uint prove_clear;   // 1: skip the rays photon_clearance.comp proves clear
+    uint image_width;
+    uint cap;           // 0: no cap; else gather at most this many photons per sample
     uvec2 list_photons_address;  // the buffers below, read through their addresses
     uvec2 positions_address;     // (crates/renderer/src/device_address.rs says why)
     uvec2 photons_address;
     uvec2 clearance_address;
+    uvec2 pad;  // to the block's 16-byte alignment (its vec3)
 } params;
 // Per photon (photon_clearance.comp): its lifted position and its clearance radius.
 layout(set = 1, binding = 14, std430) readonly buffer Clearances { Clearance items[]; } clearance;
@@ -133,8 +132,24 @@ bool segment_clear(vec3 from, Photon ph, Clearance photon_clearance, inout uvec2
     return !traceOccludedCached(from, d / dist, 0.0, dist, occluder);
 }
 
+// int64(v), truncated as a conversion truncates, for 0 <= v < 2^63, without a conversion
+// instruction: LLVM 15 turns a vector of float-to-integer conversions (saturating, as
+// lavapipe emits them) into one scalar conversion a lane, and those were a third of the
+// splat's gather on lavapipe. v is cut into three integers below 2^21, each exact in a float,
+// and each read from the bits of 2^23 + it (a float of exponent 23 holds an integer below
+// 2^23 in its mantissa).
+int64_t fixed_point(float v) {
+    float top = floor(v * (1.0 / 4398046511104.0));           // v / 2^42
+    float rest = v - top * 4398046511104.0;                   // exact: below 2^42, 23 bits
+    float mid = floor(rest * (1.0 / 2097152.0));              // rest / 2^21
+    float low = floor(rest - mid * 2097152.0);                // exact before the floor
+    ivec3 parts = floatBitsToInt(vec3(top, mid, low) + 8388608.0) - 0x4B000000;
+    return (int64_t(parts.x) << 42) + (int64_t(parts.y) << 21) + int64_t(parts.z);
+}
+
 i64vec3 contribution_of(Photon ph, float d, float r) {
-    return i64vec3(ph.flux * (biweight(d, r) * params.fixed_scale));
+    vec3 v = ph.flux * (biweight(d, r) * params.fixed_scale);
+    return i64vec3(fixed_point(v.x), fixed_point(v.y), fixed_point(v.z));
 }
 
 // The subgroup's walk (see main): a specialization constant the device tuning sets where the
@@ -169,6 +184,19 @@ const uint RAY_QUEUE = 64u;  // naga sizes no array by a specialization constant
 #else
 layout(constant_id = 2) const uint RAY_QUEUE = 64u;
 #endif
+
+// The estimator, fixed per pipeline (gather.rs makes one per method) rather than pushed: code a
+// method never runs is then compiled out, not stepped over with every lane masked off, which is
+// what a CPU driver's SIMD lanes do with a branch (the splat's gather took 1.3x as long with the
+// visibility code in it on lavapipe), and which costs a GPU registers. The reflection twin,
+// whose expressions of specialization constants naga does not parse, takes every path.
+#ifdef LEAKLESS_REFLECTION
+#define VISIBILITY true
+#define VISIBLE_DISK true
+#else
+layout(constant_id = 4) const bool VISIBILITY = false;    // a visibility segment to every photon
+layout(constant_id = 5) const bool VISIBLE_DISK = false;  // own-surface photons over disk_mass
+#endif
 uint queue[RAY_QUEUE];  // photons whose segments wait for a ray
 
 void trace_queued(uint count, vec3 x, vec3 from, float r, inout i64vec3 kept,
@@ -197,16 +225,16 @@ void main() {
     vec4 position = imageLoad(gbuffer_position, xy);
     vec3 x = position.xyz;
     vec3 n = imageLoad(gbuffer_normal, xy).xyz;
-    vec4 disk = params.visible_disk != 0u ? imageLoad(disk_mass, xy) : vec4(1.0, params.radius, 0.0, 0.0);
+    vec4 disk = VISIBLE_DISK ? imageLoad(disk_mass, xy) : vec4(1.0, params.radius, 0.0, 0.0);
     float r = disk.y;
     vec3 from = x;
     vec3 ng = n;
     float curvature = 0.0;
-    if (valid && params.visibility != 0u) {
+    if (valid && VISIBILITY) {
         uint triangle = uint(position.w) - 1u;
         ng = sample_geometric_normal(triangle, n);
         from = offset_ray(nudge_toward(x, params.eye), ng);
-        if (params.visible_disk != 0u) {
+        if (VISIBLE_DISK) {
             curvature = convex_curvature(triangle, ng);
             // On a convex curved mesh a straight segment to a photon on a neighbouring facet is
             // a chord through the solid. Lifted by κr² it passes over the facets between: a
@@ -287,7 +315,7 @@ void main() {
                 lane_position = PHOTON_POSITION(lane_photon).position;
                 if (SHARED_WALK) {
                     lane_ph = PHOTON(lane_photon);
-                    if (params.visibility != 0u) {
+                    if (VISIBILITY) {
                         lane_clearance = CLEARANCE(lane_photon);
                     }
                 }
@@ -302,7 +330,7 @@ void main() {
                     ph.normal = WALK_READ(lane_ph.normal, k);
                     ph.direction = WALK_READ(lane_ph.direction, k);
                     ph.flux = WALK_READ(lane_ph.flux, k);
-                    if (params.visibility != 0u) {
+                    if (VISIBILITY) {
                         photon_clearance.lifted = WALK_READ(lane_clearance.lifted, k);
                         photon_clearance.radius = WALK_READ(lane_clearance.radius, k);
                     }
@@ -316,19 +344,19 @@ void main() {
                             ph = PHOTON(index);
                         }
                         if (dot(n, -ph.direction) > 0.0
-                            && (params.visible_disk == 0u || on_own_surface(x, ng, curvature, ph.position, ph.normal))) {
+                            && (!VISIBLE_DISK || on_own_surface(x, ng, curvature, ph.position, ph.normal))) {
                             if (params.cap != 0u && accepted == params.cap) {
                                 capped = true;
                                 done = true;
                             } else {
                                 accepted += 1u;
-                                if (params.visibility != 0u && !SHARED_WALK) {
+                                if (VISIBILITY && !SHARED_WALK) {
                                     photon_clearance = CLEARANCE(index);
                                 }
-                                if (params.visibility != 0u && !proven_clear(from, ph, photon_clearance)) {
+                                if (VISIBILITY && !proven_clear(from, ph, photon_clearance)) {
                                     queue[queued++] = index;
                                 } else {
-                                    proven += params.visibility != 0u ? 1u : 0u;
+                                    proven += VISIBILITY ? 1u : 0u;
                                     kept += contribution_of(ph, d, r);
                                 }
                             }
@@ -357,7 +385,7 @@ void main() {
     // .a carries the mass on: accumulation divides summed flux by summed mass (accumulate.comp).
     imageStore(indirect_sum, xy, vec4(albedo_over_pi * vec3(kept) / (params.fixed_scale * mass), mass));
     imageStore(leaked, xy, vec4(albedo_over_pi * vec3(lost) / params.fixed_scale, 1.0));
-    float rays = params.visibility != 0u ? float(accepted - proven) : 0.0;
+    float rays = VISIBILITY ? float(accepted - proven) : 0.0;
     imageStore(gather_counts, xy, vec4(float(candidates), rays, float(occluded), 0.0));
     ADD_COUNT(gather_counters.valid_samples, 1u);
     ADD_COUNT(gather_counters.capped_samples, capped ? 1u : 0u);

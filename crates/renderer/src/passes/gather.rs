@@ -17,6 +17,9 @@ use crate::passes::photons::Photon;
 use crate::passes::splat::{NodeListHandles, PhotonPosition};
 use crate::pipelines::{compute_pass, ComputePass, Threads};
 use crate::shaders;
+use crate::tuning::DeviceTuning;
+use leakless_device::shader::ShaderInfo;
+use leakless_device::Specialization;
 
 gpu_struct! {
     /// The `GatherParams` push constants of gather.comp.
@@ -27,23 +30,20 @@ gpu_struct! {
         pub fixed_scale: f32,
         pub level_count: u32,
         pub sample_count: u32,
-        pub image_width: u32,
-        /// 1: trace a visibility segment to every photon.
-        pub visibility: u32,
-        /// 0: no cap; else gather at most this many photons per sample.
-        pub cap: u32,
-        /// 1: skip the rays the photons' clearance proves clear.
-        pub prove_clear: u32,
         /// The camera's position: segments leave from the sample moved toward it.
         pub eye: [f32; 3],
-        /// 1: count photons on the sample's own surface, divided by its `disk_mass`.
-        pub visible_disk: u32,
+        /// 1: skip the rays the photons' clearance proves clear.
+        pub prove_clear: u32,
+        pub image_width: u32,
+        /// 0: no cap; else gather at most this many photons per sample.
+        pub cap: u32,
         /// `list_photons`, `photon_positions`, `photons` and `clearance`, read through their
         /// device addresses (device_address.rs says why).
         pub list_photons_address: [u32; 2],
         pub positions_address: [u32; 2],
         pub photons_address: [u32; 2],
         pub clearance_address: [u32; 2],
+        pub pad: [u32; 2],
     }
 }
 
@@ -112,13 +112,34 @@ shader_bindings! {
 
 const GATHER_CLEAR: PassName = PassName::new("gather clear", group::GATHER);
 
+/// The label the gather's time goes under, whichever estimator it runs.
+pub const GATHER_LABEL: PassName = PassName::new("gather", group::GATHER);
+
+// One pipeline per estimator: gather.comp's VISIBILITY and VISIBLE_DISK are specialization
+// constants, so a method's gather holds no code of another's (the shader says why).
 compute_pass! {
+    /// The gather without visibility rays (`splat`).
     pub static GATHER in FRAME_PASSES: ComputePass<GatherBindings, GatherParams> =
-        ComputePass::traced(
-            PassName::new("gather", group::GATHER),
-            (&shaders::GATHER_COMP_RAYQUERY, &shaders::GATHER_COMP_COMPUTE),
-            &[GBufferBindings::DECLS],
-        ).specialize(crate::tuning::DeviceTuning::gather);
+        ComputePass::traced(GATHER_LABEL, SHADERS, &[GBufferBindings::DECLS]).specialize(DeviceTuning::gather);
+    /// With a visibility segment to every photon over the whole disk (`leakless-capped`,
+    /// `leakless --whole-disk`).
+    pub static GATHER_TRACED in FRAME_PASSES: ComputePass<GatherBindings, GatherParams> =
+        ComputePass::traced(PassName::new("gather traced", group::GATHER), SHADERS, &[GBufferBindings::DECLS])
+            .specialize(traced);
+    /// With visibility over the visible disk (`leakless`).
+    pub static GATHER_VISIBLE_DISK in FRAME_PASSES: ComputePass<GatherBindings, GatherParams> =
+        ComputePass::traced(PassName::new("gather visible disk", group::GATHER), SHADERS, &[GBufferBindings::DECLS])
+            .specialize(visible_disk);
+}
+
+const SHADERS: (&ShaderInfo, &ShaderInfo) = (&shaders::GATHER_COMP_RAYQUERY, &shaders::GATHER_COMP_COMPUTE);
+
+fn traced(tuning: &DeviceTuning) -> Specialization {
+    tuning.gather().with("VISIBILITY", 1)
+}
+
+fn visible_disk(tuning: &DeviceTuning) -> Specialization {
+    traced(tuning).with("VISIBLE_DISK", 1)
 }
 
 /// The photons the gather reads, and how.
@@ -193,15 +214,14 @@ pub fn add<'r>(
         level_count: shape.levels.len() as u32,
         sample_count: shape.sample_count,
         image_width: gbuffer.position.extent().width,
-        visibility: input.visibility as u32,
         cap: input.cap.unwrap_or(0),
         prove_clear: input.prove_clear as u32,
         eye: input.eye,
-        visible_disk: input.visible_disk as u32,
         list_photons_address: address_words(graph.buffer_address(&lists.photons)),
         positions_address: address_words(graph.buffer_address(&lists.positions)),
         photons_address: address_words(graph.buffer_address(input.photons)),
         clearance_address: address_words(graph.buffer_address(input.clearance)),
+        pad: [0; 2],
     };
     let resources = GatherResources {
         sorted_keys: &hierarchy.keys,
@@ -219,5 +239,10 @@ pub fn add<'r>(
         photon_positions: &lists.positions,
     };
     let threads = Threads::Fixed([shape.sample_count, 1, 1]);
-    GATHER.add_with(graph, resources, |pass| gbuffer.declare(pass), params, threads);
+    let estimator = match (input.visibility, input.visible_disk) {
+        (false, _) => &GATHER,
+        (true, false) => &GATHER_TRACED,
+        (true, true) => &GATHER_VISIBLE_DISK,
+    };
+    estimator.add_as(graph, (GATHER_LABEL, None), resources, |pass| gbuffer.declare(pass), params, threads);
 }
