@@ -10,11 +10,15 @@
 // scaled ×1000 traces the same rays.
 layout(set = FRAME_SET, binding = BINDING_TRACE_SCALE) uniform TraceScale {
     float scene_scale;
-    float pad0;
+    uint static_root;  // a scene of one static part: its root (trace_compute.glsl); else NO_HIT
     float pad1;
     float pad2;
     uvec2 bvh_nodes_address;      // bvh.glsl: where the compute BVH's nodes and triangles are
     uvec2 bvh_triangles_address;
+    vec3 static_min;   // that part's box, the top level's one box (trace_compute.glsl)
+    uint pad3;
+    vec3 static_max;
+    uint pad4;
 } trace_scale;
 
 // Moves a ray origin on a surface off it along the geometric normal `n` (pointing to the side

@@ -138,7 +138,7 @@ void bvh_step(BvhRay ray, BvhNode n, float tmin, float tmax, out uint next, out 
 // would be loaded for every ray (the map's loads are not moved into the branch that uses
 // them), though a static scene's one part needs 4 of them.
 BvhRay bvh_part_ray(uint part, BvhRay world, vec3 origin, vec3 dir) {
-    if (bvh_instances.items[part].identity != 0u) {
+    if (trace_scale.static_root != NO_HIT || bvh_instances.items[part].identity != 0u) {
         return world;
     }
     vec4 m0 = bvh_instances.items[part].local_from_world0;
@@ -242,6 +242,17 @@ Hit trace_bvh_slot(vec3 origin, vec3 dir, float tmin, float tmax, bool any_hit, 
     uint stack[BVH_TOP_STACK_SIZE];
     uint sp = 0u;
     uint node = 0u;  // a child reference: the root
+    if (trace_scale.static_root != NO_HIT) {
+        // A scene of one static part: its top level is a root whose one child is the part's
+        // leaf, so its one step is this box test, and the ray goes on to the leaf without
+        // reading the top level or the part's record, which are bound, not read through
+        // addresses (a CPU driver loads each a lane at a time).
+        float entry;
+        if (!bvh_box(ray, trace_scale.static_min, trace_scale.static_max, tmin, hit.t, entry)) {
+            return hit;
+        }
+        node = BVH_LEAF;  // part 0's leaf
+    }
     while (true) {
         if (!bvh_is_leaf(node)) {
             uint next, far;
@@ -256,8 +267,12 @@ Hit trace_bvh_slot(vec3 origin, vec3 dir, float tmin, float tmax, bool any_hit, 
             }
         } else {
             uint part = bvh_leaf_first(node);  // a top-level leaf holds one part
+            uint root = trace_scale.static_root;
+            if (root == NO_HIT) {
+                root = bvh_instances.items[part].root;
+            }
             uint closest = slot.x;
-            bool done = trace_bvh_part(bvh_part_ray(part, ray, origin, dir), bvh_instances.items[part].root, tmin, any_hit, hit, closest);
+            bool done = trace_bvh_part(bvh_part_ray(part, ray, origin, dir), root, tmin, any_hit, hit, closest);
             if (closest != slot.x) {
                 slot = uvec2(closest, part);
             }

@@ -112,12 +112,19 @@ gpu_struct! {
     #[derive(Clone, Copy, Debug, Default, bytemuck::Pod, bytemuck::Zeroable)]
     pub struct TraceScale {
         pub scene_scale: f32,
-        pub pad0: f32,
+        /// Where the scene is one static part, its bottom-level root, else `u32::MAX`: the
+        /// compute traversal then starts at it (trace_compute.glsl).
+        pub static_root: u32,
         pub pad1: f32,
         pub pad2: f32,
         /// The device addresses of the BVH's nodes and triangles (bvh.glsl).
         pub bvh_nodes_address: [u32; 2],
         pub bvh_triangles_address: [u32; 2],
+        /// That part's box (padded, as the top level holds it).
+        pub static_min: [f32; 3],
+        pub pad3: u32,
+        pub static_max: [f32; 3],
+        pub pad4: u32,
     }
 }
 
@@ -323,8 +330,16 @@ impl SceneBvh {
         let triangles = Buffer::with_data(gpu, "bvh triangles", storage, bytemuck::cast_slice(&bvh.triangles))?;
         // Only the parts are needed from here on.
         (bvh.nodes, bvh.triangles) = (Vec::new(), Vec::new());
+        // A scene of one static part: the compute traversal starts at that part (trace_compute.glsl).
+        let static_part = match &bvh.parts[..] {
+            [only] if only.identity => Some(only),
+            _ => None,
+        };
         let scale = TraceScale {
             scene_scale: scene_scale(scene),
+            static_root: static_part.map_or(u32::MAX, |p| p.root),
+            static_min: static_part.map_or([0.0; 3], |p| p.bounds_min),
+            static_max: static_part.map_or([0.0; 3], |p| p.bounds_max),
             bvh_nodes_address: address_words(nodes.device_address()),
             bvh_triangles_address: address_words(triangles.device_address()),
             ..Default::default()
