@@ -143,7 +143,15 @@ fn the_capped_methods_counts_do_not_depend_on_the_tuning() {
 fn the_tuning_specializes_the_modules_it_names() {
     use leakless::shaders;
     // The compute backend's traversal also has its work counters' switch, off in frames.
-    let tuned = [("local_size_x", 0, 64), ("SUBGROUP_COUNTERS", 1, 0), ("RAY_QUEUE", 2, 64), ("SHARED_WALK", 3, 0)];
+    // Then the estimator's, which each gather pass sets (gather.rs), and off by default.
+    let tuned = [
+        ("local_size_x", 0, 64),
+        ("SUBGROUP_COUNTERS", 1, 0),
+        ("RAY_QUEUE", 2, 64),
+        ("SHARED_WALK", 3, 0),
+        ("VISIBILITY", 4, 0),
+        ("VISIBLE_DISK", 5, 0),
+    ];
     let counting = [("TRACE_COUNT_WORK", 10, 0)];
     for (module, extra) in [(&shaders::GATHER_COMP_COMPUTE, &counting[..]), (&shaders::GATHER_COMP_RAYQUERY, &[][..])] {
         let names: Vec<(&str, u32, u32)> = module.spec_constants.iter().map(|c| (c.name, c.id, c.default)).collect();
@@ -153,6 +161,13 @@ fn the_tuning_specializes_the_modules_it_names() {
     let tuning = DeviceTuning { gather_workgroup: 128, ray_queue: 8, ..DeviceTuning::cpu() };
     assert_eq!(tuning.gather().workgroup_size(&shaders::GATHER_COMP_COMPUTE), [128, 1, 1]);
     assert_eq!(tuning.gather().value(&shaders::GATHER_COMP_COMPUTE, "RAY_QUEUE"), Some(8));
+    use leakless::passes::gather::{GATHER, GATHER_TRACED, GATHER_VISIBLE_DISK};
+    for (pass, estimator) in [(&GATHER, [0, 0]), (&GATHER_TRACED, [1, 0]), (&GATHER_VISIBLE_DISK, [1, 1])] {
+        let spec = pass.specialization(&tuning);
+        let value = |name| spec.value(&shaders::GATHER_COMP_COMPUTE, name).unwrap();
+        assert_eq!([value("VISIBILITY"), value("VISIBLE_DISK")], estimator, "{}", pass.name);
+        assert_eq!(value("RAY_QUEUE"), 8, "{}: the tuning's constants too", pass.name);
+    }
     for module in [&shaders::SPLAT_COMP, &shaders::PHOTONS_COMP_COMPUTE] {
         assert!(module.spec_constants.iter().any(|c| c.name == "SUBGROUP_COUNTERS"), "{}", module.name);
     }
