@@ -309,8 +309,12 @@ fn soak_keeps_memory_flat() {
         rest.trim().split(' ').next().unwrap().parse().unwrap()
     };
     assert!(line.starts_with("frames 1000,"), "{line}");
+    // Without a leak the resident set still moves by whole MiB as the allocator and the driver
+    // take and return pages: 1–3 MiB over these 900 frames on an idle machine (the builds of
+    // ec74ff5 and be6eb36 alike), 5 MiB once in CI beside another test, and 2 MiB over 2900
+    // frames. 8 MiB still fails a leak of 9 KiB a frame.
     let (at_100, at_end) = (mib("RSS at frame 100"), mib("RSS at end"));
-    assert!((at_end - at_100).abs() <= 4.0, "RSS grew from {at_100} MiB at frame 100 to {at_end} MiB: {line}");
+    assert!((at_end - at_100).abs() <= 8.0, "RSS grew from {at_100} MiB at frame 100 to {at_end} MiB: {line}");
 }
 
 /// The app plays the scene's animation (1/30 s per scripted frame): the door, open at first,
