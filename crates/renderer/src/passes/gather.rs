@@ -4,7 +4,8 @@
 
 use ash::vk;
 use bytemuck::{Pod, Zeroable};
-use leakless_device::{gpu_struct, BufferDesc, GpuStruct, MemoryLocation};
+use leakless_device::shader::ShaderInfo;
+use leakless_device::{gpu_struct, BufferDesc, GpuStruct, MemoryLocation, Specialization};
 use leakless_graph::{shader_bindings, BufferHandle, Fill, Graph, ImageHandle, PassName};
 
 use crate::device_address::address_words;
@@ -18,8 +19,6 @@ use crate::passes::splat::{NodeListHandles, PhotonPosition};
 use crate::pipelines::{compute_pass, ComputePass, Threads};
 use crate::shaders;
 use crate::tuning::DeviceTuning;
-use leakless_device::shader::ShaderInfo;
-use leakless_device::Specialization;
 
 gpu_struct! {
     /// The `GatherParams` push constants of gather.comp.
