@@ -163,6 +163,9 @@ i64vec3 contribution_of(Photon ph, float d, float r) {
 #define WALK_LANE 0u
 #define WALK_WIDTH 1u
 #define WALK_READ(X, K) (X)
+#define subgroupExclusiveAdd(X) 0u
+#define subgroupBarrier()
+#define subgroupMemoryBarrierShared()
 #else
 #extension GL_KHR_shader_subgroup_shuffle : require
 layout(constant_id = 3) const bool SHARED_WALK = false;
@@ -177,13 +180,39 @@ layout(constant_id = 3) const bool SHARED_WALK = false;
 // and after the walk. Traced where they arise, a SIMD group's lanes (the samples of one leaf,
 // walking the same lists) waited for whichever lane had a ray at that photon: with a tenth of
 // the segments unproven, more than half the steps of an 8-lane group traced a ray for one or
-// two lanes. Queued, the lanes trace their own segments side by side. Its length is the device
-// tuning's: 4 bytes of each thread's local memory per entry, cheap on a CPU, scarce on a GPU.
+// two lanes. Queued, the lanes trace their own segments side by side. RAY_QUEUE entries a lane
+// (the device tuning's).
+//
+// With SHARED_WALK the queues live in shared memory (RAY_POOL words: RAY_QUEUE for each thread
+// of the workgroup) and a subgroup traces them as one pool, each lane an equal share of all
+// its lanes' segments: a lane's own queue holds what its sample's edges and walls left
+// unproven, and lanes that trace their own wait for the longest of them. Without it (the lanes walk
+// apart, so they reach the trace at different times) each lane keeps its queue in its own
+// local memory and traces it alone: 4 bytes an entry, cheap on a CPU, scarce on a GPU.
 #ifdef LEAKLESS_REFLECTION
 const uint RAY_QUEUE = 64u;  // naga sizes no array by a specialization constant
+const uint RAY_POOL = 1u;
+#define POOL_LANE 0u
+#define POOL_WAIT false
 #else
 layout(constant_id = 2) const uint RAY_QUEUE = 64u;
+layout(constant_id = 6) const uint RAY_POOL = 1u;
+// The thread's place in the workgroup by its subgroup (the tuning makes the workgroup a whole
+// number of subgroups), so that a lane finds the queue of lane k of its subgroup at POOL_LANE
+// − own lane + k.
+#define POOL_LANE (gl_SubgroupID * gl_SubgroupSize + gl_SubgroupInvocationID)
+// Whether the subgroup's lanes wait for each other between writing and reading the pool: on a
+// GPU a subgroup's lanes need not run in step. The device tuning leaves the wait out on a CPU
+// driver, whose subgroup is one SIMD vector of lanes that cannot be out of step, and where
+// lavapipe makes a subgroup's execution barrier the workgroup's: subgroups that trace their
+// pools different numbers of times then lost samples (tuning.rs).
+layout(constant_id = 7) const bool POOL_WAIT = true;
 #endif
+#define POOL_BARRIER() \
+    subgroupMemoryBarrierShared(); \
+    if (POOL_WAIT) { \
+        subgroupBarrier(); \
+    }
 
 // The estimator, fixed per pipeline (gather.rs makes one per method) rather than pushed: code a
 // method never runs is then compiled out, not stepped over with every lane masked off, which is
@@ -197,21 +226,82 @@ layout(constant_id = 2) const uint RAY_QUEUE = 64u;
 layout(constant_id = 4) const bool VISIBILITY = false;    // a visibility segment to every photon
 layout(constant_id = 5) const bool VISIBLE_DISK = false;  // own-surface photons over disk_mass
 #endif
-uint queue[RAY_QUEUE];  // photons whose segments wait for a ray
+uint queue[RAY_QUEUE];     // photons whose segments wait for a ray (the lane's own)
+shared uint pool[RAY_POOL];  // the same, every thread's, RAY_QUEUE apart (SHARED_WALK)
+// A pooled entry's top bit: its segment is blocked (photon indices stay below 2^26, since a
+// photon buffer is at most maxStorageBufferRange, 2^32 bytes, of 64-byte photons).
+const uint POOL_BLOCKED = 0x80000000u;
 
+void queue_push(inout uint queued, uint index) {
+    if (SHARED_WALK) {
+        pool[POOL_LANE * RAY_QUEUE + queued] = index;
+    } else {
+        queue[queued] = index;
+    }
+    queued += 1u;
+}
+
+// The queued photon's contribution to the kept or the lost sum.
+void count_queued(uint index, bool clear, vec3 x, float r, inout i64vec3 kept, inout i64vec3 lost,
+                  inout uint occluded) {
+    Photon ph = PHOTON(index);
+    i64vec3 contribution = contribution_of(ph, distance(x, ph.position), r);
+    if (clear) {
+        kept += contribution;
+    } else {
+        occluded += 1u;
+        lost += contribution;
+    }
+}
+
+// Traces the segments of this lane's queue, or (SHARED_WALK) of its subgroup's queues together,
+// and counts each photon for its own sample. In uniform control flow when pooled.
 void trace_queued(uint count, vec3 x, vec3 from, float r, inout i64vec3 kept,
                   inout i64vec3 lost, inout uint occluded, inout uvec2 occluder) {
-    for (uint i = 0u; i < count; ++i) {
-        uint index = queue[i];
-        Photon ph = PHOTON(index);
-        i64vec3 contribution = contribution_of(ph, distance(x, ph.position), r);
-        if (segment_clear(from, ph, CLEARANCE(index), occluder)) {
-            kept += contribution;
-        } else {
-            occluded += 1u;
-            lost += contribution;
+    if (!SHARED_WALK) {
+        for (uint i = 0u; i < count; ++i) {
+            uint index = queue[i];
+            count_queued(index, segment_clear(from, PHOTON(index), CLEARANCE(index), occluder), x, r,
+                         kept, lost, occluded);
+        }
+        return;
+    }
+    // The subgroup's segments in lane order, lane k's from `start` of lane k; in round i the
+    // lanes trace segments i·W to i·W + W − 1, mostly consecutive segments of one sample: rays
+    // from one point to nearby photons, which walk much the same nodes side by side.
+    uint start = subgroupExclusiveAdd(count);
+    uint total = subgroupAdd(count);
+    if (total == 0u) {
+        return;
+    }
+    uint per = (total + WALK_WIDTH - 1u) / WALK_WIDTH;
+    uint lanes_base = POOL_LANE - WALK_LANE;
+    POOL_BARRIER();  // every lane's queue is written
+    for (uint i = 0u; i < per; ++i) {
+        uint j = i * WALK_WIDTH + WALK_LANE;
+        uint owner = 0u;  // the lane whose queue holds segment j: the last whose run starts at or before it
+        for (uint k = 1u; k < WALK_WIDTH; ++k) {
+            owner += j >= WALK_READ(start, k) ? 1u : 0u;
+        }
+        vec3 owner_from = WALK_READ(from, owner);
+        uint owner_start = WALK_READ(start, owner);
+        if (j < total) {
+            uint slot = (lanes_base + owner) * RAY_QUEUE + (j - owner_start);
+            uint index = pool[slot];
+            Photon ph;
+            ph.position = PHOTON_POSITION(index).position;
+            if (!segment_clear(owner_from, ph, CLEARANCE(index), occluder)) {
+                pool[slot] = index | POOL_BLOCKED;
+            }
         }
     }
+    POOL_BARRIER();  // every segment is traced
+    for (uint i = 0u; i < count; ++i) {
+        uint entry = pool[POOL_LANE * RAY_QUEUE + i];
+        count_queued(entry & ~POOL_BLOCKED, (entry & POOL_BLOCKED) == 0u, x, r, kept, lost, occluded);
+    }
+    // A lane writes only its own queue until the next pooled trace's first barrier, and reads
+    // only its own here: no third barrier.
 }
 
 void main() {
@@ -354,7 +444,7 @@ void main() {
                                     photon_clearance = CLEARANCE(index);
                                 }
                                 if (VISIBILITY && !proven_clear(from, ph, photon_clearance)) {
-                                    queue[queued++] = index;
+                                    queue_push(queued, index);
                                 } else {
                                     proven += VISIBILITY ? 1u : 0u;
                                     kept += contribution_of(ph, d, r);

@@ -114,6 +114,43 @@ fn the_shared_walk_renders_an_image_with_a_partial_last_subgroup_as_lanes_alone(
     }
 }
 
+/// Where the walk is shared, the ray queues are pooled in the workgroup's shared memory: the
+/// longest queue that fits the device's `maxComputeSharedMemorySize` exactly renders the
+/// lanes-alone image (every word of the pool in use), and one entry more is refused with the
+/// limit's name before any pipeline is made.
+#[test]
+fn a_pooled_ray_queue_fits_the_devices_shared_memory_or_is_refused() {
+    let Some(gpu) = common::gpu() else { return };
+    let report = gpu.report().clone();
+    drop(gpu);
+    if !report.subgroup_arithmetic {
+        return;
+    }
+    let cpu = DeviceTuning::choose(&report, TuningChoice::Cpu);
+    let fits = report.limits.max_compute_shared_memory_size / (4 * cpu.gather_workgroup);
+    if fits >= 1024 {
+        return; // every queue the tuning takes fits
+    }
+    let settings = RenderSettings {
+        width: 48,
+        height: 36,
+        method: Method::LeakLess,
+        splat: SplatSettings { paths: 3000, ..Default::default() },
+        ..Default::default()
+    };
+    let alone = frame("scenes/doorway.gltf", &settings, DeviceTuning { shared_walk: false, ..cpu.clone() }).unwrap();
+    let full = DeviceTuning { shared_walk: true, ray_queue: fits, ..cpu.clone() };
+    assert_eq!(4 * full.ray_pool_words(), report.limits.max_compute_shared_memory_size);
+    let pooled = frame("scenes/doorway.gltf", &settings, full).unwrap();
+    assert_same(&alone, &pooled, &format!("ray queue {fits}, the whole shared memory"));
+    let over = DeviceTuning { shared_walk: true, ray_queue: fits + 1, ..cpu };
+    let gpu = common::gpu().unwrap();
+    let err = Renderer::with_tuning(gpu, &common::scene("scenes/doorway.gltf"), settings, over)
+        .err()
+        .expect("a pool beyond shared memory is refused");
+    assert!(err.to_string().contains("maxComputeSharedMemorySize"), "{err}");
+}
+
 /// `leakless-capped` keeps each list's first photons, which depend on the order lists are
 /// appended to: its counters still agree.
 #[test]
@@ -151,6 +188,8 @@ fn the_tuning_specializes_the_modules_it_names() {
         ("SHARED_WALK", 3, 0),
         ("VISIBILITY", 4, 0),
         ("VISIBLE_DISK", 5, 0),
+        ("RAY_POOL", 6, 1),
+        ("POOL_WAIT", 7, 1),
     ];
     let counting = [("TRACE_COUNT_WORK", 10, 0)];
     for (module, extra) in [(&shaders::GATHER_COMP_COMPUTE, &counting[..]), (&shaders::GATHER_COMP_RAYQUERY, &[][..])] {

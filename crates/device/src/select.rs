@@ -89,6 +89,9 @@ pub struct DeviceLimits {
     pub max_compute_work_group_count: [u32; 3],
     /// `maxComputeWorkGroupInvocations`.
     pub max_compute_work_group_invocations: u32,
+    /// `maxComputeSharedMemorySize`: the bytes of workgroup-shared memory a compute shader may
+    /// declare.
+    pub max_compute_shared_memory_size: u32,
     /// `maxPrimitiveCount` of one BLAS geometry (0 without acceleration structures).
     pub max_primitive_count: u64,
     /// The largest device-local memory heap, in bytes.
@@ -259,6 +262,7 @@ fn describe(
             max_buffer_size: p13.max_buffer_size,
             max_compute_work_group_count: props.limits.max_compute_work_group_count,
             max_compute_work_group_invocations: props.limits.max_compute_work_group_invocations,
+            max_compute_shared_memory_size: props.limits.max_compute_shared_memory_size,
             max_primitive_count: if ray_exts { accel_props.max_primitive_count } else { 0 },
             device_local_heap: device_local_heap(instance, pd),
             max_per_stage: PerStageLimits {

@@ -205,6 +205,7 @@ mod tests {
             max_buffer_size: 1 << 30,
             max_compute_work_group_count: [65535; 3],
             max_compute_work_group_invocations: 1024,
+            max_compute_shared_memory_size: 32768,
             max_primitive_count: 1,
             device_local_heap: 1 << 32,
             max_per_stage: leakless_device::PerStageLimits {

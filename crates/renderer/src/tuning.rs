@@ -71,7 +71,9 @@ pub struct DeviceTuning {
     /// Photons copied in cell order before the splat (photon_order.rs).
     pub photon_order: bool,
     /// Visibility segments a gather thread queues before tracing them together
-    /// (`RAY_QUEUE`, gather.comp): 4 bytes of local memory each, per thread.
+    /// (`RAY_QUEUE`, gather.comp): 4 bytes each, per thread, of local memory, or of shared
+    /// memory where the walk is shared (its subgroup then traces its lanes' queues as one pool,
+    /// `RAY_POOL`), which bounds it by the device's `maxComputeSharedMemorySize`.
     pub ray_queue: u32,
     /// Workgroup size of the gather (`local_size_x`; one thread per view sample). The passes
     /// over photons keep 64: their indirect dispatches are counted in 64-thread groups.
@@ -87,6 +89,14 @@ pub struct DeviceTuning {
     /// where the gather takes 0.53–0.66× the per-lane walk's time, docs/results.md); the GPU
     /// report's sweep measures it on a GPU. The same candidates in the same order either way.
     pub shared_walk: bool,
+    /// Where the walk is shared, a subgroup's lanes wait for each other (`subgroupBarrier`)
+    /// between writing their ray queues to the pool and tracing it (`POOL_WAIT`, gather.comp):
+    /// a GPU's lanes need not run in step. Chosen by the device, not the preset: off on a CPU
+    /// device, whose subgroup is one SIMD vector whose lanes cannot be out of step, and where
+    /// lavapipe (Mesa 25.0) makes a subgroup's execution barrier a wait for the whole
+    /// workgroup: subgroups that traced their pools different numbers of times then lost view
+    /// samples (16,752 of 19,200 counted on the atrium at 160×120).
+    pub pool_wait: bool,
     /// How `bench` and `render --stats` time passes: each submitted alone and timed on the
     /// host (lavapipe runs dispatches asynchronously to its timestamp writes, so only the host
     /// sees their time), or GPU timestamps inside one submission (on a GPU, a submission per
@@ -138,6 +148,13 @@ impl DeviceTuning {
         // A subgroup no wider than a leaf walks one list a level; a wider one would walk its
         // leaves one after the other, where its lanes walked them side by side.
         tuning.shared_walk = report.subgroup_arithmetic && report.subgroup_size <= tuning.branching;
+        tuning.pool_wait = report.device_type != DeviceType::Cpu;
+        // Pooled, the queues share the workgroup's shared memory: a preset's length (the GPU's
+        // 512 was measured in local memory) shrinks to what the device holds.
+        if tuning.shared_walk {
+            let fits = report.limits.max_compute_shared_memory_size / (4 * tuning.gather_workgroup);
+            tuning.ray_queue = tuning.ray_queue.min(fits.max(1));
+        }
         tuning
     }
 
@@ -155,6 +172,7 @@ impl DeviceTuning {
             gather_workgroup: 64,
             subgroup_counters: false,
             shared_walk: false,
+            pool_wait: false,
             timing: Timing::PerPassSubmit,
             view_size: (320, 240),
             view_render_scale: 0.5,
@@ -177,6 +195,7 @@ impl DeviceTuning {
             paths_per_thread: 1,
             ray_queue: 512,
             subgroup_counters: subgroup_arithmetic,
+            pool_wait: true,
             timing: Timing::Timestamps,
             view_size: (1280, 720),
             view_render_scale: 1.0,
@@ -191,7 +210,7 @@ impl DeviceTuning {
     pub fn summary(&self) -> String {
         format!(
             "{} preset: branching {}, {} paths/thread, emission order {}, photon order {}, ray queue {}, \
-             gather workgroup {}, subgroup counters {}, shared walk {}, timing {}, primary auto {}",
+             gather workgroup {}, subgroup counters {}, shared walk {} (pooled rays, lanes {}), timing {}, primary auto {}",
             match self.preset {
                 Preset::Cpu => "cpu",
                 Preset::Gpu => "gpu",
@@ -204,6 +223,7 @@ impl DeviceTuning {
             self.gather_workgroup,
             on(self.subgroup_counters),
             on(self.shared_walk),
+            if self.pool_wait { "waiting for each other" } else { "in step" },
             match self.timing {
                 Timing::Timestamps => "GPU timestamps in one submission",
                 Timing::PerPassSubmit => "one submission per pass, host-timed",
@@ -222,6 +242,18 @@ impl DeviceTuning {
             .with("RAY_QUEUE", self.ray_queue)
             .with("SUBGROUP_COUNTERS", self.subgroup_counters as u32)
             .with("SHARED_WALK", self.shared_walk as u32)
+            .with("RAY_POOL", self.ray_pool_words())
+            .with("POOL_WAIT", self.pool_wait as u32)
+    }
+
+    /// The words of shared memory the gather's pooled ray queues take (1, a placeholder, where
+    /// the walk is not shared and each lane keeps its queue in local memory).
+    pub fn ray_pool_words(&self) -> u32 {
+        if self.shared_walk {
+            self.ray_queue * self.gather_workgroup
+        } else {
+            1
+        }
     }
 
     /// The splat's and the photon pass's.
@@ -247,6 +279,24 @@ impl DeviceTuning {
         let size = self.gather_workgroup;
         if !size.is_power_of_two() || !(8..=1024).contains(&size) {
             return bad(&format!("gather workgroup {size} must be a power of two within 8..=1024"));
+        }
+        if self.shared_walk {
+            // A pooled lane finds its subgroup's queues by subgroup id and lane, which stay
+            // within the workgroup only where it is a whole number of subgroups.
+            if size % report.subgroup_size.max(1) != 0 {
+                return bad(&format!(
+                    "a shared walk needs the gather workgroup ({size}) to be a whole number of {}-lane subgroups",
+                    report.subgroup_size
+                ));
+            }
+            let bytes = 4 * self.ray_pool_words() as u64;
+            let most = report.limits.max_compute_shared_memory_size as u64;
+            if bytes > most {
+                return bad(&format!(
+                    "ray queue {} × gather workgroup {size} × 4 bytes = {bytes} bytes of shared memory, above {}'s maxComputeSharedMemorySize ({most})",
+                    self.ray_queue, report.name
+                ));
+            }
         }
         Ok(())
     }
@@ -280,5 +330,15 @@ mod tests {
         assert!(!DeviceTuning::gpu(false).subgroup_counters);
         let g = DeviceTuning::gpu(true);
         assert_eq!((g.paths_per_thread, g.ray_queue, g.timing), (1, 512, Timing::Timestamps));
+        assert!(g.pool_wait && !DeviceTuning::cpu().pool_wait);
+    }
+
+    /// The pooled queues take the queue's length for every thread of the workgroup where the
+    /// walk is shared, and a placeholder word where each lane keeps its own.
+    #[test]
+    fn the_ray_pool_is_sized_by_the_queue_and_the_workgroup_only_where_the_walk_is_shared() {
+        let shared = DeviceTuning { shared_walk: true, ray_queue: 64, gather_workgroup: 128, ..DeviceTuning::cpu() };
+        assert_eq!(shared.ray_pool_words(), 64 * 128);
+        assert_eq!(DeviceTuning { shared_walk: false, ..shared }.ray_pool_words(), 1);
     }
 }

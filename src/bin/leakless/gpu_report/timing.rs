@@ -158,8 +158,9 @@ pub fn sweeps(report: &mut Report, root: &Path, matrix: &Matrix) -> anyhow::Resu
     }
     let device = DeviceTuning::choose(renderer.gpu().report(), TuningChoice::Auto);
     let arithmetic = renderer.gpu().report().subgroup_arithmetic;
+    let shared_bytes = renderer.gpu().report().limits.max_compute_shared_memory_size;
     renderer.set_settings(base.clone())?;
-    for (variant, tuning) in variants(&device, arithmetic) {
+    for (variant, tuning) in variants(&device, arithmetic, shared_bytes) {
         renderer.set_tuning(tuning)?;
         let r = row(&scene, &Measured::best_of_renderer(&mut renderer, "leakless", 1)?, &variant);
         println!("  {}: {:.2} ms", r.variant, r.frame_ms);
@@ -177,8 +178,10 @@ pub fn sweeps(report: &mut Report, root: &Path, matrix: &Matrix) -> anyhow::Resu
     Ok(())
 }
 
-/// The device's tuning, then each of its choices changed alone.
-fn variants(device: &DeviceTuning, subgroup_arithmetic: bool) -> Vec<(String, DeviceTuning)> {
+/// The device's tuning, then each of its choices changed alone. Where the walk is shared, the
+/// ray queues are pooled in shared memory (`shared_bytes` of it): the queue sweep stops where
+/// they no longer fit, and turning the walk on takes the largest queue that does.
+fn variants(device: &DeviceTuning, subgroup_arithmetic: bool, shared_bytes: u32) -> Vec<(String, DeviceTuning)> {
     let with = |f: &dyn Fn(&mut DeviceTuning)| {
         let mut t = device.clone();
         f(&mut t);
@@ -194,14 +197,24 @@ fn variants(device: &DeviceTuning, subgroup_arithmetic: bool) -> Vec<(String, De
         ("gather workgroup 32".to_string(), with(&|t| t.gather_workgroup = 32)),
         ("gather workgroup 128".to_string(), with(&|t| t.gather_workgroup = 128)),
     ];
+    let fits = |t: &DeviceTuning| 4 * t.ray_pool_words() <= shared_bytes;
     for queue in [16, 64, 128, 256, 512, 1024].into_iter().filter(|&q| q != device.ray_queue) {
-        v.push((format!("ray queue {queue}"), with(&|t| t.ray_queue = queue)));
+        let t = with(&|t| t.ray_queue = queue);
+        if fits(&t) {
+            v.push((format!("ray queue {queue}"), t));
+        }
     }
     if subgroup_arithmetic {
         let counters = !device.subgroup_counters;
         v.push((format!("subgroup counters {}", on(counters)), with(&|t| t.subgroup_counters = counters)));
         let walk = !device.shared_walk;
-        v.push((format!("shared walk {}", on(walk)), with(&|t| t.shared_walk = walk)));
+        let mut t = with(&|t| t.shared_walk = walk);
+        while !fits(&t) && t.ray_queue > 1 {
+            t.ray_queue /= 2;
+        }
+        let queue =
+            if t.ray_queue == device.ray_queue { String::new() } else { format!(" (ray queue {})", t.ray_queue) };
+        v.push((format!("shared walk {}{queue}", on(walk)), t));
     }
     v
 }
