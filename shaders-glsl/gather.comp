@@ -23,6 +23,8 @@
 // Sums are kept in 64-bit fixed point: the list scatter places photons with atomics, so a
 // list's order changes from run to run, and only an order-independent sum makes a frame
 // bit-identical for a fixed seed.
+// Visibility segments run above their photon's plane: the traversal skips boxes below it.
+#define TRACE_PLANE_CULL
 #include "trace.glsl"
 #include "common.glsl"
 #include "gbuffer.glsl"
@@ -122,13 +124,27 @@ bool proven_clear(vec3 from, Photon ph, Clearance photon_clearance) {
         && 0.5 * lift < photon_clearance.radius && dot(from - ph.position, ph.normal) > 0.5 * lift;
 }
 
-// Whether a ray along the segment meets nothing.
+// Whether a ray along the segment meets nothing. Both ends stand above the photon's plane
+// (the end by half its lift, `from` where the sample is on the photon's side of it): the
+// traversal passes over every box below the plane half-way up to the lower end, such as the
+// floor the segment grazes, whose leaves it would otherwise enter all along (trace_compute.glsl).
+// Half the height keeps the plane clear of both by far more than the rounding of the heights
+// and of a box's corner against it: the lift is 256 float ULPs of the position, the rounding a
+// few.
 bool segment_clear(vec3 from, Photon ph, Clearance photon_clearance, inout uvec2 occluder) {
-    vec3 d = segment_end(ph, photon_clearance) - from;
+    vec3 end = segment_end(ph, photon_clearance);
+    vec3 d = end - from;
     float dist = sqrt(dot(d, d));
     if (!(dist > 0.0)) {
         return true;
     }
+#ifdef TRACE_COMPUTE
+    float low = min(dot(end - ph.position, ph.normal), dot(from - ph.position, ph.normal));
+    float magnitude = max(max(max(abs(from.x), abs(from.y)), abs(from.z)),
+                          max(max(abs(ph.position.x), abs(ph.position.y)), abs(ph.position.z)));
+    bool above = low > magnitude * (32.0 / 8388608.0);  // 32 ULPs of the largest coordinate
+    trace_cull_plane = above ? vec4(ph.normal, dot(ph.position, ph.normal) + 0.5 * low) : vec4(0.0, 0.0, 0.0, -3.0e38);
+#endif
     return !traceOccludedCached(from, d / dist, 0.0, dist, occluder);
 }
 
@@ -288,9 +304,7 @@ void trace_queued(uint count, vec3 x, vec3 from, float r, inout i64vec3 kept,
         if (j < total) {
             uint slot = (lanes_base + owner) * RAY_QUEUE + (j - owner_start);
             uint index = pool[slot];
-            Photon ph;
-            ph.position = PHOTON_POSITION(index).position;
-            if (!segment_clear(owner_from, ph, CLEARANCE(index), occluder)) {
+            if (!segment_clear(owner_from, PHOTON(index), CLEARANCE(index), occluder)) {
                 pool[slot] = index | POOL_BLOCKED;
             }
         }

@@ -122,11 +122,31 @@ void bvh_children(bool h0, bool h1, float d0, float d1, uint c0, uint c1, out ui
     }
 }
 
+// A plane that the caller's ray lies wholly above (TRACE_PLANE_CULL, defined by a module before
+// it includes trace.glsl: the gather, whose visibility segments run a lift above the surface
+// their photon lies on): a box wholly below it, dot(p, xyz) < w for each of its points, holds
+// no triangle the ray can meet, and is not entered. Exact: the ray and the box are on the two
+// sides of one plane. Only where the ray is in world space (the top level, and a part that is
+// not moved); w = -inf sets it off. The CPU twin has no such plane: nothing compares the
+// gather's rays with it, and the images are the traversal's without the plane bit for bit.
+#ifdef TRACE_PLANE_CULL
+vec4 trace_cull_plane = vec4(0.0, 0.0, 0.0, -3.0e38);
+bool trace_cull_world = true;  // the ray being walked is in world space
+bool bvh_box_below(vec3 lo, vec3 hi) {
+    vec3 n = trace_cull_plane.xyz;
+    return trace_cull_world && dot(mix(lo, hi, greaterThan(n, vec3(0.0))), n) < trace_cull_plane.w;
+}
+#endif
+
 // One traversal step at interior node `n`: its children to visit now and later (above).
 void bvh_step(BvhRay ray, BvhNode n, float tmin, float tmax, out uint next, out uint far) {
     float d0, d1;
     bool h0 = bvh_box(ray, n.min0, n.max0, tmin, tmax, d0);
     bool h1 = bvh_box(ray, n.min1, n.max1, tmin, tmax, d1);
+#ifdef TRACE_PLANE_CULL
+    h0 = h0 && !bvh_box_below(n.min0, n.max0);
+    h1 = h1 && !bvh_box_below(n.min1, n.max1);
+#endif
     bvh_children(h0, h1, d0, d1, n.child0, n.child1, next, far);
 }
 
@@ -272,7 +292,13 @@ Hit trace_bvh_slot(vec3 origin, vec3 dir, float tmin, float tmax, bool any_hit, 
                 root = bvh_instances.items[part].root;
             }
             uint closest = slot.x;
+#ifdef TRACE_PLANE_CULL
+            trace_cull_world = trace_scale.static_root != NO_HIT || bvh_instances.items[part].identity != 0u;
+#endif
             bool done = trace_bvh_part(bvh_part_ray(part, ray, origin, dir), root, tmin, any_hit, hit, closest);
+#ifdef TRACE_PLANE_CULL
+            trace_cull_world = true;
+#endif
             if (closest != slot.x) {
                 slot = uvec2(closest, part);
             }
