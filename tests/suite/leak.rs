@@ -80,54 +80,20 @@ fn nothing_is_culled_where_nothing_occludes() {
 /// that land on the floor come from the walls and the ceiling.
 fn kerb_room(kerb: f32) -> Scene {
     let (lo, hi) = (Vec3::new(-1.0, 0.0, -1.0), Vec3::new(1.0, 1.0, 1.0));
-    let corner = |x: f32, y: f32, z: f32| Vec3::new(x, y, z);
     let mut vertices = Vec::new();
-    // Each face as seen from inside (its normal pointing in).
-    for (a, b, c, d, n) in [
-        (
-            corner(lo.x, lo.y, lo.z),
-            corner(hi.x, lo.y, lo.z),
-            corner(hi.x, lo.y, hi.z),
-            corner(lo.x, lo.y, hi.z),
-            Vec3::Y,
-        ),
-        (
-            corner(lo.x, hi.y, lo.z),
-            corner(lo.x, hi.y, hi.z),
-            corner(hi.x, hi.y, hi.z),
-            corner(hi.x, hi.y, lo.z),
-            Vec3::NEG_Y,
-        ),
-        (
-            corner(lo.x, lo.y, lo.z),
-            corner(lo.x, lo.y, hi.z),
-            corner(lo.x, hi.y, hi.z),
-            corner(lo.x, hi.y, lo.z),
-            Vec3::X,
-        ),
-        (
-            corner(hi.x, lo.y, lo.z),
-            corner(hi.x, hi.y, lo.z),
-            corner(hi.x, hi.y, hi.z),
-            corner(hi.x, lo.y, hi.z),
-            Vec3::NEG_X,
-        ),
-        (
-            corner(lo.x, lo.y, lo.z),
-            corner(lo.x, hi.y, lo.z),
-            corner(hi.x, hi.y, lo.z),
-            corner(hi.x, lo.y, lo.z),
-            Vec3::Z,
-        ),
-        (
-            corner(lo.x, lo.y, hi.z),
-            corner(hi.x, lo.y, hi.z),
-            corner(hi.x, hi.y, hi.z),
-            corner(lo.x, hi.y, hi.z),
-            Vec3::NEG_Z,
-        ),
-    ] {
-        vertices.extend(quad(a, b, c, d, n));
+    // Each face of the box, its normal pointing in.
+    for axis in 0..3 {
+        let (u, v) = ((axis + 1) % 3, (axis + 2) % 3);
+        for (side, inward) in [(lo[axis], 1.0), (hi[axis], -1.0)] {
+            let at = |a: f32, b: f32| {
+                let mut p = Vec3::splat(side);
+                (p[u], p[v]) = (a, b);
+                p
+            };
+            let mut n = Vec3::ZERO;
+            n[axis] = inward;
+            vertices.extend(quad(at(lo[u], lo[v]), at(hi[u], lo[v]), at(hi[u], hi[v]), at(lo[u], hi[v]), n));
+        }
     }
     for normal in [Vec3::X, Vec3::NEG_X] {
         vertices.extend(quad(
