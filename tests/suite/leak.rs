@@ -15,6 +15,29 @@ fn quad(a: Vec3, b: Vec3, c: Vec3, d: Vec3, normal: Vec3) -> Vec<Vertex> {
     vec![v(a), v(b), v(c), v(a), v(c), v(d)]
 }
 
+/// White triangles seen from `view` (eye, target, vertical field of view) and lit by a 1 W/sr
+/// point light at `light`.
+fn white_scene(name: &str, vertices: Vec<Vertex>, view: (Vec3, Vec3, f32), light: Vec3) -> Scene {
+    let (eye, target, yfov) = view;
+    let camera = Camera {
+        world_from_camera: glam::camera::rh::view::look_at_mat4(eye, target, Vec3::Y).inverse(),
+        yfov,
+        znear: 0.01,
+        zfar: None,
+    };
+    let light = Light {
+        name: "bulb".into(),
+        kind: LightKind::Point,
+        position: light,
+        direction: Vec3::NEG_Y,
+        color: Vec3::ONE,
+        intensity: 1.0,
+        range: None,
+    };
+    let triangles = vec![0; vertices.len() / 3];
+    Scene::from_triangles(name, vertices, triangles, vec![Material::default_white()], vec![light], Some(camera))
+}
+
 /// An open concave corner: a floor, one wall, a point light above; nothing can occlude a
 /// segment between two of its points.
 fn corner() -> Scene {
@@ -32,24 +55,7 @@ fn corner() -> Scene {
         Vec3::new(0.0, 2.0, -1.0),
         Vec3::X,
     ));
-    let eye = Vec3::new(2.5, 1.6, 0.3);
-    let camera = Camera {
-        world_from_camera: glam::camera::rh::view::look_at_mat4(eye, Vec3::new(0.0, 0.3, 0.0), Vec3::Y).inverse(),
-        yfov: 1.0,
-        znear: 0.01,
-        zfar: None,
-    };
-    let light = Light {
-        name: "bulb".into(),
-        kind: LightKind::Point,
-        position: Vec3::new(1.0, 1.2, 0.0),
-        direction: Vec3::NEG_Y,
-        color: Vec3::ONE,
-        intensity: 1.0,
-        range: None,
-    };
-    let triangles = vec![0; vertices.len() / 3];
-    Scene::from_triangles("corner", vertices, triangles, vec![Material::default_white()], vec![light], Some(camera))
+    white_scene("corner", vertices, (Vec3::new(2.5, 1.6, 0.3), Vec3::new(0.0, 0.3, 0.0), 1.0), Vec3::new(1.0, 1.2, 0.0))
 }
 
 #[test]
@@ -104,24 +110,7 @@ fn kerb_room(kerb: f32) -> Scene {
             normal,
         ));
     }
-    let eye = Vec3::new(0.2, 0.9, 0.9);
-    let camera = Camera {
-        world_from_camera: glam::camera::rh::view::look_at_mat4(eye, Vec3::new(0.0, 0.0, -0.2), Vec3::Y).inverse(),
-        yfov: 1.2,
-        znear: 0.01,
-        zfar: None,
-    };
-    let light = Light {
-        name: "bulb".into(),
-        kind: LightKind::Point,
-        position: Vec3::new(0.3, 0.8, -0.3),
-        direction: Vec3::NEG_Y,
-        color: Vec3::ONE,
-        intensity: 1.0,
-        range: None,
-    };
-    let triangles = vec![0; vertices.len() / 3];
-    Scene::from_triangles("kerb", vertices, triangles, vec![Material::default_white()], vec![light], Some(camera))
+    white_scene("kerb", vertices, (Vec3::new(0.2, 0.9, 0.9), Vec3::new(0.0, 0.0, -0.2), 1.2), Vec3::new(0.3, 0.8, -0.3))
 }
 
 /// A kerb two lifts high: the visibility segments between the floor on its two sides run about
