@@ -14,11 +14,13 @@
 //
 // Most segments need no ray (`prove_clear`): photon_clearance.comp gives each photon a ball
 // around its lifted position that holds no triangle except those lying wholly on or under the
-// plane τ (a quarter of the photon's lift) above the photon's surface. A segment from a lifted
-// sample inside the ball, more than 2τ above the surface, to the lifted photon stays in the
-// ball (which is convex) and above that plane (a half-space): it meets no triangle, so
-// tracing it would find nothing. The images are bit-identical either way
-// (tests/suite/leak.rs checks it on every leak scene and both backends).
+// plane τ (a quarter of the photon's lift) above the photon's surface, and
+// sample_clearance.comp gives each sample the same ball around the point its segments leave
+// from. A segment from the sample that stays in the sample's ball (which is convex) up to a
+// point above the sample's plane, and from there on in the photon's ball and more than 2τ
+// above the photon's surface, meets no triangle, so tracing it would find nothing. The images
+// are bit-identical either way (tests/suite/leak.rs checks it on every leak scene and both
+// backends).
 //
 // Sums are kept in 64-bit fixed point: the list scatter places photons with atomics, so a
 // list's order changes from run to run, and only an order-independent sum makes a frame
@@ -77,7 +79,8 @@ layout(push_constant) uniform GatherParams {
     uvec2 positions_address;     // (crates/renderer/src/device_address.rs says why)
     uvec2 photons_address;
     uvec2 clearance_address;
-    uvec2 pad;  // to the block's 16-byte alignment (its vec3)
+    uint sample_clearance_tile;  // pixels a side of sample_clearance's tiles
+    uint pad;  // to the block's 16-byte alignment (its vec3)
 } params;
 // Per photon (photon_clearance.comp): its lifted position and its clearance radius.
 layout(set = 1, binding = 14, std430) readonly buffer Clearances { Clearance items[]; } clearance;
@@ -86,6 +89,10 @@ layout(set = 1, binding = 14, std430) readonly buffer Clearances { Clearance ite
 layout(set = 1, binding = 15, rgba32f) uniform readonly image2D disk_mass;
 // Per photon, its position alone (splat.comp copies it): what the distance test reads.
 layout(set = 1, binding = 12, std430) readonly buffer PhotonPositions { PhotonPosition positions[]; } photon_positions;
+// Per tile of pixels (sample_clearance.comp): a clear ball, its centre in .xyz and radius in
+// .w, and its plane: the normal, and the height a segment must stay above in .w.
+layout(set = 1, binding = 16, rgba32f) uniform readonly image2D sample_clearance;
+layout(set = 1, binding = 17, rgba32f) uniform readonly image2D sample_clearance_plane;
 
 #ifdef LEAKLESS_REFLECTION
 #define LIST_PHOTON(I) list_photons.photons[I]
@@ -113,14 +120,37 @@ vec3 segment_end(Photon ph, Clearance photon_clearance) {
     return mix(ph.position, photon_clearance.lifted, 0.5);  // lifted = offset_ray(position, normal)
 }
 
-// Whether the photon's clearance proves the segment clear without a ray: both ends in the
-// clear ball (around `lifted`, which the end is half a lift from) and at least 2τ above the
-// photon's surface, so the segment meets nothing (see the top).
-bool proven_clear(vec3 from, Photon ph, Clearance photon_clearance) {
+// The sample's side of a proof: how far along a segment from `from` a clear ball reaches (0: not
+// at all), and its plane: a segment inside the ball is clear where dot(v, normal) > height.
+struct SampleBall {
+    float reach;
+    vec3 normal;
+    float height;
+};
+
+// Whether the two balls prove the segment clear without a ray (see the top): it leaves the
+// sample's ball at `exit` (its end, if it never does), above the sample's plane, and from there
+// runs inside the photon's ball (around `lifted`, which the end is half a lift from) and at
+// least 2τ above the photon's surface. Without the sample's ball, `exit` is `from`.
+bool proven_clear(vec3 from, Photon ph, Clearance photon_clearance, SampleBall ball) {
+    if (params.prove_clear == 0u) {
+        return false;
+    }
+    vec3 d = segment_end(ph, photon_clearance) - from;
+    float len = sqrt(dot(d, d));
+    float t = len > ball.reach ? ball.reach / len : 1.0;
+    vec3 exit = from + d * t;
+    if (t > 0.0 && !(dot(exit, ball.normal) > ball.height)) {
+        exit = from;  // it may dip toward the sample's plane: the photon's ball alone
+        t = 0.0;
+    }
+    if (t == 1.0) {
+        return true;
+    }
     vec3 lifted = photon_clearance.lifted;
     float lift = dot(lifted - ph.position, ph.normal);
-    vec3 from_lifted = lifted - from;
-    return params.prove_clear != 0u && dot(from_lifted, from_lifted) < photon_clearance.radius * photon_clearance.radius
+    vec3 exit_lifted = lifted - exit;
+    return dot(exit_lifted, exit_lifted) < photon_clearance.radius * photon_clearance.radius
         && 0.5 * lift < photon_clearance.radius && dot(from - ph.position, ph.normal) > 0.5 * lift;
 }
 
@@ -337,7 +367,7 @@ void main() {
     if (valid && VISIBILITY) {
         uint triangle = uint(position.w) - 1u;
         ng = sample_geometric_normal(triangle, n);
-        from = offset_ray(nudge_toward(x, params.eye), ng);
+        from = sample_segment_start(x, ng, params.eye);
         if (VISIBLE_DISK) {
             curvature = convex_curvature(triangle, ng);
             // On a convex curved mesh a straight segment to a photon on a neighbouring facet is
@@ -348,6 +378,26 @@ void main() {
             // (.a) and stopped it short of anything in front of the surface. 0 on flat faces.
             if (disk.w > 0.0) {
                 from += disk.w * ng;
+            }
+        }
+    }
+    // A ball proves as much for any start inside it and above its plane, so the samples of a
+    // tile share the ball of its middle sample (sample_clearance.comp), and each takes its own
+    // tile's or a neighbour's, whichever reaches farthest: its radius less how far the start
+    // stands from its centre, with a margin for rounding (the segment up to there is inside).
+    SampleBall ball = SampleBall(0.0, ng, 0.0);
+    if (valid && VISIBILITY && params.prove_clear != 0u) {
+        ivec2 tile = xy / int(params.sample_clearance_tile);
+        ivec2 tiles = imageSize(sample_clearance);
+        for (int dy = -1; dy <= 1; ++dy) {
+            for (int dx = -1; dx <= 1; ++dx) {
+                ivec2 t = clamp(tile + ivec2(dx, dy), ivec2(0), tiles - 1);
+                vec4 sample_ball = imageLoad(sample_clearance, t);
+                vec4 plane = imageLoad(sample_clearance_plane, t);
+                float reach = dot(from, plane.xyz) > plane.w ? 0.999 * sample_ball.w - distance(from, sample_ball.xyz) : 0.0;
+                if (reach > ball.reach) {
+                    ball = SampleBall(reach, plane.xyz, plane.w);
+                }
             }
         }
     }
@@ -457,7 +507,7 @@ void main() {
                                 if (VISIBILITY && !SHARED_WALK) {
                                     photon_clearance = CLEARANCE(index);
                                 }
-                                if (VISIBILITY && !proven_clear(from, ph, photon_clearance)) {
+                                if (VISIBILITY && !proven_clear(from, ph, photon_clearance, ball)) {
                                     queue_push(queued, index);
                                 } else {
                                     proven += VISIBILITY ? 1u : 0u;

@@ -70,4 +70,11 @@ vec3 nudge_toward(vec3 p, vec3 target) {
     return p + d * (min(lift_size(p), 0.5 * len) / len);
 }
 
+// Where a view sample's visibility segments leave from: the sample `x` moved toward the eye
+// (above), then lifted along its geometric normal `ng`. The gather and sample_clearance.comp
+// must agree on it.
+vec3 sample_segment_start(vec3 x, vec3 ng, vec3 eye) {
+    return offset_ray(nudge_toward(x, eye), ng);
+}
+
 #endif

@@ -122,7 +122,7 @@ void main() {
     uint triangle = valid ? uint(position.w) - 1u : 0u;
     if (valid) {
         ng = sample_geometric_normal(triangle, imageLoad(gbuffer_normal, pixel).xyz);
-        from = offset_ray(nudge_toward(position.xyz, frame.camera_position.xyz), ng);
+        from = sample_segment_start(position.xyz, ng, frame.camera_position.xyz);
         curvature = convex_curvature(triangle, ng);
     }
     uint own = pixel_direction(pixel);

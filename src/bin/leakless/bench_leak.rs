@@ -4,6 +4,7 @@
 use leakless::passes::disk_smooth::DISK_SMOOTH;
 use leakless::passes::names::group;
 use leakless::passes::photon_clearance::PHOTON_CLEARANCE;
+use leakless::passes::sample_clearance::SAMPLE_CLEARANCE;
 use std::path::PathBuf;
 
 use anyhow::Context;
@@ -237,12 +238,13 @@ fn one_scene(
 /// Where leak removal's time goes: each part's time in the leakless frame less its time in the
 /// splat frame (splat runs the same passes with visibility and the visible disk off), in ms.
 /// The visible disk is second: `without_disk` takes it away.
-fn removal_parts(splat: &Measured, ours: &Measured) -> [(&'static str, f64); 4] {
+fn removal_parts(splat: &Measured, ours: &Measured) -> [(&'static str, f64); 5] {
     let more = |f: &dyn Fn(&Measured) -> f64| f(ours) - f(splat);
     [
         ("gather (visibility rays, grown disks)", more(&|m| m.gather_ms())),
         ("visible disk", more(&|m| m.group_ms(group::VISIBLE_DISK))),
         ("photon clearance", more(&|m| m.pass_ms(PHOTON_CLEARANCE.name))),
+        ("sample clearance", more(&|m| m.pass_ms(SAMPLE_CLEARANCE.name))),
         ("splat (grown partial disks)", more(&|m| m.splat_ms())),
     ]
 }

@@ -313,14 +313,14 @@ fn gpu_structs_have_the_std430_layout() {
 fn shader_constants_match() {
     let glsl = include_str!("../../../../shaders-glsl/trace_compute.glsl");
     let structs = include_str!("../../../../shaders-glsl/bvh.glsl");
-    let clearance = include_str!("../../../../shaders-glsl/photon_clearance.comp");
+    let clearance = include_str!("../../../../shaders-glsl/clearance_search.glsl");
     assert!(
         glsl.contains(&format!("#define BVH_STACK_SIZE {BVH_MAX_DEPTH}\n")),
         "trace_compute.glsl: BVH_STACK_SIZE must be {BVH_MAX_DEPTH} (BVH_MAX_DEPTH)"
     );
     assert!(
         clearance.contains(&format!("#define STACK_SIZE {BVH_MAX_DEPTH}\n")),
-        "photon_clearance.comp: STACK_SIZE must be {BVH_MAX_DEPTH} (BVH_MAX_DEPTH)"
+        "clearance_search.glsl: STACK_SIZE must be {BVH_MAX_DEPTH} (BVH_MAX_DEPTH)"
     );
     assert!(
         glsl.contains(&format!("const float BVH_ROBUST_FAR = {:?};", intersect::ROBUST_FAR)),

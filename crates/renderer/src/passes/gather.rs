@@ -14,6 +14,7 @@ use crate::passes::gbuffer::{GBufferBindings, GBufferHandles};
 use crate::passes::hierarchy::{HierarchyHandles, Level, Shape};
 use crate::passes::names::group;
 use crate::passes::photon_clearance::Clearance;
+use crate::passes::sample_clearance::{SampleClearanceHandles, BALL_TILE};
 use crate::passes::photons::Photon;
 use crate::passes::splat::{NodeListHandles, PhotonPosition};
 use crate::pipelines::{compute_pass, ComputePass, Threads};
@@ -42,7 +43,9 @@ gpu_struct! {
         pub positions_address: [u32; 2],
         pub photons_address: [u32; 2],
         pub clearance_address: [u32; 2],
-        pub pad: [u32; 2],
+        /// Pixels a side of the tiles of `sample_clearance`.
+        pub sample_clearance_tile: u32,
+        pub pad: u32,
     }
 }
 
@@ -105,6 +108,8 @@ shader_bindings! {
         clearance: read array(Clearance::LAYOUT),
         disk_mass: read image,
         photon_positions: read array(PhotonPosition::LAYOUT),
+        sample_clearance: read image,
+        sample_clearance_plane: read image,
     }
     pub struct GatherResources;
 }
@@ -154,6 +159,8 @@ pub struct GatherInputs<'a> {
     /// Each photon's clearance (photon_clearance.rs), to prove segments clear without a ray
     /// when `prove_clear`.
     pub clearance: &'a BufferHandle,
+    /// Each sample's clearance (sample_clearance.rs), the other end of the same proofs.
+    pub sample_clearance: &'a SampleClearanceHandles,
     pub prove_clear: bool,
     /// The camera's position this frame.
     pub eye: [f32; 3],
@@ -220,7 +227,8 @@ pub fn add<'r>(
         positions_address: address_words(graph.buffer_address(&lists.positions)),
         photons_address: address_words(graph.buffer_address(input.photons)),
         clearance_address: address_words(graph.buffer_address(input.clearance)),
-        pad: [0; 2],
+        sample_clearance_tile: BALL_TILE,
+        pad: 0,
     };
     let resources = GatherResources {
         sorted_keys: &hierarchy.keys,
@@ -236,6 +244,8 @@ pub fn add<'r>(
         clearance: input.clearance,
         disk_mass: input.disk_mass,
         photon_positions: &lists.positions,
+        sample_clearance: &input.sample_clearance.balls,
+        sample_clearance_plane: &input.sample_clearance.planes,
     };
     let threads = Threads::Fixed([shape.sample_count, 1, 1]);
     let estimator = match (input.visibility, input.visible_disk) {

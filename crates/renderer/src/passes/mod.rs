@@ -24,6 +24,7 @@ pub mod primary_rays;
 pub mod raycast;
 pub mod readback;
 pub mod reference;
+pub mod sample_clearance;
 pub mod scan;
 pub mod sort;
 pub mod spatial;

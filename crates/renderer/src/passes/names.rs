@@ -23,6 +23,8 @@ pub mod group {
     pub const SPLAT: &str = "splat";
     /// The distance each photon is clear of geometry.
     pub const CLEARANCE: &str = "photon clearance";
+    /// The distance each view sample is clear of geometry.
+    pub const SAMPLE_CLEARANCE: &str = "sample clearance";
     pub const GATHER: &str = "gather";
     pub const REFERENCE: &str = "reference";
     /// Direct + indirect, and the running mean of an accumulation.

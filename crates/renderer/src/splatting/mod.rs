@@ -33,6 +33,7 @@ use crate::passes::gather::{self, GatherInputs, GatherOutputs};
 use crate::passes::hierarchy::{self, HierarchyHandles, Shape};
 use crate::passes::list_scatter;
 use crate::passes::photon_clearance::{self, Needed};
+use crate::passes::sample_clearance;
 use crate::passes::photon_dispatch;
 use crate::passes::photon_order::{self, ORDERED_PHOTONS};
 use crate::passes::photons::{
@@ -187,10 +188,14 @@ pub fn add<'r>(
     // search stops a little beyond the largest radius: a segment is no longer than that plus
     // both ends' tiny lifts, and one that is gets traced, so the bound only limits the work.
     let mut clearance = photon_clearance::buffer(graph, capacity)?;
+    let mut sample_clearance = sample_clearance::SampleClearanceHandles::new(graph, extent)?;
     if frame.settings.visibility {
         let max_radius = 1.01 * largest_radius;
         let needed = Needed::Listed(&lists.listed);
         photon_clearance::add(graph, &photons, &photon_counters, &dispatch, max_radius, needed, &mut clearance)?;
+        if frame.settings.prove_clear {
+            sample_clearance::add(graph, frame.eye, max_radius, input.gbuffer, &mut sample_clearance);
+        }
     }
     let table = &lights.table;
     let max_flux = table.entries.iter().flat_map(|e| e.flux).fold(0.0f32, f32::max) / frame.settings.paths as f32;
@@ -201,6 +206,7 @@ pub fn add<'r>(
         visibility: frame.settings.visibility,
         cap: frame.settings.cap,
         clearance: &clearance,
+        sample_clearance: &sample_clearance,
         prove_clear: frame.settings.prove_clear,
         eye: frame.eye,
         visible_disk,

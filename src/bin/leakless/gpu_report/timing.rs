@@ -225,12 +225,13 @@ pub fn find<'a>(rows: &'a [FrameRow], scene: &str, size: (u32, u32), method: &st
 }
 
 /// The groups the Markdown tables show, in frame order.
-pub const SHOWN_GROUPS: [&str; 7] = [
+pub const SHOWN_GROUPS: [&str; 8] = [
     group::PHOTONS,
     group::PHOTON_ORDER,
     group::HIERARCHY,
     group::SPLAT,
     group::CLEARANCE,
+    group::SAMPLE_CLEARANCE,
     group::VISIBLE_DISK,
     group::GATHER,
 ];
