@@ -18,9 +18,10 @@
 // sample_clearance.comp gives each sample the same ball around the point its segments leave
 // from. A segment from the sample that stays in the sample's ball (which is convex) up to a
 // point above the sample's plane, and from there on in the photon's ball and more than 2τ
-// above the photon's surface, meets no triangle, so tracing it would find nothing. The images
-// are bit-identical either way (tests/suite/leak.rs checks it on every leak scene and both
-// backends).
+// above the photon's surface, meets no triangle, so tracing it would find nothing; a segment
+// they do not prove is traced over the span between them alone (unproven_span). The images
+// are bit-identical either way (tests/suite/visibility.rs checks it on every leak scene and
+// both backends).
 //
 // Sums are kept in 64-bit fixed point: the list scatter places photons with atomics, so a
 // list's order changes from run to run, and only an order-independent sum makes a frame
