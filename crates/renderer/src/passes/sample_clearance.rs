@@ -94,7 +94,8 @@ pub fn add<'r>(
 ) {
     let extent = out.balls.extent();
     let params = SampleClearanceParams { eye, max_radius, tile: BALL_TILE, ..Default::default() };
-    let resources = SampleClearanceResources { sample_clearance: &mut out.balls, sample_clearance_plane: &mut out.planes };
+    let resources =
+        SampleClearanceResources { sample_clearance: &mut out.balls, sample_clearance_plane: &mut out.planes };
     let threads = Threads::Fixed([extent.width, extent.height, 1]);
     SAMPLE_CLEARANCE.add_with(graph, resources, |pass| gbuffer.declare(pass), params, threads);
 }

@@ -33,12 +33,12 @@ use crate::passes::gather::{self, GatherInputs, GatherOutputs};
 use crate::passes::hierarchy::{self, HierarchyHandles, Shape};
 use crate::passes::list_scatter;
 use crate::passes::photon_clearance::{self, Needed};
-use crate::passes::sample_clearance;
 use crate::passes::photon_dispatch;
 use crate::passes::photon_order::{self, ORDERED_PHOTONS};
 use crate::passes::photons::{
     self, photon_buffer_size, PhotonCounters, PhotonParams, COUNTER_BUFFER_USAGE, PHOTON_BUFFER_USAGE,
 };
+use crate::passes::sample_clearance;
 use crate::passes::splat::{self, NodeListHandles, SplatInputs};
 use crate::passes::visible_disk::{self, VisibleDiskParams};
 use crate::passes::ViewInputs;
