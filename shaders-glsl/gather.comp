@@ -18,8 +18,7 @@
 // sample_clearance.comp gives each sample the same ball around the point its segments leave
 // from. A segment from the sample that stays in the sample's ball (which is convex) up to a
 // point above the sample's plane, and from there on in the photon's ball and more than 2τ
-// above the photon's surface, meets no triangle, so tracing it would find nothing; a segment
-// they do not prove is traced over the span between them alone (unproven_span). The images
+// above the photon's surface, meets no triangle, so tracing it would find nothing. The images
 // are bit-identical either way (tests/suite/visibility.rs checks it on every leak scene and
 // both backends).
 //
@@ -155,45 +154,14 @@ bool proven_clear(vec3 from, Photon ph, Clearance photon_clearance, SampleBall b
         && 0.5 * lift < photon_clearance.radius && dot(from - ph.position, ph.normal) > 0.5 * lift;
 }
 
-// The part of the segment the balls leave unproven, (t0, t1) along it from `from`: the sample's
-// ball holds it up to t0 (as in proven_clear), the photon's from t1 on, where the segment
-// enters it (then a little further, for the rounding of t1). Only that part is traced: the rest
-// meets nothing, and a ray along a shorter span enters fewer boxes. A segment proven_clear
-// leaves to a ray has t0 < t1 but by rounding; then the whole is traced.
-vec2 unproven_span(vec3 from, vec3 dir, float len, Photon ph, Clearance photon_clearance, SampleBall ball) {
-    if (params.prove_clear == 0u) {
-        return vec2(0.0, len);
-    }
-    float t0 = min(ball.reach, len);
-    if (t0 > 0.0 && !(dot(from + dir * t0, ball.normal) > ball.height)) {
-        t0 = 0.0;
-    }
-    float t1 = len;
-    vec3 lifted = photon_clearance.lifted;
-    float lift = dot(lifted - ph.position, ph.normal);
-    float radius = photon_clearance.radius;
-    // Where the segment enters the ball, measured back from the end, which is inside it.
-    // Solved from `from` instead, the root is a difference of two numbers near the length
-    // squared, whose rounding alone exceeds a ball a lift wide (a photon at a wall's foot): the
-    // span then lost the wall, and sealed rooms were lit (visibility.rs).
-    vec3 end_lifted = segment_end(ph, photon_clearance) - lifted;
-    float gamma = dot(end_lifted, end_lifted) - radius * radius;  // < 0: the end is inside
-    if (gamma < 0.0 && dot(from - ph.position, ph.normal) > 0.5 * lift) {
-        float beta = -dot(dir, end_lifted);  // back along the segment
-        float back = sqrt(beta * beta - gamma) - beta;  // how far back from the end it leaves
-        t1 = max(len - 0.999 * back + 1.0e-6 * len, 0.0);
-    }
-    return t0 < t1 ? vec2(t0, t1) : vec2(0.0, len);
-}
-
-// Whether a ray along the segment's unproven span meets nothing. Both ends stand above the
-// photon's plane (the end by half its lift, `from` where the sample is on the photon's side of
-// it): the traversal passes over every box below the plane half-way up to the lower end, such
-// as the floor the segment grazes, whose leaves it would otherwise enter all along
-// (trace_compute.glsl). Half the height keeps the plane clear of both by far more than the
-// rounding of the heights and of a box's corner against it: the lift is 256 float ULPs of the
-// position, the rounding a few.
-bool segment_clear(vec3 from, Photon ph, Clearance photon_clearance, SampleBall ball, inout uvec2 occluder) {
+// Whether a ray along the segment meets nothing. Both ends stand above the photon's plane
+// (the end by half its lift, `from` where the sample is on the photon's side of it): the
+// traversal passes over every box below the plane half-way up to the lower end, such as the
+// floor the segment grazes, whose leaves it would otherwise enter all along (trace_compute.glsl).
+// Half the height keeps the plane clear of both by far more than the rounding of the heights
+// and of a box's corner against it: the lift is 256 float ULPs of the position, the rounding a
+// few.
+bool segment_clear(vec3 from, Photon ph, Clearance photon_clearance, inout uvec2 occluder) {
     vec3 end = segment_end(ph, photon_clearance);
     vec3 d = end - from;
     float dist = sqrt(dot(d, d));
@@ -207,9 +175,7 @@ bool segment_clear(vec3 from, Photon ph, Clearance photon_clearance, SampleBall 
     bool above = low > magnitude * (32.0 / 8388608.0);  // 32 ULPs of the largest coordinate
     trace_cull_plane = above ? vec4(ph.normal, dot(ph.position, ph.normal) + 0.5 * low) : vec4(0.0, 0.0, 0.0, -3.0e38);
 #endif
-    vec3 dir = d / dist;
-    vec2 span = unproven_span(from, dir, dist, ph, photon_clearance, ball);
-    return !traceOccludedCached(from, dir, span.x, span.y, occluder);
+    return !traceOccludedCached(from, d / dist, 0.0, dist, occluder);
 }
 
 // int64(v), truncated as a conversion truncates, for 0 <= v < 2^63, without a conversion
@@ -336,12 +302,12 @@ void count_queued(uint index, bool clear, vec3 x, float r, inout i64vec3 kept, i
 
 // Traces the segments of this lane's queue, or (SHARED_WALK) of its subgroup's queues together,
 // and counts each photon for its own sample. In uniform control flow when pooled.
-void trace_queued(uint count, vec3 x, vec3 from, SampleBall ball, float r, inout i64vec3 kept,
+void trace_queued(uint count, vec3 x, vec3 from, float r, inout i64vec3 kept,
                   inout i64vec3 lost, inout uint occluded, inout uvec2 occluder) {
     if (!SHARED_WALK) {
         for (uint i = 0u; i < count; ++i) {
             uint index = queue[i];
-            count_queued(index, segment_clear(from, PHOTON(index), CLEARANCE(index), ball, occluder), x, r,
+            count_queued(index, segment_clear(from, PHOTON(index), CLEARANCE(index), occluder), x, r,
                          kept, lost, occluded);
         }
         return;
@@ -364,13 +330,11 @@ void trace_queued(uint count, vec3 x, vec3 from, SampleBall ball, float r, inout
             owner += j >= WALK_READ(start, k) ? 1u : 0u;
         }
         vec3 owner_from = WALK_READ(from, owner);
-        SampleBall owner_ball = SampleBall(WALK_READ(ball.reach, owner), WALK_READ(ball.normal, owner),
-                                           WALK_READ(ball.height, owner));
         uint owner_start = WALK_READ(start, owner);
         if (j < total) {
             uint slot = (lanes_base + owner) * RAY_QUEUE + (j - owner_start);
             uint index = pool[slot];
-            if (!segment_clear(owner_from, PHOTON(index), CLEARANCE(index), owner_ball, occluder)) {
+            if (!segment_clear(owner_from, PHOTON(index), CLEARANCE(index), occluder)) {
                 pool[slot] = index | POOL_BLOCKED;
             }
         }
@@ -555,7 +519,7 @@ void main() {
                 }
             }
         }
-        trace_queued(queued, x, from, ball, r, kept, lost, occluded, occluder);
+        trace_queued(queued, x, from, r, kept, lost, occluded, occluder);
         queued = 0u;
         if (walked) {
             break;
