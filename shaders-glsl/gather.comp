@@ -79,8 +79,8 @@ layout(push_constant) uniform GatherParams {
     uvec2 positions_address;     // (crates/renderer/src/device_address.rs says why)
     uvec2 photons_address;
     uvec2 clearance_address;
-    uint sample_clearance_tile;  // pixels a side of sample_clearance's tiles
-    uint pad;  // to the block's 16-byte alignment (its vec3)
+    uint sample_clearance_tile;  // pixels a side of sample_clearance's and segment_entries' tiles
+    uint segment_entries;        // 1: segment_entries.comp wrote the tiles' entries (compute backend)
 } params;
 // Per photon (photon_clearance.comp): its lifted position and its clearance radius.
 layout(set = 1, binding = 14, std430) readonly buffer Clearances { Clearance items[]; } clearance;
@@ -93,6 +93,11 @@ layout(set = 1, binding = 12, std430) readonly buffer PhotonPositions { PhotonPo
 // .w, and its plane: the normal, and the height a segment must stay above in .w.
 layout(set = 1, binding = 16, rgba32f) uniform readonly image2D sample_clearance;
 layout(set = 1, binding = 17, rgba32f) uniform readonly image2D sample_clearance_plane;
+// Per tile (segment_entries.comp): a region, the count of its entries (in the low corner's .w),
+// and the BVH nodes a traversal of a segment inside it starts from.
+layout(set = 1, binding = 18, rgba32f) uniform readonly image2D segment_region_lo;
+layout(set = 1, binding = 19, rgba32f) uniform readonly image2D segment_region_hi;
+layout(set = 1, binding = 20, rgba32ui) uniform readonly uimage2D segment_entries;
 
 #ifdef LEAKLESS_REFLECTION
 #define LIST_PHOTON(I) list_photons.photons[I]
@@ -161,7 +166,7 @@ bool proven_clear(vec3 from, Photon ph, Clearance photon_clearance, SampleBall b
 // Half the height keeps the plane clear of both by far more than the rounding of the heights
 // and of a box's corner against it: the lift is 256 float ULPs of the position, the rounding a
 // few.
-bool segment_clear(vec3 from, Photon ph, Clearance photon_clearance, inout uvec2 occluder) {
+bool segment_clear(vec3 from, ivec2 tile, Photon ph, Clearance photon_clearance, inout uvec2 occluder) {
     vec3 end = segment_end(ph, photon_clearance);
     vec3 d = end - from;
     float dist = sqrt(dot(d, d));
@@ -174,6 +179,16 @@ bool segment_clear(vec3 from, Photon ph, Clearance photon_clearance, inout uvec2
                           max(max(abs(ph.position.x), abs(ph.position.y)), abs(ph.position.z)));
     bool above = low > magnitude * (32.0 / 8388608.0);  // 32 ULPs of the largest coordinate
     trace_cull_plane = above ? vec4(ph.normal, dot(ph.position, ph.normal) + 0.5 * low) : vec4(0.0, 0.0, 0.0, -3.0e38);
+    // A segment in its tile's region walks from the tile's entries, past the steps from the
+    // root down to them that every segment of the tile shares (segment_entries.comp).
+    if (params.segment_entries != 0u) {
+        vec4 lo = imageLoad(segment_region_lo, tile);
+        vec3 hi = imageLoad(segment_region_hi, tile).xyz;
+        if (all(greaterThanEqual(min(from, end), lo.xyz)) && all(lessThanEqual(max(from, end), hi))) {
+            uvec4 entries = imageLoad(segment_entries, tile);
+            return !trace_bvh_occluded_cached_from(from, d / dist, 0.0, dist, entries, uint(lo.w), occluder);
+        }
+    }
 #endif
     return !traceOccludedCached(from, d / dist, 0.0, dist, occluder);
 }
@@ -302,12 +317,12 @@ void count_queued(uint index, bool clear, vec3 x, float r, inout i64vec3 kept, i
 
 // Traces the segments of this lane's queue, or (SHARED_WALK) of its subgroup's queues together,
 // and counts each photon for its own sample. In uniform control flow when pooled.
-void trace_queued(uint count, vec3 x, vec3 from, float r, inout i64vec3 kept,
+void trace_queued(uint count, vec3 x, vec3 from, ivec2 tile, float r, inout i64vec3 kept,
                   inout i64vec3 lost, inout uint occluded, inout uvec2 occluder) {
     if (!SHARED_WALK) {
         for (uint i = 0u; i < count; ++i) {
             uint index = queue[i];
-            count_queued(index, segment_clear(from, PHOTON(index), CLEARANCE(index), occluder), x, r,
+            count_queued(index, segment_clear(from, tile, PHOTON(index), CLEARANCE(index), occluder), x, r,
                          kept, lost, occluded);
         }
         return;
@@ -330,11 +345,12 @@ void trace_queued(uint count, vec3 x, vec3 from, float r, inout i64vec3 kept,
             owner += j >= WALK_READ(start, k) ? 1u : 0u;
         }
         vec3 owner_from = WALK_READ(from, owner);
+        ivec2 owner_tile = WALK_READ(tile, owner);
         uint owner_start = WALK_READ(start, owner);
         if (j < total) {
             uint slot = (lanes_base + owner) * RAY_QUEUE + (j - owner_start);
             uint index = pool[slot];
-            if (!segment_clear(owner_from, PHOTON(index), CLEARANCE(index), occluder)) {
+            if (!segment_clear(owner_from, owner_tile, PHOTON(index), CLEARANCE(index), occluder)) {
                 pool[slot] = index | POOL_BLOCKED;
             }
         }
@@ -519,7 +535,7 @@ void main() {
                 }
             }
         }
-        trace_queued(queued, x, from, r, kept, lost, occluded, occluder);
+        trace_queued(queued, x, from, xy / int(params.sample_clearance_tile), r, kept, lost, occluded, occluder);
         queued = 0u;
         if (walked) {
             break;

@@ -186,10 +186,36 @@ uint trace_triangles_tested = 0u;
 // The bottom level of one part (root node `root`), `ray` in its space: the closest hit with t in
 // (tmin, hit.t) replaces `hit`, and `slot` becomes its index in bvh_triangles. With any_hit,
 // returns true at the first accepted hit.
-bool trace_bvh_part(BvhRay ray, uint root, float tmin, bool any_hit, inout Hit hit, inout uint slot) {
-    uint stack[BVH_STACK_SIZE];
+//
+// The walk starts at `root`, or (NO_HIT) at those of a tile's `entries` whose boxes the ray
+// meets (segment_entries.comp: the nodes under which lies every triangle a short segment can
+// meet, each as its parent · 2 + which child), tested as the steps above them would have. The
+// stack has room for them beside one node a level. The CPU twin walks from the root only: only
+// the gather's segments start at entries, and its images are those of the walk from the root
+// bit for bit (the identity hashes).
+bool trace_bvh_walk(BvhRay ray, uint root, uvec4 entries, uint count, float tmin, bool any_hit, inout Hit hit,
+                    inout uint slot) {
+    uint stack[BVH_STACK_SIZE + 4];
     uint sp = 0u;
-    uint node = root;  // a child reference: the root is interior
+    for (uint i = count; i > 0u; --i) {
+        uint at = entries[i - 1u];
+        BvhNode n = BVH_NODE(at >> 1u);
+        bool second = (at & 1u) != 0u;
+        float d;
+        bool h = bvh_box(ray, second ? n.min1 : n.min0, second ? n.max1 : n.max0, tmin, hit.t, d);
+#ifdef TRACE_PLANE_CULL
+        h = h && !bvh_box_below(second ? n.min1 : n.min0, second ? n.max1 : n.max0);
+#endif
+        if (h) {
+            stack[sp] = second ? n.child1 : n.child0;
+            sp++;
+        }
+    }
+    uint node = root;  // a child reference
+    if (node == NO_HIT && sp > 0u) {
+        sp--;
+        node = stack[sp];
+    }
     // While-while (Aila and Laine, 2009): each invocation descends through interior nodes until
     // it holds a leaf, and only then tests triangles. Lanes that run together (a SIMD group on
     // a CPU driver, a subgroup on a GPU) then test their leaves' triangles in one pass instead
@@ -203,7 +229,7 @@ bool trace_bvh_part(BvhRay ray, uint root, float tmin, bool any_hit, inout Hit h
             uint next, far;
             // hit.t shrinks as hits are found, culling everything behind the closest one.
             bvh_step(ray, BVH_NODE(node), tmin, hit.t, next, far);
-            if (far != NO_HIT && sp < uint(BVH_STACK_SIZE)) {  // always room (see BVH_STACK_SIZE)
+            if (far != NO_HIT && sp < uint(BVH_STACK_SIZE + 4)) {  // always room (see BVH_STACK_SIZE)
                 stack[sp] = far;
                 sp++;
             }
@@ -245,6 +271,10 @@ bool trace_bvh_part(BvhRay ray, uint root, float tmin, bool any_hit, inout Hit h
         }
     }
     return false;
+}
+
+bool trace_bvh_part(BvhRay ray, uint root, float tmin, bool any_hit, inout Hit hit, inout uint slot) {
+    return trace_bvh_walk(ray, root, uvec4(NO_HIT), 0u, tmin, any_hit, hit, slot);
 }
 
 // The closest hit with t in (tmin, tmax), or with any_hit the first accepted one (occlusion).
@@ -326,7 +356,7 @@ Hit trace_bvh(vec3 origin, vec3 dir, float tmin, float tmax, bool any_hit) {
 // Exact: a triangle the test reports is one the traversal would reach too (its boxes are
 // padded and tested robustly, above; the ray is moved into the triangle's part as the
 // traversal moves it), so the answer is the traversal's.
-bool trace_bvh_occluded_cached(vec3 origin, vec3 dir, float tmin, float tmax, inout uvec2 cached_slot) {
+bool trace_bvh_cached_blocks(vec3 origin, vec3 dir, float tmin, float tmax, uvec2 cached_slot) {
     if (cached_slot.x != NO_HIT) {
         BvhTriangle tri = BVH_TRIANGLE(cached_slot.x);
         BvhRay ray = bvh_part_ray(cached_slot.y, bvh_ray(origin, dir), origin, dir);
@@ -337,9 +367,35 @@ bool trace_bvh_occluded_cached(vec3 origin, vec3 dir, float tmin, float tmax, in
             return true;
         }
     }
+    return false;
+}
+
+bool trace_bvh_occluded_cached(vec3 origin, vec3 dir, float tmin, float tmax, inout uvec2 cached_slot) {
+    if (trace_bvh_cached_blocks(origin, dir, tmin, tmax, cached_slot)) {
+        return true;
+    }
     uvec2 slot;
     bool occluded = trace_bvh_slot(origin, dir, tmin, tmax, true, slot).triangle != NO_HIT;
     cached_slot = occluded ? slot : cached_slot;
+    return occluded;
+}
+
+// The same in a scene of one static part, the walk starting at `count` entries that hold every
+// triangle the ray can meet (segment_entries.comp: the caller checks that its segment lies in
+// their region). Exact as above: the triangles the walk from the root could report are under
+// the entries, and the answer is the same.
+bool trace_bvh_occluded_cached_from(vec3 origin, vec3 dir, float tmin, float tmax, uvec4 entries, uint count,
+                                    inout uvec2 cached_slot) {
+    if (trace_bvh_cached_blocks(origin, dir, tmin, tmax, cached_slot)) {
+        return true;
+    }
+    Hit hit;
+    hit.t = tmax;
+    hit.triangle = NO_HIT;
+    hit.barycentrics = vec2(0.0);
+    uint closest = NO_HIT;
+    bool occluded = trace_bvh_walk(bvh_ray(origin, dir), NO_HIT, entries, count, tmin, true, hit, closest);
+    cached_slot = occluded ? uvec2(closest, 0u) : cached_slot;
     return occluded;
 }
 

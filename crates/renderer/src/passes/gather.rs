@@ -16,6 +16,7 @@ use crate::passes::names::group;
 use crate::passes::photon_clearance::Clearance;
 use crate::passes::photons::Photon;
 use crate::passes::sample_clearance::{SampleClearanceHandles, BALL_TILE};
+use crate::passes::segment_entries::SegmentEntriesHandles;
 use crate::passes::splat::{NodeListHandles, PhotonPosition};
 use crate::pipelines::{compute_pass, ComputePass, Threads};
 use crate::shaders;
@@ -43,9 +44,10 @@ gpu_struct! {
         pub positions_address: [u32; 2],
         pub photons_address: [u32; 2],
         pub clearance_address: [u32; 2],
-        /// Pixels a side of the tiles of `sample_clearance`.
+        /// Pixels a side of the tiles of `sample_clearance` and `segment_entries`.
         pub sample_clearance_tile: u32,
-        pub pad: u32,
+        /// 1: `segment_entries` holds this frame's tiles' entries (the compute backend).
+        pub segment_entries: u32,
     }
 }
 
@@ -110,6 +112,9 @@ shader_bindings! {
         photon_positions: read array(PhotonPosition::LAYOUT),
         sample_clearance: read image,
         sample_clearance_plane: read image,
+        segment_region_lo: read image,
+        segment_region_hi: read image,
+        segment_entries: read image,
     }
     pub struct GatherResources;
 }
@@ -161,6 +166,9 @@ pub struct GatherInputs<'a> {
     pub clearance: &'a BufferHandle,
     /// Each sample's clearance (sample_clearance.rs), the other end of the same proofs.
     pub sample_clearance: &'a SampleClearanceHandles,
+    /// Where the tiles' segments' traversals start (segment_entries.rs), when `entries_written`.
+    pub segment_entries: &'a SegmentEntriesHandles,
+    pub entries_written: bool,
     pub prove_clear: bool,
     /// The camera's position this frame.
     pub eye: [f32; 3],
@@ -228,7 +236,7 @@ pub fn add<'r>(
         photons_address: address_words(graph.buffer_address(input.photons)),
         clearance_address: address_words(graph.buffer_address(input.clearance)),
         sample_clearance_tile: BALL_TILE,
-        pad: 0,
+        segment_entries: input.entries_written as u32,
     };
     let resources = GatherResources {
         sorted_keys: &hierarchy.keys,
@@ -246,6 +254,9 @@ pub fn add<'r>(
         photon_positions: &lists.positions,
         sample_clearance: &input.sample_clearance.balls,
         sample_clearance_plane: &input.sample_clearance.planes,
+        segment_region_lo: &input.segment_entries.region_lo,
+        segment_region_hi: &input.segment_entries.region_hi,
+        segment_entries: &input.segment_entries.entries,
     };
     let threads = Threads::Fixed([shape.sample_count, 1, 1]);
     let estimator = match (input.visibility, input.visible_disk) {

@@ -26,6 +26,7 @@ pub mod readback;
 pub mod reference;
 pub mod sample_clearance;
 pub mod scan;
+pub mod segment_entries;
 pub mod sort;
 pub mod spatial;
 pub mod splat;

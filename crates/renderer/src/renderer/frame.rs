@@ -272,6 +272,7 @@ impl Renderer {
             bounds: self.scene.bounds(),
             tuning,
             max_workgroups: self.gpu.report().limits.max_compute_work_group_count[0],
+            compute_trace: self.backend() == crate::trace::Backend::Compute,
         }))
     }
 

@@ -39,6 +39,7 @@ use crate::passes::photons::{
     self, photon_buffer_size, PhotonCounters, PhotonParams, COUNTER_BUFFER_USAGE, PHOTON_BUFFER_USAGE,
 };
 use crate::passes::sample_clearance;
+use crate::passes::segment_entries;
 use crate::passes::splat::{self, NodeListHandles, SplatInputs};
 use crate::passes::visible_disk::{self, VisibleDiskParams};
 use crate::passes::ViewInputs;
@@ -72,6 +73,9 @@ pub struct SplatFrame {
     /// Workgroups one dispatch may ask for (the device's maxComputeWorkGroupCount[0]): the
     /// list scatter loops over records beyond them.
     pub max_workgroups: u32,
+    /// The trace backend is the compute BVH, whose traversal of visibility segments can start
+    /// from each tile's entries (segment_entries.rs).
+    pub compute_trace: bool,
 }
 
 impl SplatFrame {
@@ -189,12 +193,18 @@ pub fn add<'r>(
     // both ends' tiny lifts, and one that is gets traced, so the bound only limits the work.
     let mut clearance = photon_clearance::buffer(graph, capacity)?;
     let mut sample_clearance = sample_clearance::SampleClearanceHandles::new(graph, extent)?;
+    let mut segment_entries = segment_entries::SegmentEntriesHandles::new(graph, extent)?;
+    // Only the compute backend's traversal starts from them; ray queries walk the driver's.
+    let entries_written = frame.settings.visibility && frame.compute_trace;
     if frame.settings.visibility {
         let max_radius = 1.01 * largest_radius;
         let needed = Needed::Listed(&lists.listed);
         photon_clearance::add(graph, &photons, &photon_counters, &dispatch, max_radius, needed, &mut clearance)?;
         if frame.settings.prove_clear {
             sample_clearance::add(graph, frame.eye, max_radius, input.gbuffer, &mut sample_clearance);
+        }
+        if entries_written {
+            segment_entries::add(graph, max_radius, input.gbuffer, &mut segment_entries);
         }
     }
     let table = &lights.table;
@@ -207,6 +217,8 @@ pub fn add<'r>(
         cap: frame.settings.cap,
         clearance: &clearance,
         sample_clearance: &sample_clearance,
+        segment_entries: &segment_entries,
+        entries_written,
         prove_clear: frame.settings.prove_clear,
         eye: frame.eye,
         visible_disk,
