@@ -329,8 +329,8 @@ fn a_sequence_over_its_budget_renders_fewer_pixels_at_its_size() {
     assert!(off.iter().all(|&s| s == (64, 48)), "{off:?}");
 }
 
-/// `bench motion --budgeted` runs the budgeted sequence beside the fixed ones and prints and
-/// records it: a row of the CSV per frame for each run, the budgeted run's paths its own.
+/// `bench motion --budgeted` runs the budgeted sequence beside a fixed one, a frame of each in
+/// turn, and prints and records them: a row of the CSV per frame for each run.
 #[test]
 fn bench_motion_compares_a_budgeted_run_at_the_fixed_runs_time() {
     if common::gpu().is_none() {
@@ -341,10 +341,13 @@ fn bench_motion_compares_a_budgeted_run_at_the_fixed_runs_time() {
     let out = leakless(&[&args[..], &["--budgeted", "--csv", csv_path.to_str().unwrap()]].concat(), &[]);
     let stdout = String::from_utf8_lossy(&out.stdout);
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
-    assert!(stdout.contains("budgeted to ") && stdout.contains("× on's), paths "), "{stdout}");
+    assert!(stdout.contains("budgeted beside a fixed run") && stdout.contains("×), paths "), "{stdout}");
     let mut reader = csv::Reader::from_path(&csv_path).expect("the CSV written");
     let runs: Vec<String> = reader.records().map(|r| r.expect("a row")[1].to_string()).collect();
-    for run in ["on", "on-unfiltered", "off", "on-budgeted"] {
+    // The budgeted run and the fixed one beside it alternate frame by frame.
+    let beside: Vec<&str> = runs.iter().map(String::as_str).filter(|r| r.contains("budgeted")).collect();
+    assert_eq!(beside[..4], ["on-beside-budgeted", "on-budgeted", "on-beside-budgeted", "on-budgeted"], "{runs:?}");
+    for run in ["on", "on-unfiltered", "off", "on-beside-budgeted", "on-budgeted"] {
         assert_eq!(runs.iter().filter(|r| *r == run).count(), 4, "{run}: {runs:?}");
     }
 }

@@ -4,7 +4,6 @@
 //! the path tracer's image of the same time and view.
 
 use std::path::PathBuf;
-use std::time::Instant;
 
 use anyhow::Context;
 use leakless::{BackendChoice, Method, RenderSettings, Renderer, Scene, SplatSettings};
@@ -14,7 +13,10 @@ use leakless_scene::Camera;
 use leakless_measure::chart::flip;
 use leakless_measure::chart::motion_plot::{plot_motion, MotionRun};
 use leakless_measure::csv_table::CsvTable;
-use leakless_measure::motion::{DarkBand, ScreenFlicker, SeenFrame, SurfaceFlicker, BAND_PIXELS, DARK};
+use leakless_measure::motion::{ScreenFlicker, SeenFrame, SurfaceFlicker, BAND_PIXELS, DARK};
+
+mod sequence;
+use sequence::{Judge, Sequence};
 
 /// What the bench renders (`leakless bench motion`'s options). Its CSV holds each frame's
 /// errors (`scene,reuse,frame,time,relmse,flip,relmse_less_noise`), its chart them against the
@@ -45,9 +47,10 @@ pub struct MotionBench {
     /// Trace backend.
     #[arg(long, default_value = "auto")]
     pub backend: BackendChoice,
-    /// Also render each scene with reuse on under a frame budget equal to the fixed run's
-    /// mean frame time (reuse on, --paths a frame), so that the two compare at equal mean time:
-    /// the budget moves the paths from costly frames to cheap ones.
+    /// Also render each scene with reuse on under a frame budget, beside a second fixed run
+    /// (reuse on, --paths a frame; a frame of each in turn) whose mean frame time so far is the
+    /// budget's target, so that the two compare at equal mean time on the same moments of the
+    /// machine: the budget moves the paths from costly frames to cheap ones.
     #[arg(long)]
     pub budgeted: bool,
     #[command(flatten)]
@@ -187,81 +190,55 @@ pub fn run(bench: &MotionBench) -> anyhow::Result<()> {
         } else {
             None
         };
-        let mut figures: Vec<Figures> = Vec::new();
-        // Reuse on, on without its spatial filter (the same photons: what the filter alone
-        // does), off, and (`--budgeted`) on within the first run's mean frame time.
-        let runs_wanted = [(true, true, false), (true, false, false), (false, true, false), (true, true, true)];
-        for (reuse, filter, budgeted) in runs_wanted.into_iter().filter(|r| bench.budgeted || !r.2) {
+        let judge = Judge {
+            bench,
+            scene: &scene,
+            path,
+            start: &start,
+            references: &references,
+            halves: &halves,
+            near_truth: near_truth.as_ref(),
+        };
+        let renderer = |reuse: bool, filter: bool| -> anyhow::Result<Renderer> {
             let mut r = Renderer::new(open()?, &scene, settings(Method::LeakLess, reuse, 0))?;
-            if budgeted {
-                r.set_frame_budget(Some(figures[0].steady_ms))?;
-            }
             r.set_spatial_reuse(filter);
             r.set_progressive(true);
             r.set_advance_seed(true);
             r.set_reuse_history_frames((0.5 * bench.fps).round().max(1.0) as u32);
-            let (mut ms, mut first_ms, mut ratio, mut band, mut less_noise) = (0.0, 0.0, 0.0, DarkBand::default(), 0.0);
-            let (mut errors, mut against_truth, mut paths) = (Vec::new(), None, Vec::new());
-            let mut change = ScreenFlicker::new(settle(bench));
-            let mut surface_change = SurfaceFlicker::new(settle(bench));
-            for (k, truth) in (0..bench.frames).zip(&references) {
-                place(&mut r, &scene, k, bench, &start)?;
-                let t = Instant::now();
-                let frame = r.capture_frame()?;
-                ms += t.elapsed().as_secs_f64() * 1e3;
-                if k == 0 {
-                    first_ms = ms;
-                }
-                paths.push(frame.splat.as_ref().map_or(0, |s| s.paths));
-                let eps = metrics::epsilon(truth);
-                let (e, f) = (
-                    metrics::rel_mse(&frame.radiance, truth, None, eps).unwrap_or(0.0),
-                    flip::hdr_flip(&frame.radiance, truth, w, h),
-                );
-                errors.push((e, f));
-                let (a, b) = (&halves[0][k as usize], &halves[1][k as usize]);
-                let clean =
-                    metrics::rel_mse_without_reference_noise(&frame.radiance, a, b, w as usize, eps).unwrap_or(0.0);
-                less_noise += clean;
-                let reuse = match (reuse, filter, budgeted) {
-                    (_, _, true) => "on-budgeted",
-                    (true, true, _) => "on",
-                    (true, false, _) => "on-unfiltered",
-                    (false, ..) => "off",
-                };
-                let time = k as f32 / bench.fps;
-                let fields = [path.display().to_string(), reuse.into(), k.to_string(), time.to_string()];
-                csv.row(fields.into_iter().chain([e, f, clean].map(|v| v.to_string())))?;
-                ratio += metrics::mean_value(&frame.radiance) / metrics::mean_value(truth).max(1e-30);
-                change.add(k, &frame.radiance);
-                surface_change.add(k, seen(&r, &frame));
-                band.add(&frame.radiance, a, b, w, h);
-                if let Some(truth) = near_truth.as_ref().filter(|_| k == last) {
-                    against_truth = Some((
-                        metrics::rel_mse(&frame.radiance, truth, None, metrics::epsilon(truth)).unwrap_or(0.0),
-                        flip::hdr_flip(&frame.radiance, truth, w, h),
-                    ));
-                }
+            Ok(r)
+        };
+        let mut figures: Vec<Figures> = Vec::new();
+        // Reuse on, on without its spatial filter (the same photons: what the filter alone
+        // does), and off.
+        for (reuse, filter, label) in [(true, true, "on"), (true, false, "on-unfiltered"), (false, true, "off")] {
+            let mut sequence = Sequence::new(renderer(reuse, filter)?, label, bench);
+            for k in 0..bench.frames {
+                sequence.frame(k, &judge, &mut csv)?;
             }
-            r.gpu().check_validation()?;
-            let n = bench.frames as f64;
-            figures.push(Figures {
-                relmse: errors.iter().map(|e| e.0).sum::<f64>() / n,
-                relmse_less_noise: less_noise / n,
-                flip: errors.iter().map(|e| e.1).sum::<f64>() / n,
-                flicker: change.mean(),
-                surface_flicker: surface_change.mean(),
-                frame_ms: ms / n,
-                steady_ms: (ms - first_ms) / (n - 1.0),
-                mean_ratio: ratio / n,
-                band: band.ratio(),
-                band_pixels: band.pixels(),
-                against_truth,
-                paths,
-            });
-            if filter && !budgeted {
+            let (f, errors) = sequence.finish()?;
+            figures.push(f);
+            if filter {
                 runs.push(MotionRun { scene: name.clone(), reuse, errors });
             }
+        }
+        // `--budgeted`: reuse on within the mean frame time of a fixed run (reuse on, --paths a
+        // frame) rendered beside it, a frame of each in turn, its target that run's mean so far
+        // (after its first frame; before, the first run's): the two meet the machine's speed,
+        // which drifts between runs here, at the same moments, and compare at equal time.
+        if bench.budgeted {
+            let mut fixed = Sequence::new(renderer(true, true)?, "on-beside-budgeted", bench);
+            let mut budgeted = renderer(true, true)?;
+            budgeted.set_frame_budget(Some(figures[0].steady_ms))?;
+            let mut budgeted = Sequence::new(budgeted, "on-budgeted", bench);
+            for k in 0..bench.frames {
+                fixed.frame(k, &judge, &mut csv)?;
+                if let Some(target) = fixed.steady_ms() {
+                    budgeted.renderer.set_frame_budget_target(target)?;
+                }
+                budgeted.frame(k, &judge, &mut csv)?;
+            }
+            figures.push(fixed.finish()?.0);
+            figures.push(budgeted.finish()?.0);
         }
         let (on, unfiltered, off) = (&figures[0], &figures[1], &figures[2]);
         println!(
@@ -338,23 +315,28 @@ pub fn run(bench: &MotionBench) -> anyhow::Result<()> {
             "{:<22} flicker in excess of the references': on {:.4}, off {:.4} ({:.2}×); surface flicker: on {:.4}, off {:.4} ({:.2}×)",
             "", screen.on, screen.off, screen.ratio, surface.on, surface.off, surface.ratio,
         );
-        if let Some(budgeted) = figures.get(3) {
+        if let (Some(fixed), Some(budgeted)) = (figures.get(3), figures.get(4)) {
             let excess = Excess::of(budgeted.flicker, off.flicker, reference_change.mean());
+            let fixed_excess = Excess::of(fixed.flicker, off.flicker, reference_change.mean());
             let mut paths = budgeted.paths.clone();
             paths.sort_unstable();
             println!(
-                "{:<22} budgeted to {:.1} ms (reuse on's mean after its first frame): mean {:.1} ms ({:.2}× on's), paths {}–{} (median {}); relMSE less the references' noise {:.5} ({:.2}× on's); flicker in excess of the references' {:.4} ({:.2}× off's)",
+                "{:<22} budgeted beside a fixed run (reuse on, {} paths, a frame of each in turn), to its mean after its first frame, {:.1} ms: mean {:.1} ms ({:.2}×), paths {}–{} (median {}); relMSE less the references' noise {:.5} against {:.5} ({:.2}×); flicker in excess of the references' {:.4} against {:.4} ({:.2}× and {:.2}× off's)",
                 "",
-                on.steady_ms,
+                bench.paths,
+                fixed.steady_ms,
                 budgeted.steady_ms,
-                budgeted.steady_ms / on.steady_ms,
+                budgeted.steady_ms / fixed.steady_ms,
                 paths[0],
                 paths[paths.len() - 1],
                 paths[paths.len() / 2],
                 budgeted.relmse_less_noise,
-                budgeted.relmse_less_noise / on.relmse_less_noise,
+                fixed.relmse_less_noise,
+                budgeted.relmse_less_noise / fixed.relmse_less_noise,
                 excess.on,
+                fixed_excess.on,
                 excess.ratio,
+                fixed_excess.ratio,
             );
         }
     }

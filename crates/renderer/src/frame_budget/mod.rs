@@ -16,7 +16,9 @@
 //! profiled frame, a page fault) moves it little. The paths move on a ladder of steps 2^(1/8)
 //! apart and stay on their step while the estimate is within ¾ of a step of it, so that noise
 //! does not make them wander, and the buffers sized by the paths change only when the step
-//! does. A change of render size carries the estimate to the new size
+//! does. The ladder passes through the starting paths (`--paths`): a budget that a frame of
+//! them meets keeps them, where a ladder from a fixed base put the nearest step up to 4.5%
+//! away, and its band's edge a step further. A change of render size carries the estimate to the new size
 //! ([`FrameBudget::resize`]); the size it advises steps down after 3 frames and up after 12.
 
 use std::collections::VecDeque;
@@ -91,6 +93,8 @@ pub struct FrameBudget {
     target_ms: f64,
     min_paths: u32,
     max_paths: u32,
+    /// The ladder's step 0: the starting paths.
+    ladder_base: f64,
     /// The paths of the next budgeted frame.
     paths: u32,
     /// The last timed frame's split of its time: (fixed ms, ms per path). A share measured at
@@ -117,11 +121,13 @@ impl FrameBudget {
     pub fn new(target_ms: f64, start_paths: u32, min_paths: u32, max_paths: u32) -> FrameBudget {
         let max_paths = max_paths.max(1);
         let min_paths = min_paths.clamp(1, max_paths);
+        let ladder_base = start_paths.clamp(min_paths, max_paths) as f64;
         FrameBudget {
             target_ms,
             min_paths,
             max_paths,
-            paths: on_ladder(start_paths as f64, min_paths, max_paths),
+            ladder_base,
+            paths: on_ladder(ladder_base, ladder_base, min_paths, max_paths),
             split: None,
             estimates: VecDeque::with_capacity(WINDOW),
             over: false,
@@ -136,6 +142,15 @@ impl FrameBudget {
 
     pub fn target_ms(&self) -> f64 {
         self.target_ms
+    }
+
+    /// Moves the target, keeping the estimates: the next measured frame chooses its paths for
+    /// it (`bench motion --budgeted` holds a budget to the mean of a fixed run it renders
+    /// beside, frame by frame).
+    pub fn set_target_ms(&mut self, target_ms: f64) {
+        if target_ms.is_finite() && target_ms > 0.0 {
+            self.target_ms = target_ms;
+        }
     }
 
     /// The paths the next budgeted frame traces.
@@ -204,7 +219,7 @@ impl FrameBudget {
         // Stay on the current step while the estimate is within ¾ of a step either side of it.
         let steps = (wanted / self.paths as f64).log2() * STEPS_PER_DOUBLING;
         if steps.abs() > 0.75 {
-            self.paths = on_ladder(wanted, self.min_paths, self.max_paths);
+            self.paths = on_ladder(wanted, self.ladder_base, self.min_paths, self.max_paths);
         }
     }
 }
@@ -285,12 +300,17 @@ impl FrameBudget {
     }
 }
 
-/// The ladder's step nearest `paths` (1024·2^(k/8), rounded to 64 paths), within the bounds.
-fn on_ladder(paths: f64, min_paths: u32, max_paths: u32) -> u32 {
-    let k = (paths.max(1.0) / 1024.0).log2() * STEPS_PER_DOUBLING;
-    let stepped = 1024.0 * (k.round() / STEPS_PER_DOUBLING).exp2();
-    let rounded = ((stepped / 64.0).round() * 64.0).max(64.0);
-    (rounded.min(u32::MAX as f64) as u32).clamp(min_paths, max_paths)
+/// The ladder's step nearest `paths`: `base`·2^(k/8), rounded to 64 paths but for `base`
+/// itself, within the bounds.
+fn on_ladder(paths: f64, base: f64, min_paths: u32, max_paths: u32) -> u32 {
+    let base = base.max(1.0);
+    let k = ((paths.max(1.0) / base).log2() * STEPS_PER_DOUBLING).round();
+    let stepped = if k == 0.0 {
+        base.round()
+    } else {
+        ((base * (k / STEPS_PER_DOUBLING).exp2() / 64.0).round() * 64.0).max(64.0)
+    };
+    (stepped.min(u32::MAX as f64) as u32).clamp(min_paths, max_paths)
 }
 
 /// The mean without the highest and the lowest value (from five values on).

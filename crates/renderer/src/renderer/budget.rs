@@ -122,6 +122,18 @@ impl Renderer {
         }
     }
 
+    /// Moves the budget's target to `target_ms` (within `set_frame_budget`'s bounds), keeping
+    /// what it measured; nothing without a budget.
+    pub fn set_frame_budget_target(&mut self, target_ms: f64) -> Result<()> {
+        if !(target_ms.is_finite() && target_ms > 0.0 && target_ms <= MAX_FRAME_MS) {
+            return Err(RenderError::Settings(format!("--frame-ms {target_ms} must be within (0, {MAX_FRAME_MS}]")));
+        }
+        if let Some(BudgetState { choice: FirstPaths::Budget(b), .. }) = &mut self.budget {
+            b.set_target_ms(target_ms);
+        }
+        Ok(())
+    }
+
     /// The budget, when one is set.
     pub fn frame_budget(&self) -> Option<&FrameBudget> {
         match &self.budget.as_ref()?.choice {
