@@ -95,8 +95,9 @@ void main() {
     cut[0] = trace_scale.static_root;
     at[0] = NO_PARENT;
     uint count = 1u;
-    // Each pass over the cut refines what it can; a refinement loads one node, and at most 64
-    // are made (a tree is at most BVH_MAX_DEPTH deep along each entry's path).
+    // Each pass over the cut refines what it can; a refinement loads one node. At most 64 are
+    // made, which bounds the pass's work: a cut left higher in the tree is as exact, and its
+    // walks only take more steps.
     uint refinements = 0u;
     bool refined = true;
     while (refined && refinements < 64u) {

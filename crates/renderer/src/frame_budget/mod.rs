@@ -17,7 +17,7 @@
 //! apart and stay on their step while the estimate is within ¾ of a step of it, so that noise
 //! does not make them wander, and the buffers sized by the paths change only when the step
 //! does. The ladder passes through the starting paths (`--paths`): a budget that a frame of
-//! them meets keeps them, where a ladder from a fixed base put the nearest step up to 4.5%
+//! them meets keeps them, where on a ladder from a fixed base the nearest step can be 4.5%
 //! away, and its band's edge a step further. A change of render size carries the estimate to the new size
 //! ([`FrameBudget::resize`]); the size it advises steps down after 3 frames and up after 12.
 
