@@ -215,6 +215,45 @@ fn render_writes_exr_png_and_stats() {
     assert!(json["frame_gpu_ms"].as_f64().unwrap() > 0.0);
 }
 
+/// `--stats` of a render of several frames sums each pass over them (`passes`) and keeps the
+/// last frame's own (`last_frame`), the frame its counters counted: a two-frame render's last
+/// frame takes part of the whole, each of its passes at most that pass's sum.
+#[test]
+fn stats_time_the_last_frame_apart_from_the_run() {
+    if common::gpu().is_none() {
+        return;
+    }
+    let stats = common::tmp_path("cli-two-frames.json");
+    let out = leakless(
+        &[
+            "render",
+            "scenes/cornell-box.gltf",
+            "--size",
+            "32x24",
+            "--frames",
+            "2",
+            "--out",
+            common::tmp_path("cli-two-frames.exr").to_str().unwrap(),
+            "--stats",
+            stats.to_str().unwrap(),
+        ],
+        &[],
+    );
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let json: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&stats).unwrap()).unwrap();
+    assert_eq!(json["accumulated"], 2);
+    let run = json["frame_gpu_ms"].as_f64().unwrap();
+    let last = json["last_frame"]["gpu_ms"].as_f64().unwrap();
+    assert!(last > 0.0 && last < run, "the last frame {last} ms of a run of {run} ms");
+    let summed = json["passes"].as_array().unwrap();
+    let own = json["last_frame"]["passes"].as_array().unwrap();
+    assert!(own.iter().any(|p| p["pass"] == "gather"), "{own:?}");
+    for p in own {
+        let sum = summed.iter().find(|q| q["pass"] == p["pass"]).expect("every pass of the last frame is summed");
+        assert!(p["gpu_ms"].as_f64().unwrap() <= sum["gpu_ms"].as_f64().unwrap(), "{p} against {sum}");
+    }
+}
+
 #[test]
 fn info_reports_the_device() {
     if common::gpu().is_none() {

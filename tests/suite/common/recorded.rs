@@ -125,6 +125,7 @@ fn read(file: &Path) -> Option<(u64, RenderedFrame)> {
         surface: Vec::new(),
         display: Vec::new(),
         timings: Vec::new(),
+        last_frame_timings: Vec::new(),
         gpu_span_ms: 0.0,
         wall_ms: 0.0,
         splat: None,

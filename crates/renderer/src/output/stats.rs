@@ -26,6 +26,23 @@ pub struct TraceBuild {
     pub detail: String,
 }
 
+/// One frame's pass times and their sum.
+#[derive(Clone, Debug, Serialize)]
+pub struct FrameTimes {
+    pub gpu_ms: f64,
+    pub passes: Vec<PassTime>,
+}
+
+impl FrameTimes {
+    fn of(timings: &[leakless_graph::PassTiming]) -> FrameTimes {
+        FrameTimes { gpu_ms: timings.iter().map(|t| t.ms).sum(), passes: pass_times(timings) }
+    }
+}
+
+fn pass_times(timings: &[leakless_graph::PassTiming]) -> Vec<PassTime> {
+    timings.iter().map(|t| PassTime { pass: t.name.clone(), gpu_ms: t.ms, wall_ms: t.wall_ms }).collect()
+}
+
 #[derive(Clone, Debug, Serialize)]
 pub struct Stats {
     pub scene: String,
@@ -49,7 +66,10 @@ pub struct Stats {
     /// Photon counts, for methods that splat.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub splat: Option<crate::splatting::SplatStats>,
+    /// Each pass's time summed over the frames of the render (`accumulated` of them).
     pub passes: Vec<PassTime>,
+    /// The last frame's own: what `splat` counted took this long.
+    pub last_frame: FrameTimes,
     /// What the frame budget measured and chose for the last frame, where it chose its paths.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub frame_budget: Option<crate::renderer::BudgetReport>,
@@ -116,11 +136,8 @@ impl Stats {
             instances: scene.instances.len(),
             instance_update_ms: renderer.pose_update_ms(),
             command,
-            passes: frame
-                .timings
-                .iter()
-                .map(|t| PassTime { pass: t.name.clone(), gpu_ms: t.ms, wall_ms: t.wall_ms })
-                .collect(),
+            passes: pass_times(&frame.timings),
+            last_frame: FrameTimes::of(&frame.last_frame_timings),
         }
     }
 }

@@ -43,6 +43,9 @@ pub struct RenderedFrame {
     /// Per-pass times, summed over the frames that made the image (a reference image
     /// accumulates its samples over several).
     pub timings: Vec<PassTiming>,
+    /// The last of those frames' own per-pass times: the frame that `splat` counted, so that
+    /// a time and a count of the same frame go together (`timings` holds every frame's).
+    pub last_frame_timings: Vec<PassTiming>,
     /// GPU time of the frames that made the image, each from its first pass's start to its
     /// last pass's end, summed: the frame time on a GPU (with `Timing::Timestamps`).
     pub gpu_span_ms: f64,
@@ -156,6 +159,7 @@ impl Renderer {
             surface: texels[4 * n..5 * n].to_vec(),
             display,
             timings: report.timings.clone(),
+            last_frame_timings: report.timings.clone(),
             gpu_span_ms: report.gpu_span_ms,
             wall_ms: report.wall_ms,
             splat: report.splat.clone(),
