@@ -59,6 +59,10 @@ layout(set = 1, binding = 9, std430) buffer GatherCounters {
     uint proven_hi;
     uint valid_samples;   // view samples with a surface
     uint capped_samples;  // samples that reached the cap
+    uint ray_nodes_lo;    // the visibility rays' traversal work, where TRACE_COUNT_WORK counts it
+    uint ray_nodes_hi;
+    uint ray_triangles_lo;
+    uint ray_triangles_hi;
     uint pad0;
     uint pad1;
 } gather_counters;
@@ -98,6 +102,18 @@ layout(set = 1, binding = 17, rgba32f) uniform readonly image2D sample_clearance
 layout(set = 1, binding = 18, rgba32f) uniform readonly image2D segment_region_lo;
 layout(set = 1, binding = 19, rgba32f) uniform readonly image2D segment_region_hi;
 layout(set = 1, binding = 20, rgba32ui) uniform readonly uimage2D segment_entries;
+
+// The traversal's work counts (trace_compute.glsl) exist in every variant, so that one
+// specialization serves both backends: ray queries count nothing.
+#if !defined(TRACE_COMPUTE)
+#ifdef LEAKLESS_REFLECTION
+#define TRACE_COUNT_WORK false
+#else
+layout(constant_id = 10) const bool TRACE_COUNT_WORK = false;
+#endif
+uint trace_nodes_visited = 0u;
+uint trace_triangles_tested = 0u;
+#endif
 
 #ifdef LEAKLESS_REFLECTION
 #define LIST_PHOTON(I) list_photons.photons[I]
@@ -540,6 +556,11 @@ void main() {
         if (walked) {
             break;
         }
+    }
+    // Every lane counts what it traced, for its own sample or (pooled) for another's.
+    if (TRACE_COUNT_WORK) {
+        ADD64(gather_counters.ray_nodes_lo, gather_counters.ray_nodes_hi, trace_nodes_visited);
+        ADD64(gather_counters.ray_triangles_lo, gather_counters.ray_triangles_hi, trace_triangles_tested);
     }
     if (!in_range) {
         return;

@@ -3,7 +3,7 @@
 //! subgroup's shared walk of the lists, the two orders) renders the CPU preset's image bit for bit, on both backends. The GPU preset runs
 //! here as it would on a GPU, subgroup operations included.
 
-use leakless::{DeviceTuning, Method, RenderSettings, Renderer, SplatSettings, TuningChoice};
+use leakless::{BackendChoice, DeviceTuning, Method, RenderSettings, Renderer, SplatSettings, TuningChoice};
 
 use crate::common;
 
@@ -13,6 +13,35 @@ fn frame(path: &str, settings: &RenderSettings, tuning: DeviceTuning) -> Option<
     let frame = renderer.render().expect("render");
     renderer.gpu().check_validation().expect("validation clean");
     Some(frame)
+}
+
+/// The gather's count of its rays' traversal work (`count_work`) is there only where the tuning
+/// asks for it on the compute backend: none of a frame without it (`base`), and in `other`
+/// none of nodes where no ray is traced (`splat`) and some where rays are (the doorway's
+/// `leakless`, whose frame culls leaks: each blocked ray a walk found tested a triangle).
+fn assert_traversal_counted(
+    base: &leakless::RenderedFrame,
+    other: &leakless::RenderedFrame,
+    counted: bool,
+    what: &str,
+) {
+    let (b, o) = (base.splat.as_ref().unwrap(), other.splat.as_ref().unwrap());
+    assert_eq!((b.ray_nodes_visited, b.ray_triangles_tested), (None, None), "{what}: counted without count_work");
+    if !counted {
+        assert_eq!((o.ray_nodes_visited, o.ray_triangles_tested), (None, None), "{what}");
+        return;
+    }
+    let (nodes, triangles) = (o.ray_nodes_visited.expect("counted"), o.ray_triangles_tested.expect("counted"));
+    if o.visibility_rays == 0 {
+        assert_eq!((nodes, triangles), (0, 0), "{what}: work without rays");
+    } else {
+        assert!(o.leaks_culled > 0, "{what}: the doorway culls leaks");
+        assert!(
+            nodes > 0 && triangles > 0,
+            "{what}: {nodes} nodes, {triangles} triangles for {} rays",
+            o.visibility_rays
+        );
+    }
 }
 
 /// Every layer and count equal.
@@ -40,6 +69,7 @@ fn every_tuning_renders_the_cpu_presets_image() {
         paths_per_thread: 3,
         subgroup_counters: report.subgroup_arithmetic,
         shared_walk: !cpu.shared_walk,
+        count_work: true,
         ..cpu.clone()
     };
     for backend in common::choices() {
@@ -55,8 +85,10 @@ fn every_tuning_renders_the_cpu_presets_image() {
             let base = frame("scenes/doorway.gltf", &settings, cpu.clone()).unwrap();
             assert!(base.splat.as_ref().unwrap().photons_stored > 0);
             for (name, tuning) in [("gpu preset", gpu_preset.clone()), ("odd sizes", odd.clone())] {
-                let other = frame("scenes/doorway.gltf", &settings, tuning).unwrap();
-                assert_same(&base, &other, &format!("{name}, {} on {}", method.name(), backend.name()));
+                let other = frame("scenes/doorway.gltf", &settings, tuning.clone()).unwrap();
+                let what = format!("{name}, {} on {}", method.name(), backend.name());
+                assert_same(&base, &other, &what);
+                assert_traversal_counted(&base, &other, tuning.count_work && backend == BackendChoice::Compute, &what);
             }
             // A shared walk over leaves narrower than the subgroup: its rounds walk one leaf after
             // another, and test what each lane's own walk does.
@@ -179,7 +211,8 @@ fn the_capped_methods_counts_do_not_depend_on_the_tuning() {
 #[test]
 fn the_tuning_specializes_the_modules_it_names() {
     use leakless::shaders;
-    // The compute backend's traversal also has its work counters' switch, off in frames.
+    // Both variants also have the traversal's work counters' switch (ray queries count nothing),
+    // off unless the tuning counts.
     // Then the estimator's, which each gather pass sets (gather.rs), and off by default.
     let tuned = [
         ("local_size_x", 0, 64),
@@ -192,7 +225,9 @@ fn the_tuning_specializes_the_modules_it_names() {
         ("POOL_WAIT", 7, 1),
     ];
     let counting = [("TRACE_COUNT_WORK", 10, 0)];
-    for (module, extra) in [(&shaders::GATHER_COMP_COMPUTE, &counting[..]), (&shaders::GATHER_COMP_RAYQUERY, &[][..])] {
+    for (module, extra) in
+        [(&shaders::GATHER_COMP_COMPUTE, &counting[..]), (&shaders::GATHER_COMP_RAYQUERY, &counting[..])]
+    {
         let names: Vec<(&str, u32, u32)> = module.spec_constants.iter().map(|c| (c.name, c.id, c.default)).collect();
         assert_eq!(names, [&tuned[..], extra].concat(), "{}", module.name);
         assert_eq!(module.workgroup_size, [64, 1, 1]);

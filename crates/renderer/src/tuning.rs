@@ -121,6 +121,10 @@ pub struct DeviceTuning {
     /// 320×240 and at 160×120), a ray a pixel 0.6 µs (49 ms at 320×240); the two are even at
     /// 640×480 (docs/results.md, "View samples"). On a GPU the raster always (unmeasured).
     pub primary_rays: bool,
+    /// The gather counts its visibility rays' traversal work (`TRACE_COUNT_WORK`,
+    /// trace_compute.glsl; `render --count-work`): off by default on every device, since the
+    /// counts cost two additions a step. Ray queries count nothing.
+    pub count_work: bool,
 }
 
 fn timing_name<S: serde::Serializer>(timing: &Timing, s: S) -> std::result::Result<S::Ok, S::Error> {
@@ -179,6 +183,7 @@ impl DeviceTuning {
             view_profile_every: 30,
             frame_ms: 150.0,
             primary_rays: true,
+            count_work: false,
         }
     }
 
@@ -244,6 +249,7 @@ impl DeviceTuning {
             .with("SHARED_WALK", self.shared_walk as u32)
             .with("RAY_POOL", self.ray_pool_words())
             .with("POOL_WAIT", self.pool_wait as u32)
+            .with("TRACE_COUNT_WORK", self.count_work as u32)
     }
 
     /// The words of shared memory the gather's pooled ray queues take (1, a placeholder, where

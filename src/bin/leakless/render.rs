@@ -5,7 +5,7 @@ use std::path::PathBuf;
 use anyhow::Context;
 use leakless::frame_budget::DynamicResolution;
 use leakless::output::{self, OutputPaths};
-use leakless::{Method, Renderer};
+use leakless::{DeviceTuning, Method, Renderer};
 use leakless_graph::Timing;
 
 use crate::options::RenderOptions;
@@ -55,6 +55,11 @@ pub struct RenderArgs {
     /// `--radius`: what a capture of the app records when the two differ.
     #[arg(long, value_name = "R")]
     first_frame_radius: Option<f32>,
+    /// Count the compute traversal's work for the gather's visibility rays into `--stats`
+    /// (`ray_nodes_visited`, `ray_triangles_tested`), as `bench rays` counts its rays': the
+    /// gather then runs with the counts compiled in. Ray queries count nothing.
+    #[arg(long)]
+    count_work: bool,
 }
 
 /// The size `render` renders at without `--size`.
@@ -65,7 +70,10 @@ pub fn run(args: RenderArgs) -> anyhow::Result<()> {
     settings.validate()?;
     let scene = args.options.load_scene()?;
     let gpu = crate::open_gpu(settings.backend)?;
-    let mut renderer = Renderer::new(gpu, &scene, settings.clone()).context("setting up the renderer")?;
+    let mut tuning = DeviceTuning::choose(gpu.report(), settings.tuning);
+    tuning.count_work = args.count_work;
+    let mut renderer =
+        Renderer::with_tuning(gpu, &scene, settings.clone(), tuning).context("setting up the renderer")?;
     args.options.apply_view(&mut renderer, &scene)?;
     renderer.set_timing(match args.timing.as_str() {
         "per-pass" => Timing::PerPassSubmit,

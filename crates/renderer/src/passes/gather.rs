@@ -65,6 +65,10 @@ gpu_struct! {
         pub proven_hi: u32,
         pub valid_samples: u32,
         pub capped_samples: u32,
+        pub ray_nodes_lo: u32,
+        pub ray_nodes_hi: u32,
+        pub ray_triangles_lo: u32,
+        pub ray_triangles_hi: u32,
         pub pad0: u32,
         pub pad1: u32,
     }
@@ -90,6 +94,15 @@ impl GatherCounters {
     /// Visibility tests the photons' clearance answered without a ray.
     pub fn proven(&self) -> u64 {
         wide(self.proven_lo, self.proven_hi)
+    }
+    /// Nodes the visibility rays' walks processed (counted where the tuning's `count_work`
+    /// is on, on the compute backend; 0 otherwise).
+    pub fn ray_nodes(&self) -> u64 {
+        wide(self.ray_nodes_lo, self.ray_nodes_hi)
+    }
+    /// Triangles those walks tested.
+    pub fn ray_triangles(&self) -> u64 {
+        wide(self.ray_triangles_lo, self.ray_triangles_hi)
     }
 }
 

@@ -43,6 +43,14 @@ pub struct SplatStats {
     pub proven_clear: u64,
     /// Gathered photons whose segment hit geometry: leaks removed.
     pub leaks_culled: u64,
+    /// The compute traversal's work for those rays, where the tuning counts it (`render
+    /// --count-work`): the nodes its walks processed and the triangles they tested, as `bench
+    /// rays` counts them (a test against the triangle that blocked the invocation's last blocked
+    /// segment is not a walk's and is left out). `None` where nothing counted.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub ray_nodes_visited: Option<u64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub ray_triangles_tested: Option<u64>,
     /// Samples that reached the per-pixel cap.
     pub capped_samples: u32,
     /// Leaked / (leaked + kept) indirect energy over the image (luminance), filled in by the
@@ -61,6 +69,7 @@ impl SplatStats {
         gather: &GatherCounters,
     ) -> SplatStats {
         let valid_samples = gather.valid_samples as u64;
+        let counted = frame.tuning.count_work && frame.compute_trace;
         SplatStats {
             paths: frame.settings.paths,
             radius: frame.radius,
@@ -82,6 +91,8 @@ impl SplatStats {
             visibility_rays: if frame.settings.visibility { gather.accepted() - gather.proven() } else { 0 },
             proven_clear: gather.proven(),
             leaks_culled: gather.occluded(),
+            ray_nodes_visited: counted.then(|| gather.ray_nodes()),
+            ray_triangles_tested: counted.then(|| gather.ray_triangles()),
             capped_samples: gather.capped_samples,
             leaked_energy_fraction: 0.0,
             brute_force_tests: valid_samples * photons.stored as u64,
