@@ -198,16 +198,27 @@ bool trace_bvh_walk(BvhRay ray, uint root, uvec4 entries, uint count, float tmin
     uint stack[BVH_STACK_SIZE + 4];
     uint sp = 0u;
     for (uint i = count; i > 0u; --i) {
+        // Only the entry's own child is read: a select between the node's two children would
+        // load both (on a CPU driver a load is paid per lane and word; docs/results.md, "Rays").
         uint at = entries[i - 1u];
-        BvhNode n = BVH_NODE(at >> 1u);
-        bool second = (at & 1u) != 0u;
+        vec3 lo, hi;
+        uint child;
+        if ((at & 1u) != 0u) {
+            lo = BVH_NODE(at >> 1u).min1;
+            hi = BVH_NODE(at >> 1u).max1;
+            child = BVH_NODE(at >> 1u).child1;
+        } else {
+            lo = BVH_NODE(at >> 1u).min0;
+            hi = BVH_NODE(at >> 1u).max0;
+            child = BVH_NODE(at >> 1u).child0;
+        }
         float d;
-        bool h = bvh_box(ray, second ? n.min1 : n.min0, second ? n.max1 : n.max0, tmin, hit.t, d);
+        bool h = bvh_box(ray, lo, hi, tmin, hit.t, d);
 #ifdef TRACE_PLANE_CULL
-        h = h && !bvh_box_below(second ? n.min1 : n.min0, second ? n.max1 : n.max0);
+        h = h && !bvh_box_below(lo, hi);
 #endif
         if (h) {
-            stack[sp] = second ? n.child1 : n.child0;
+            stack[sp] = child;
             sp++;
         }
     }
