@@ -201,16 +201,17 @@ bool trace_bvh_walk(BvhRay ray, uint root, uvec4 entries, uint count, float tmin
         // Only the entry's own child is read: a select between the node's two children would
         // load both (on a CPU driver a load is paid per lane and word; docs/results.md, "Rays").
         uint at = entries[i - 1u];
+        uint parent = at >> 1u;
         vec3 lo, hi;
         uint child;
         if ((at & 1u) != 0u) {
-            lo = BVH_NODE(at >> 1u).min1;
-            hi = BVH_NODE(at >> 1u).max1;
-            child = BVH_NODE(at >> 1u).child1;
+            lo = BVH_NODE(parent).min1;
+            hi = BVH_NODE(parent).max1;
+            child = BVH_NODE(parent).child1;
         } else {
-            lo = BVH_NODE(at >> 1u).min0;
-            hi = BVH_NODE(at >> 1u).max0;
-            child = BVH_NODE(at >> 1u).child0;
+            lo = BVH_NODE(parent).min0;
+            hi = BVH_NODE(parent).max0;
+            child = BVH_NODE(parent).child0;
         }
         float d;
         bool h = bvh_box(ray, lo, hi, tmin, hit.t, d);
