@@ -366,10 +366,9 @@ fn mean_and_error(frames: &[f64]) -> (f64, f64) {
     (mean, (var / n).sqrt())
 }
 
-/// `frames` independent frames of `method` (fresh photons, or fresh reference samples).
-fn frame_means(scene: &Scene, settings: RenderSettings, frames: u32) -> (f64, f64, u32) {
-    let gpu = common::gpu_with(false).expect("device");
-    let mut r = Renderer::new(gpu, scene, settings.clone()).expect("renderer");
+/// `frames` independent frames of `settings`' method (fresh photons, or fresh reference
+/// samples), by a renderer the scene's methods share: settings are all a frame depends on.
+fn frame_means(r: &mut Renderer, settings: RenderSettings, frames: u32) -> (f64, f64, u32) {
     let mut means = Vec::new();
     let mut capped = 0;
     for k in 0..frames {
@@ -408,14 +407,17 @@ fn no_method_adds_energy_and_the_cap_loses_it() {
     let mut cap_binds = 0;
     for (name, scene) in scenes() {
         let reference_settings = RenderSettings { method: Method::Reference, spp: 16, ..base.clone() };
-        let (reference, reference_error, _) = frame_means(&scene, reference_settings, 4);
+        let gpu = common::gpu_with(false).expect("device");
+        let mut r = Renderer::new(gpu, &scene, reference_settings.clone()).expect("renderer");
+        let (reference, reference_error, _) = frame_means(&mut r, reference_settings, 4);
         if reference == 0.0 {
             continue; // the camera sees only the dark room: the leak tests cover it
         }
-        let energy = |method| frame_means(&scene, RenderSettings { method, ..base.clone() }, 4);
+        let mut energy = |method| frame_means(&mut r, RenderSettings { method, ..base.clone() }, 4);
         let (leakless, leakless_error, _) = energy(Method::LeakLess);
         let (capped, capped_error, capped_samples) = energy(Method::LeakLessCapped);
         let (direct, direct_error, _) = energy(Method::Direct);
+        r.gpu().check_validation().expect("validation clean");
         eprintln!(
             "{name}: reference {reference:.4e} ± {reference_error:.1e}; leakless {:.3}, capped {:.3} ({capped_samples} capped samples), direct {:.3}",
             leakless / reference,
