@@ -23,6 +23,7 @@ mod leak_scenes;
 mod motion;
 mod output;
 mod photons;
+mod pipelines;
 mod primary;
 mod progressive;
 mod reference;

@@ -26,6 +26,10 @@ impl PipelineTable {
         self.by_label.contains_key(name.label)
     }
 
+    pub fn contains_label(&self, label: &str) -> bool {
+        self.by_label.contains_key(label)
+    }
+
     pub fn get(&self, name: PassName) -> Option<&ComputePipeline> {
         self.by_label.get(name.label).map(|p| &**p)
     }

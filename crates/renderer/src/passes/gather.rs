@@ -142,16 +142,30 @@ pub const GATHER_LABEL: PassName = PassName::new("gather", group::GATHER);
 compute_pass! {
     /// The gather without visibility rays (`splat`).
     pub static GATHER in FRAME_PASSES: ComputePass<GatherBindings, GatherParams> =
-        ComputePass::traced(GATHER_LABEL, SHADERS, &[GBufferBindings::DECLS]).specialize(DeviceTuning::gather);
+        ComputePass::traced(GATHER_LABEL, SHADERS, &[GBufferBindings::DECLS])
+            .specialize(DeviceTuning::gather)
+            .on_demand();
     /// With a visibility segment to every photon over the whole disk (`leakless-capped`,
     /// `leakless --whole-disk`).
     pub static GATHER_TRACED in FRAME_PASSES: ComputePass<GatherBindings, GatherParams> =
         ComputePass::traced(PassName::new("gather traced", group::GATHER), SHADERS, &[GBufferBindings::DECLS])
-            .specialize(traced);
+            .specialize(traced)
+            .on_demand();
     /// With visibility over the visible disk (`leakless`).
     pub static GATHER_VISIBLE_DISK in FRAME_PASSES: ComputePass<GatherBindings, GatherParams> =
         ComputePass::traced(PassName::new("gather visible disk", group::GATHER), SHADERS, &[GBufferBindings::DECLS])
-            .specialize(visible_disk);
+            .specialize(visible_disk)
+            .on_demand();
+}
+
+/// The estimator a gather with these inputs runs (its pipeline is made when a frame first
+/// names it: `Pipelines::prepare`).
+pub fn estimator(visibility: bool, visible_disk: bool) -> &'static ComputePass<GatherBindings, GatherParams> {
+    match (visibility, visible_disk) {
+        (false, _) => &GATHER,
+        (true, false) => &GATHER_TRACED,
+        (true, true) => &GATHER_VISIBLE_DISK,
+    }
 }
 
 const SHADERS: (&ShaderInfo, &ShaderInfo) = (&shaders::GATHER_COMP_RAYQUERY, &shaders::GATHER_COMP_COMPUTE);
@@ -272,10 +286,12 @@ pub fn add<'r>(
         segment_entries: &input.segment_entries.entries,
     };
     let threads = Threads::Fixed([shape.sample_count, 1, 1]);
-    let estimator = match (input.visibility, input.visible_disk) {
-        (false, _) => &GATHER,
-        (true, false) => &GATHER_TRACED,
-        (true, true) => &GATHER_VISIBLE_DISK,
-    };
-    estimator.add_as(graph, (GATHER_LABEL, None), resources, |pass| gbuffer.declare(pass), params, threads);
+    estimator(input.visibility, input.visible_disk).add_as(
+        graph,
+        (GATHER_LABEL, None),
+        resources,
+        |pass| gbuffer.declare(pass),
+        params,
+        threads,
+    );
 }

@@ -42,7 +42,8 @@ compute_pass! {
             PassName::new("primary rays", group::VIEW),
             (&shaders::PRIMARY_RAYS_COMP_RAYQUERY, &shaders::PRIMARY_RAYS_COMP_COMPUTE),
             &[],
-        );
+        )
+        .on_demand();
 }
 
 /// Writes `out`'s position, normal and albedo (its depth is the raster's alone).

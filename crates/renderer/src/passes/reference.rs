@@ -45,7 +45,8 @@ compute_pass! {
             PassName::new("reference", group::REFERENCE),
             (&shaders::REFERENCE_COMP_RAYQUERY, &shaders::REFERENCE_COMP_COMPUTE),
             VIEW_GROUPS,
-        );
+        )
+        .on_demand();
 }
 
 /// Adds `params.sample_count` samples per view sample to `accumulated` (overwrites it

@@ -1,9 +1,9 @@
 //! Compute passes' definitions, and their pipelines made from them: a pass is a function over
 //! the graph, which lends it its pipeline ([`Graph::pipeline`](leakless_graph::Graph::pipeline)),
 //! with no pipeline of its own to construct and no field to add to the renderer. Every pass of a
-//! frame collects itself into [`passes::FRAME_PASSES`]; [`Pipelines`] makes them all for a
-//! backend when the backend is first used, and the bindings test checks the same collection
-//! against reflection.
+//! frame collects itself into [`passes::FRAME_PASSES`]; [`Pipelines`] makes them for a backend
+//! when the backend is first used (those marked on demand when a frame first runs them), and
+//! the bindings test checks the same collection against reflection.
 //!
 //! [`passes::FRAME_PASSES`]: crate::passes::FRAME_PASSES
 
@@ -53,6 +53,10 @@ pub struct ComputePassDef {
     /// The values of its specialization constants under a device tuning (`None`: the
     /// module's defaults).
     pub specialize: Option<fn(&DeviceTuning) -> Specialization>,
+    /// Made only when a frame asks for it ([`Pipelines::prepare`]'s `wanted`), not with the
+    /// others: a large module that some methods never run (the gather's estimators, the path
+    /// tracer), whose pipeline lavapipe takes about 0.1 s to make.
+    pub on_demand: bool,
 }
 
 /// A compute pass's definition, typed by its own group's bindings `B` and its push constants
@@ -89,6 +93,7 @@ impl<B: BindingGroup, P: PushConstants> ComputePass<B, P> {
             push: P::PUSH_LAYOUT,
             workgroup: None,
             specialize: None,
+            on_demand: false,
         };
         ComputePass { def, types: PhantomData }
     }
@@ -111,6 +116,12 @@ impl<B: BindingGroup, P: PushConstants> ComputePass<B, P> {
     pub const fn workgroup(self, size: [u32; 3]) -> Self {
         let ComputePass { def, types } = self;
         ComputePass { def: ComputePassDef { workgroup: Some(size), ..def }, types }
+    }
+
+    /// Made when a frame first asks for it, not with the rest ([`ComputePassDef::on_demand`]).
+    pub const fn on_demand(self) -> Self {
+        let ComputePass { def, types } = self;
+        ComputePass { def: ComputePassDef { on_demand: true, ..def }, types }
     }
 
     /// Specialized per device tuning by `specialize`.
@@ -197,7 +208,8 @@ impl ComputePassDef {
 /// The pipelines of a set of passes: one table per backend (what a frame's graph is lent),
 /// each pass's pipeline made once per shader module, so the passes that trace nothing share
 /// theirs between the backends' tables. Two passes may run one module under different
-/// specializations (the gather's estimators): each makes, and is checked with, its own.
+/// specializations (the gather's estimators): each makes, and is checked with, its own. A pass
+/// marked [`on_demand`](ComputePassDef::on_demand) is made when a frame first names it.
 pub struct Pipelines {
     defs: Vec<&'static ComputePassDef>,
     tuning: DeviceTuning,
@@ -217,15 +229,16 @@ impl Pipelines {
         let defs = defs.to_vec();
         let mut pipelines =
             Pipelines { defs, tuning: tuning.clone(), by_module: HashMap::new(), tables: Default::default() };
-        pipelines.prepare(gpu, backend)?;
+        pipelines.prepare(gpu, backend, &[])?;
         Ok(pipelines)
     }
 
-    /// Makes what `backend` needs and is not made yet (a backend used for the first time).
-    pub fn prepare(&mut self, gpu: &Gpu, backend: Backend) -> Result<()> {
+    /// Makes what `backend` needs and is not made yet (a backend used for the first time, an
+    /// on-demand pass that `wanted` names for the first time).
+    pub fn prepare(&mut self, gpu: &Gpu, backend: Backend, wanted: &[PassName]) -> Result<()> {
         let table = &mut self.tables[backend as usize];
         for &def in &self.defs {
-            if table.contains(def.name) {
+            if table.contains(def.name) || (def.on_demand && !wanted.contains(&def.name)) {
                 continue;
             }
             let key = (def.shader(backend).name, def.name);

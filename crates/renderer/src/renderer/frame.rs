@@ -98,6 +98,7 @@ impl Renderer {
         if let Some(frame) = splat.as_ref().filter(|f| f.first_batch == 0) {
             self.record_first_radius(frame.radius);
         }
+        self.prepare_pipelines(splat.as_ref(), render && method == crate::Method::Reference)?;
         let jitter = if progressive { pixel_jitter(index) } else { glam::Vec2::ZERO };
         let frame_constants = self.frame_constants(jitter);
         let primary = self.primary();

@@ -198,6 +198,7 @@ impl Renderer {
 
     /// One probe: the view's G-buffer and `probe`'s photons, splatted and gathered; its counts.
     fn run_probe(&mut self, probe: &SplatFrame) -> Result<ProbeCounters> {
+        self.prepare_pipelines(Some(probe), false)?;
         let frame_constants = self.frame_constants(glam::Vec2::ZERO);
         let extent = self.extent();
         let trace_scene = self.traces[self.backend.backend as usize].as_ref().expect("current backend made");

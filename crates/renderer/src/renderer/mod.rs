@@ -220,7 +220,23 @@ impl Renderer {
         if slot.is_none() {
             *slot = Some(TraceScene::build(&self.gpu, &self.scene, &self.gpu_scene, &self.pose, backend)?);
         }
-        self.pipelines.prepare(&self.gpu, backend)
+        self.pipelines.prepare(&self.gpu, backend, &[])
+    }
+
+    /// Makes the on-demand pipelines (`ComputePassDef::on_demand`) that a frame of `splat`'s
+    /// photons (its gather's estimator), of the path tracer (`reference`) and of this frame's
+    /// view samples runs, where no frame made them before: a method the renderer has not run
+    /// costs no pipeline.
+    fn prepare_pipelines(&mut self, splat: Option<&crate::splatting::SplatFrame>, reference: bool) -> Result<()> {
+        use crate::passes::{primary_rays::PRIMARY_RAYS, reference::REFERENCE};
+        let mut wanted: Vec<_> = splat.map(|f| f.gather_pass()).into_iter().collect();
+        if reference {
+            wanted.push(REFERENCE.name);
+        }
+        if self.primary() == crate::Primary::Rays {
+            wanted.push(PRIMARY_RAYS.name);
+        }
+        self.pipelines.prepare(&self.gpu, self.backend.backend, &wanted)
     }
 
     fn default_list_capacity(&self) -> u32 {
@@ -235,6 +251,12 @@ impl Renderer {
     /// What the renderer tunes to its device ([`DeviceTuning`]).
     pub fn tuning(&self) -> &DeviceTuning {
         self.pipelines.tuning()
+    }
+
+    /// Whether the pipeline of the pass labelled `label` is made on the current backend
+    /// (on-demand passes are made by the first frame that runs them).
+    pub fn has_pipeline(&self, label: &str) -> bool {
+        self.pipelines.table(self.backend.backend).contains_label(label)
     }
 
     /// How this frame finds its view samples: `--primary`, with `auto` resolved for this

@@ -24,7 +24,7 @@ pub use settings::SplatSettings;
 pub use stats::SplatStats;
 
 use leakless_device::{BufferDesc, MemoryLocation};
-use leakless_graph::{BufferHandle, Graph};
+use leakless_graph::{BufferHandle, Graph, PassName};
 use leakless_scene::Aabb;
 
 use crate::error::{RenderError, Result};
@@ -79,6 +79,17 @@ pub struct SplatFrame {
 }
 
 impl SplatFrame {
+    /// Whether the gather divides by the visible disk's mass (leakless): visibility on, and
+    /// the visible disk not turned off.
+    pub fn visible_disk(&self) -> bool {
+        self.settings.visibility && self.settings.visible_disk
+    }
+
+    /// The pass this frame's gather runs, whose pipeline is made on demand.
+    pub fn gather_pass(&self) -> PassName {
+        gather::estimator(self.settings.visibility, self.visible_disk()).name
+    }
+
     /// The hierarchy's branching factor: the settings', else the tuning's.
     pub fn branching(&self) -> u32 {
         self.settings.branching.unwrap_or(self.tuning.branching)
@@ -144,7 +155,7 @@ pub fn add<'r>(
     let shape = Shape::new(extent.width * extent.height, frame.branching())?;
     // Each sample's visible share of the kernel's disk (leakless), or 1, and its gather radius,
     // which the hierarchy's nodes bound.
-    let visible_disk = frame.settings.visibility && frame.settings.visible_disk;
+    let visible_disk = frame.visible_disk();
     let partial = visible_disk && frame.settings.partial_disk_radius;
     let mut disk_mass = visible_disk::image(graph, extent)?;
     let disk_seed = frame.seed ^ frame.path_offset.wrapping_mul(0x9e37_79b9);
