@@ -2,6 +2,7 @@
 //! primary rays) have their pipelines made by the first frame that runs them, not with the
 //! renderer (lavapipe takes about 0.1 s for each of the first four).
 
+use leakless::passes::FRAME_PASSES;
 use leakless::{BackendChoice, Method, Primary, RenderSettings, Renderer, SplatSettings};
 
 use crate::common;
@@ -11,6 +12,17 @@ const ON_DEMAND: [&str; 5] = ["gather", "gather traced", "gather visible disk", 
 /// The on-demand pipelines `r` has made, in `ON_DEMAND`'s order.
 fn made(r: &Renderer) -> Vec<&'static str> {
     ON_DEMAND.into_iter().filter(|label| r.has_pipeline(label)).collect()
+}
+
+/// The passes marked on demand are these five: a pass marked later says here which frames make
+/// it (the test below), or it would go unchecked.
+#[test]
+fn the_on_demand_passes_are_the_ones_this_file_checks() {
+    let mut marked: Vec<&str> = FRAME_PASSES.iter().filter(|d| d.on_demand).map(|d| d.name.label).collect();
+    marked.sort_unstable();
+    let mut checked = ON_DEMAND.to_vec();
+    checked.sort_unstable();
+    assert_eq!(marked, checked);
 }
 
 /// A renderer made for `direct` makes none of them; a `leakless` frame makes its estimator's
