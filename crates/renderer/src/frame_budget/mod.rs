@@ -11,10 +11,11 @@
 //! split of the last frame that had them (its f and c, as shares of this frame's time at this
 //! frame's paths); the mean of the last estimates (up to 16, less the highest and the lowest)
 //! sets the next frame's paths, p = (T − f) / c. A lasting change (two frames in a row a
-//! third or more off that mean, on the same side, or 1.3× over the target) drops the older
-//! estimates, so that the budget follows it within a few frames while a lone outlier (a
-//! profiled frame, a page fault) moves it little. The paths move on a ladder of steps 2^(1/8)
-//! apart and stay on their step while the estimate is within ¾ of a step of it, so that noise
+//! third or more off that mean, on the same side; one frame 1.3× over the target; three in a
+//! row 1.15× over it, a cost that climbs) drops the older estimates, so that the budget follows
+//! it within a few frames while a lone outlier under the target moves it little. The paths
+//! move on a ladder of steps 2^(1/8) apart and stay on their step while the estimate is within
+//! ¾ of a step of it, so that noise
 //! does not make them wander, and the buffers sized by the paths change only when the step
 //! does. The ladder passes through the starting paths (`--paths`): a budget that a frame of
 //! them meets keeps them, where on a ladder from a fixed base the nearest step can be 4.5%
@@ -46,12 +47,18 @@ const WINDOW: usize = 16;
 const SHIFT_FRAMES: usize = 2;
 const SHIFT_FACTOR: f64 = 1.3;
 
-/// `SHIFT_FRAMES` frames in a row this far over the target also mark a change: a cost that
-/// climbs a few percent a frame (a view turning towards costlier pixels) never stands
-/// `SHIFT_FACTOR` off the average of the frames before it, and the average lagged it by ten
-/// frames or more, each over the target. Beyond a steady view's ±20% noise on paths a ladder's
-/// step above the target's.
+/// One frame this far over the target also marks a change: beyond a steady view's ±20% noise
+/// on paths a ladder's step above the target's, so that only a change of cost (or a stall of
+/// the machine) reaches it, and with a frame in flight the change shows a frame late already.
 const OVER_FACTOR: f64 = 1.3;
+
+/// `DRIFT_FRAMES` frames in a row each over the target by more than `DRIFT_FACTOR` mark a
+/// change too: a cost that climbs a few percent a frame (a view turning towards costlier
+/// pixels) never stands `SHIFT_FACTOR` off the average of the frames before it, and the
+/// average lagged it by half its window, frames 1.2× the target for as long as the climb
+/// lasted. A steady view's ±20% noise puts three frames in a row past 1.15× once in 500.
+const DRIFT_FRAMES: usize = 3;
+const DRIFT_FACTOR: f64 = 1.15;
 
 /// Frames measured at a render size before the budget advises a smaller one, and before it
 /// advises a larger one (the caller feeds only frames of the current size). Down at once, up
@@ -100,6 +107,8 @@ pub struct FrameBudget {
     /// The last timed frame's split of its time: (fixed ms, ms per path). A share measured at
     /// one count of paths is not the share at another.
     split: Option<(f64, f64)>,
+    /// The split was measured at another render size (`resize`).
+    split_stale: bool,
     /// (fixed ms, ms per path) of the last frames.
     estimates: VecDeque<(f64, f64)>,
     /// The fewest paths miss the target by the estimate: the fixed part alone exceeds it.
@@ -110,8 +119,8 @@ pub struct FrameBudget {
     /// Frames measured since the last change of size (`resize`), and in all.
     measured: usize,
     frames: usize,
-    /// Frames in a row over the target by more than `OVER_FACTOR`, and the last frame's time.
-    over_streak: usize,
+    /// Frames in a row over the target by more than `DRIFT_FACTOR`, and the last frame's time.
+    drift_streak: usize,
     last_ms: f64,
 }
 
@@ -129,13 +138,14 @@ impl FrameBudget {
             ladder_base,
             paths: on_ladder(ladder_base, ladder_base, min_paths, max_paths),
             split: None,
+            split_stale: false,
             estimates: VecDeque::with_capacity(WINDOW),
             over: false,
             fixed_ms: 0.0,
             per_path_ms: 0.0,
             measured: 0,
             frames: 0,
-            over_streak: 0,
+            drift_streak: 0,
             last_ms: 0.0,
         }
     }
@@ -169,6 +179,21 @@ impl FrameBudget {
         self.fixed_ms + self.per_path_ms * self.min_paths as f64
     }
 
+    /// Whether the next frame should have its passes timed, where a caller times them only now
+    /// and then (the app on lavapipe): no timed frame was measured yet, or none since the last
+    /// change of size. Before the first, a frame's time is split by `START_PHOTON_SHARE`, a
+    /// guess (the atrium's first frames on lavapipe spend 15–30% of their time on the photons:
+    /// the guess put the fixed part at a quarter of what it was until the app timed a frame, 22
+    /// frames later); after a change of size, by the split carried from the old size.
+    pub fn wants_timed_frame(&self) -> bool {
+        self.split.is_none() || self.split_stale
+    }
+
+    /// The estimate of the fixed part of a frame (ms): what the frame would take without paths.
+    pub fn fixed_ms(&self) -> f64 {
+        self.fixed_ms
+    }
+
     /// Takes a budgeted frame's measured time; returns the paths of the next.
     pub fn observe(&mut self, frame: FrameTime) -> u32 {
         if !(frame.ms.is_finite() && frame.ms > 0.0 && frame.paths > 0) {
@@ -177,13 +202,14 @@ impl FrameBudget {
         self.measured += 1;
         self.frames += 1;
         let p = frame.paths as f64;
-        let over = frame.ms > OVER_FACTOR * self.target_ms;
-        self.over_streak = if over { self.over_streak + 1 } else { 0 };
+        let drifting = frame.ms > DRIFT_FACTOR * self.target_ms;
+        self.drift_streak = if drifting { self.drift_streak + 1 } else { 0 };
         self.last_ms = frame.ms;
         let share = match (frame.photon_share.filter(|s| s.is_finite()), self.split) {
             (Some(share), _) => {
                 let share = share.clamp(0.001, 1.0);
                 self.split = Some((frame.ms * (1.0 - share), frame.ms * share / p));
+                self.split_stale = false;
                 share
             }
             (None, Some((fixed, per_path))) => per_path * p / (fixed + per_path * p),
@@ -240,6 +266,7 @@ impl FrameBudget {
         self.estimates.clear();
         self.over = false;
         self.measured = 0;
+        self.split_stale = self.split.is_some();
         if let Some(estimate) = carried {
             self.estimates.push_back(estimate);
             self.choose_paths(false);
@@ -280,14 +307,26 @@ impl FrameBudget {
     }
 
     /// Keeps only the last `SHIFT_FRAMES` estimates when each of them is off the earlier ones'
-    /// average by more than `SHIFT_FACTOR`, all on the same side: the frame's cost changed.
+    /// average by more than `SHIFT_FACTOR`, all on the same side, or the last frame is over
+    /// `OVER_FACTOR`; the last `DRIFT_FRAMES` when each of them was over `DRIFT_FACTOR`: the
+    /// frame's cost changed.
     fn forget_before_a_shift(&mut self) {
         let n = self.estimates.len();
         if n < 2 * SHIFT_FRAMES {
             return;
         }
-        if self.over_streak >= SHIFT_FRAMES {
+        if self.last_ms > OVER_FACTOR * self.target_ms {
             self.estimates.drain(..n - SHIFT_FRAMES);
+            return;
+        }
+        if self.drift_streak >= DRIFT_FRAMES && n > DRIFT_FRAMES {
+            self.estimates.drain(..n - DRIFT_FRAMES);
+            return;
+        }
+        // Frames kept for being over the target are a high estimate of its cost: the frames
+        // after them would stand below them by noise alone, so the average they are compared
+        // with holds more than those.
+        if n < DRIFT_FRAMES + 2 * SHIFT_FRAMES {
             return;
         }
         let before = trimmed_mean(self.estimates.iter().take(n - SHIFT_FRAMES).map(|e| e.1));

@@ -30,6 +30,10 @@ pub struct BudgetReport {
     pub over_budget: bool,
     /// What a frame of the fewest paths takes by the budget's estimate (the last frames' mean).
     pub fewest_paths_ms: f64,
+    /// The share of the frame's passes that followed the paths, where they were timed
+    /// ([`photon_share`]), and the budget's estimate of the fixed part after it (ms).
+    pub photon_share: Option<f64>,
+    pub fixed_ms: f64,
     /// The factor along each axis by which the budget advises scaling the render size (1:
     /// keep it; [`FrameBudget::resolution_factor`]).
     pub resolution_factor: f64,
@@ -142,6 +146,13 @@ impl Renderer {
         }
     }
 
+    /// Whether the next frame is one the budget chooses (it starts an accumulation) and the
+    /// budget wants its passes timed ([`FrameBudget::wants_timed_frame`]): a caller that times
+    /// passes only now and then (the app on lavapipe) should time this one.
+    pub fn budget_wants_timed_frame(&self) -> bool {
+        self.accumulation.accumulated == 0 && self.frame_budget().is_some_and(FrameBudget::wants_timed_frame)
+    }
+
     /// The paths of the current accumulation's first frame, where a budget (or
     /// `set_first_frame_paths`) chose them.
     pub fn first_frame_paths(&self) -> Option<u32> {
@@ -202,6 +213,8 @@ impl Renderer {
             next_paths,
             over_budget: controller.over_budget(),
             fewest_paths_ms: controller.fewest_paths_ms(),
+            photon_share: share,
+            fixed_ms: controller.fixed_ms(),
             resolution_factor: controller.resolution_factor(),
             warm_up: warming_up,
         })

@@ -78,6 +78,8 @@ impl Summary {
             "height",
             "over_budget",
             "warm_up",
+            "photon_share",
+            "fixed_ms",
         ]);
         for (i, (b, (w, h))) in self.budget_frames.iter().enumerate() {
             let row = [
@@ -90,6 +92,8 @@ impl Summary {
                 h.to_string(),
                 b.over_budget.to_string(),
                 b.warm_up.to_string(),
+                b.photon_share.map_or(String::new(), |s| format!("{s:.3}")),
+                format!("{:.3}", b.fixed_ms),
             ];
             table.row(row)?;
         }
