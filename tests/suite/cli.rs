@@ -280,11 +280,14 @@ fn a_sequence_writes_its_frames_and_their_times() {
     assert!(shut.channel("R").unwrap().iter().all(|&v| v == 0.0), "the shut door's frame is not black");
 
     // With a frame budget, each frame that starts an accumulation records the paths the budget
-    // chose, its time and its target.
+    // chose, its time and its target. Submitted at once (`--timing timestamps`), the budget's
+    // first measured frame is still timed pass by pass where timestamps do not bracket the
+    // work (lavapipe), so that the budget splits it by its passes (a GPU times every frame).
     let budgeted = common::tmp_path("cli-sequence-budget");
     let mut args = base.to_vec();
     args[7] = budgeted.to_str().unwrap();
-    let out = leakless(&[&args[..], &["--sequence", "1.9:2:20", "--frame-ms", "40"]].concat(), &[]);
+    let sequence = ["--sequence", "1.9:2:20", "--frame-ms", "40", "--timing", "timestamps"];
+    let out = leakless(&[&args[..], &sequence].concat(), &[]);
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     let json: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(budgeted.join("sequence.json")).expect("sequence.json")).unwrap();
@@ -297,6 +300,8 @@ fn a_sequence_writes_its_frames_and_their_times() {
         assert_eq!(b["paths"], f["paths"], "{f}");
         assert!(f["radius"].as_f64().unwrap() > 0.0, "{f}");
     }
+    let share = frames[1]["budget"]["photon_share"].as_f64();
+    assert!(share.is_some_and(|s| s > 0.0 && s < 1.0), "the first measured frame timed: {}", frames[1]);
     let out = leakless(&[&base[..], &["--frame-ms", "40"]].concat(), &[]);
     assert_one_line_error(&out, "--frame-ms budgets the frames of a --sequence");
     let out = leakless(&[&base[..], &["--sequence", "1.9:2:20", "--frame-ms", "0"]].concat(), &[]);

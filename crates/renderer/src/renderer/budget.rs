@@ -146,11 +146,15 @@ impl Renderer {
         }
     }
 
-    /// Whether the next frame is one the budget chooses (it starts an accumulation) and the
-    /// budget wants its passes timed ([`FrameBudget::wants_timed_frame`]): a caller that times
-    /// passes only now and then (the app on lavapipe) should time this one.
-    pub fn budget_wants_timed_frame(&self) -> bool {
-        self.accumulation.accumulated == 0 && self.frame_budget().is_some_and(FrameBudget::wants_timed_frame)
+    /// Whether a budgeted frame about to be submitted in one submission is to be timed pass by
+    /// pass instead: the budget wants a timed frame ([`FrameBudget::wants_timed_frame`]), and
+    /// the device's timestamps do not bracket the work (the tuning times per pass), so a frame
+    /// submitted at once (the app's frames but one in 30, `render --timing timestamps`) has
+    /// no pass times to split it by.
+    pub(super) fn budget_wants_timed_frame(&self) -> bool {
+        self.runner.timing() == Timing::Timestamps
+            && self.tuning().timing == Timing::PerPassSubmit
+            && self.frame_budget().is_some_and(FrameBudget::wants_timed_frame)
     }
 
     /// The paths of the current accumulation's first frame, where a budget (or

@@ -108,11 +108,7 @@ impl Running {
             self.recreate_swapchain(args)?;
         }
         self.run_overlay(scene)?;
-        // The budget's first measured frame is timed too (the warm-up frame's split is its
-        // compiles', and the budget guesses the split until it has one), and its first after a
-        // change of render size.
-        let profile = self.profile_every > 0
-            && (self.frame % self.profile_every == 1 || self.renderer.budget_wants_timed_frame());
+        let profile = self.profile_every > 0 && self.frame % self.profile_every == 1;
         self.renderer.set_timing(if profile { Timing::PerPassSubmit } else { Timing::Timestamps });
 
         self.fit_batches()?;
