@@ -204,12 +204,14 @@ fn scripted_session_is_clean_and_captures_what_render_renders() {
     );
     let stdout = assert_clean(&out);
     assert!(stdout.contains("frames "), "the summary line: {stdout}");
-    // The budget's log: a row per budgeted frame, the first its warm-up, the resized windows'
-    // render sizes among them.
+    // The budget's log: a row per budgeted frame, the first a warm-up, the resized windows'
+    // render sizes among them. A frame that runs a pass for the first time is a warm-up too
+    // (the first moving frame's reuse, each method's first frame): a few, and no more.
     let mut log = csv::Reader::from_path(&frame_log).expect("the frame log written");
     let rows: Vec<csv::StringRecord> = log.records().map(|r| r.expect("a row")).collect();
     let warm_up: Vec<&str> = rows.iter().map(|r| &r[8]).collect();
-    assert!(warm_up.len() > 5 && warm_up[0] == "true" && warm_up[1..].iter().all(|w| *w == "false"), "{warm_up:?}");
+    let warm_ups = warm_up.iter().filter(|w| **w == "true").count();
+    assert!(warm_up.len() > 5 && warm_up[0] == "true" && (2..=8).contains(&warm_ups), "{warm_ups} {warm_up:?}");
     let sizes: std::collections::BTreeSet<(&str, &str)> = rows.iter().map(|r| (&r[5], &r[6])).collect();
     assert!(sizes.contains(&("96", "72")) && sizes.len() > 1, "{sizes:?}");
     for ext in ["exr", "png", "json"] {

@@ -11,7 +11,7 @@ use crate::history::{pair_name, History};
 use crate::name::PassName;
 use crate::pipelines::PipelineTable;
 use crate::pool::PoolKey;
-use crate::runner::GraphRunner;
+use crate::runner::{GraphRunner, Timing};
 use crate::vk;
 
 /// A buffer known to the graph. Not `Clone`: writing it takes `&mut`, so a call site shows
@@ -91,6 +91,8 @@ pub struct Graph<'r> {
     pub(crate) pipelines: Option<&'r PipelineTable>,
     /// What the frame binds once, in set 0 of every pipeline ([`Graph::bind_frame_set`]).
     pub(crate) frame_set: Option<FrameSetUses<'r>>,
+    /// How this frame is timed: the runner's, unless [`Graph::with_timing`] chose otherwise.
+    pub(crate) timing: Timing,
 }
 
 /// The frame set a graph was given: its declaration, the groups that bind it, and the reads
@@ -120,6 +122,13 @@ impl<'r> Graph<'r> {
     /// Lends the graph the pipelines its passes ask for.
     pub fn with_pipelines(mut self, pipelines: &'r PipelineTable) -> Self {
         self.pipelines = Some(pipelines);
+        self
+    }
+
+    /// Times this frame as `timing` says instead of as the runner does: one frame timed pass by
+    /// pass among frames submitted at once, with nothing to restore whichever way it ends.
+    pub fn with_timing(mut self, timing: Timing) -> Self {
+        self.timing = timing;
         self
     }
 

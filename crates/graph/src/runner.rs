@@ -193,7 +193,16 @@ impl GraphRunner {
     /// Starts the next frame's graph (waiting for its slot if needed).
     pub fn graph<'r>(&'r mut self, gpu: &'r Gpu) -> Result<Graph<'r>> {
         self.acquire_slot(gpu)?;
-        Ok(Graph { gpu, runner: self, sources: Vec::new(), passes: Vec::new(), pipelines: None, frame_set: None })
+        let timing = self.timing;
+        Ok(Graph {
+            gpu,
+            runner: self,
+            sources: Vec::new(),
+            passes: Vec::new(),
+            pipelines: None,
+            frame_set: None,
+            timing,
+        })
     }
 
     /// Waits for every frame in flight, oldest first, and returns them.
@@ -277,7 +286,7 @@ impl Graph<'_> {
     /// Records every pass in order with derived barriers into this frame's slot and submits
     /// it, waiting for `sync`'s semaphores and signalling its own; does not wait for the GPU.
     pub fn submit(self, sync: &SubmitSync<'_>) -> Result<Submitted> {
-        let Graph { gpu, runner, sources, passes, frame_set, .. } = self;
+        let Graph { gpu, runner, sources, passes, frame_set, timing, .. } = self;
         let on_lost = runner.on_lost.as_deref();
         if passes.len() as u32 > MAX_PASSES {
             return Err(DeviceError::Capacity {
@@ -327,7 +336,7 @@ impl Graph<'_> {
             RecordContext { res, frame_set: frame_set.as_ref(), markers: &slot.markers, timestamps: &slot.timestamps };
         let mut wall_ms = vec![None; passes.len()];
         let frame = runner.frame;
-        let recorded: Result<()> = match runner.timing {
+        let recorded: Result<()> = match timing {
             Timing::Timestamps => slot
                 .commands
                 .record(gpu, |cmd| {

@@ -13,11 +13,10 @@
 //! sets the next frame's paths, p = (T − f) / c. A lasting change (two frames in a row a
 //! third or more off that mean, on the same side; one frame 1.3× over the target; three in a
 //! row 1.15× over it, a cost that climbs) drops the older estimates, so that the budget follows
-//! it within a few frames while a lone outlier under the target moves it little. The paths
-//! move on a ladder of steps 2^(1/8) apart and stay on their step while the estimate is within
-//! ¾ of a step of it, so that noise
-//! does not make them wander, and the buffers sized by the paths change only when the step
-//! does. The ladder passes through the starting paths (`--paths`): a budget that a frame of
+//! it within a few frames while a lone outlier under 1.3× the target moves it little. The
+//! paths move on a ladder of steps 2^(1/8) apart and stay on their step while the estimate is
+//! within ¾ of a step of it, so that noise does not make them wander, and the buffers sized by
+//! the paths change only when the step does. The ladder passes through the starting paths (`--paths`): a budget that a frame of
 //! them meets keeps them, where on a ladder from a fixed base the nearest step can be 4.5%
 //! away, and its band's edge a step further. A change of render size carries the estimate to the new size
 //! ([`FrameBudget::resize`]); the size it advises steps down after 3 frames and up after 12.
@@ -109,6 +108,9 @@ pub struct FrameBudget {
     split: Option<(f64, f64)>,
     /// The split was measured at another render size (`resize`).
     split_stale: bool,
+    /// A frame timed for the split is in flight (`timed_frame_submitted`): the frames
+    /// submitted before it completes need not be timed too.
+    timed_in_flight: bool,
     /// (fixed ms, ms per path) of the last frames.
     estimates: VecDeque<(f64, f64)>,
     /// The fewest paths miss the target by the estimate: the fixed part alone exceeds it.
@@ -139,6 +141,7 @@ impl FrameBudget {
             paths: on_ladder(ladder_base, ladder_base, min_paths, max_paths),
             split: None,
             split_stale: false,
+            timed_in_flight: false,
             estimates: VecDeque::with_capacity(WINDOW),
             over: false,
             fixed_ms: 0.0,
@@ -185,8 +188,26 @@ impl FrameBudget {
     /// guess (the atrium's first frames on lavapipe spend 15–30% of their time on the photons:
     /// the guess put the fixed part at a quarter of what it was until the app timed a frame, 22
     /// frames later); after a change of size, by the split carried from the old size.
+    /// One such frame is asked for at a time: with frames in flight, those submitted while it
+    /// runs would be timed for nothing.
     pub fn wants_timed_frame(&self) -> bool {
-        self.split.is_none() || self.split_stale
+        (self.split.is_none() || self.split_stale) && !self.timed_in_flight
+    }
+
+    /// Whether a timed frame has given the split of a frame's time (at any size).
+    pub fn knows_split(&self) -> bool {
+        self.split.is_some()
+    }
+
+    /// The caller submitted a frame timed pass by pass for the split.
+    pub fn timed_frame_submitted(&mut self) {
+        self.timed_in_flight = true;
+    }
+
+    /// That frame completed, whether or not its passes gave a split: the next frame may be
+    /// timed again if it did not.
+    pub fn timed_frame_completed(&mut self) {
+        self.timed_in_flight = false;
     }
 
     /// The estimate of the fixed part of a frame (ms): what the frame would take without paths.
@@ -267,6 +288,8 @@ impl FrameBudget {
         self.over = false;
         self.measured = 0;
         self.split_stale = self.split.is_some();
+        // A frame of the old size in flight says nothing of the new one.
+        self.timed_in_flight = false;
         if let Some(estimate) = carried {
             self.estimates.push_back(estimate);
             self.choose_paths(false);
@@ -319,13 +342,15 @@ impl FrameBudget {
             self.estimates.drain(..n - SHIFT_FRAMES);
             return;
         }
-        if self.drift_streak >= DRIFT_FRAMES && n > DRIFT_FRAMES {
+        // `n` holds more than `DRIFT_FRAMES` here (2 · `SHIFT_FRAMES` at least).
+        if self.drift_streak >= DRIFT_FRAMES {
             self.estimates.drain(..n - DRIFT_FRAMES);
             return;
         }
         // Frames kept for being over the target are a high estimate of its cost: the frames
         // after them would stand below them by noise alone, so the average they are compared
-        // with holds more than those.
+        // with holds at least two more than those (five: a trimmed mean, which leaves out the
+        // highest). At the start and after a change of size the test waits as long.
         if n < DRIFT_FRAMES + 2 * SHIFT_FRAMES {
             return;
         }

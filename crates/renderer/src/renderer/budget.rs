@@ -4,6 +4,7 @@
 //! `--paths`. Off unless the caller sets it (the app does; `render --sequence` with
 //! `--frame-ms`), so a render's images are those of its settings.
 
+use std::collections::HashSet;
 use std::time::Instant;
 
 use leakless_graph::{CompletedFrame, Timing};
@@ -31,14 +32,16 @@ pub struct BudgetReport {
     /// What a frame of the fewest paths takes by the budget's estimate (the last frames' mean).
     pub fewest_paths_ms: f64,
     /// The share of the frame's passes that followed the paths, where they were timed
-    /// ([`photon_share`]), and the budget's estimate of the fixed part after it (ms).
+    /// ([`photon_share`]).
     pub photon_share: Option<f64>,
+    /// The budget's estimate of a frame's fixed part after this frame (ms).
     pub fixed_ms: f64,
     /// The factor along each axis by which the budget advises scaling the render size (1:
     /// keep it; [`FrameBudget::resolution_factor`]).
     pub resolution_factor: f64,
-    /// The renderer's first budgeted frame: it compiled the pipelines it used, and the budget
-    /// did not take its time for what frames cost.
+    /// The frame ran a pass no budgeted frame before it ran (the first frame; the first moving
+    /// frame after it, whose reuse passes run for the first time): it compiled pipelines and
+    /// made images, and the budget did not take its time for what frames cost.
     pub warm_up: bool,
 }
 
@@ -57,13 +60,18 @@ pub(super) struct BudgetState {
     pub first_paths: u32,
     /// When the host last saw a frame complete.
     last_completion: Option<Instant>,
-    /// The first budgeted frame completed, and was not measured: every caller sets the budget
-    /// before its first frame, which compiles each pipeline at its first use (lavapipe
-    /// compiles then; 0.9–1.5 s on the atrium). As the budget's only estimate it would set the
-    /// paths and "over budget" alone, in a still view until the next move; a later first use
-    /// (another method, another tuning) meets a full window of estimates, whose trimmed mean
-    /// leaves out a lone slow frame.
-    warmed_up: bool,
+    /// The passes the budgeted frames ran so far. A frame that runs one for the first time is
+    /// not measured: every caller sets the budget before its first frame, which compiles each
+    /// pipeline at its first use (lavapipe compiles then; 0.9–1.5 s on the atrium), and the
+    /// first moving frame after it runs the reuse passes for the first time (a doorway walk's
+    /// took 420–830 ms against 200 ms after, at 256×144). As the budget's first estimate such a
+    /// frame moved the paths as far as it asked (10 000 → 1024 paths, and the size down at
+    /// once); a pass first run later (another method) meets a window of estimates, whose
+    /// trimmed mean would leave a lone slow frame out, but costs nothing to skip.
+    passes_run: HashSet<String>,
+    /// A budgeted frame was submitted: the first is the warm-up, whose pass times are its
+    /// compilations, and is not timed for the budget's split.
+    submitted: bool,
 }
 
 impl Renderer {
@@ -84,7 +92,8 @@ impl Renderer {
                     choice,
                     first_paths: self.settings.splat.paths,
                     last_completion: None,
-                    warmed_up: false,
+                    passes_run: HashSet::new(),
+                    submitted: false,
                 })
             }
         };
@@ -105,7 +114,8 @@ impl Renderer {
             choice: FirstPaths::Fixed(paths),
             first_paths: paths,
             last_completion: None,
-            warmed_up: false,
+            passes_run: HashSet::new(),
+            submitted: false,
         });
         Ok(())
     }
@@ -154,7 +164,25 @@ impl Renderer {
     pub(super) fn budget_wants_timed_frame(&self) -> bool {
         self.runner.timing() == Timing::Timestamps
             && self.tuning().timing == Timing::PerPassSubmit
+            && self.budget.as_ref().is_some_and(|b| b.submitted)
             && self.frame_budget().is_some_and(FrameBudget::wants_timed_frame)
+    }
+
+    /// A frame timed for the budget never reported: the next may be timed instead.
+    pub(super) fn budget_timed_frame_lost(&mut self) {
+        if let Some(BudgetState { choice: FirstPaths::Budget(b), .. }) = &mut self.budget {
+            b.timed_frame_completed();
+        }
+    }
+
+    /// A budgeted frame was submitted, `timed` pass by pass for the budget
+    /// (`budget_wants_timed_frame`).
+    pub(super) fn budget_frame_submitted(&mut self, timed: bool) {
+        let Some(budget) = &mut self.budget else { return };
+        budget.submitted = true;
+        if let (true, FirstPaths::Budget(b)) = (timed, &mut budget.choice) {
+            b.timed_frame_submitted();
+        }
     }
 
     /// The paths of the current accumulation's first frame, where a budget (or
@@ -200,8 +228,14 @@ impl Renderer {
         if pending.size != (self.settings.width, self.settings.height) {
             return None;
         }
-        let warming_up = !std::mem::replace(&mut budget.warmed_up, true);
+        let mut warming_up = budget.passes_run.is_empty();
+        for t in &done.timings {
+            warming_up |= budget.passes_run.insert(t.name.clone());
+        }
         let FirstPaths::Budget(controller) = &mut budget.choice else { return None };
+        if pending.budget_timed {
+            controller.timed_frame_completed();
+        }
         // Timestamps measure passes only where the tuning trusts them; host times always.
         let timed =
             self.pipelines.tuning().timing == Timing::Timestamps || done.timings.iter().any(|t| t.wall_ms.is_some());
@@ -209,7 +243,11 @@ impl Renderer {
         let follows_count = self.settings.splat.radius.is_none() && paths >= self.settings.splat.paths;
         let share = if timed { photon_share(&done.timings, follows_count) } else { None };
         let frame = FrameTime { ms: measured_ms, paths, photon_share: share };
-        let next_paths = if warming_up { controller.paths() } else { controller.observe(frame) };
+        // Before the first split, a frame without one waits for it rather than be split by a
+        // guess: the renderer times the next budgeted frame (`budget_wants_timed_frame`), or
+        // every frame is timed.
+        let unsplit = share.is_none() && !controller.knows_split();
+        let next_paths = if warming_up || unsplit { controller.paths() } else { controller.observe(frame) };
         Some(BudgetReport {
             target_ms: controller.target_ms(),
             measured_ms,

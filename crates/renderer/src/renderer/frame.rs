@@ -115,11 +115,13 @@ impl Renderer {
         // The frame the budget wants timed is timed pass by pass where the caller submits a
         // frame at once and the device's timestamps do not bracket the work (lavapipe): the
         // budget splits a frame's time by its passes' host times (`budget_wants_timed_frame`).
-        let caller_timing = self.runner.timing();
-        if budget_paths.is_some() && self.budget_wants_timed_frame() {
-            self.runner.set_timing(Timing::PerPassSubmit);
-        }
-        let mut g = self.runner.graph(&self.gpu)?.with_pipelines(self.pipelines.table(self.backend.backend));
+        let budget_timed = budget_paths.is_some() && self.budget_wants_timed_frame();
+        let timing = if budget_timed { Timing::PerPassSubmit } else { self.runner.timing() };
+        let mut g = self
+            .runner
+            .graph(&self.gpu)?
+            .with_pipelines(self.pipelines.table(self.backend.backend))
+            .with_timing(timing);
 
         // The camera, the lights and the scene of this frame.
         let frame =
@@ -209,9 +211,10 @@ impl Renderer {
         if let Some(hang) = &passes.hang {
             hang.add(&mut g);
         }
-        let submitted = g.submit(&sync);
-        self.runner.set_timing(caller_timing);
-        let _in_flight = submitted?;
+        let _in_flight = g.submit(&sync)?;
+        if budget_paths.is_some() {
+            self.budget_frame_submitted(budget_timed);
+        }
         if matches!(reused, Some(TemporalMode::Motion | TemporalMode::Restart)) {
             let camera = self.camera.position();
             self.reuse.remember(self.view_proj(), camera, self.pose.version, &self.pose.vertices);
@@ -227,6 +230,7 @@ impl Renderer {
             batches,
             frame_batches,
             budget_paths,
+            budget_timed,
             size: (self.settings.width, self.settings.height),
             method,
             started,
@@ -321,7 +325,9 @@ impl Renderer {
         // Frames before it that never reported (their submission failed) are gone too; a frame
         // the renderer did not submit itself (a G-buffer capture) has nothing to report.
         while self.pending.front().is_some_and(|p| p.index < done.index) {
-            self.pending.pop_front();
+            if self.pending.pop_front().is_some_and(|p| p.budget_timed) {
+                self.budget_timed_frame_lost();
+            }
         }
         if self.pending.front().is_none_or(|p| p.index != done.index) {
             return Ok(());

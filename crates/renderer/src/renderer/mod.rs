@@ -85,6 +85,8 @@ struct Pending {
     frame_batches: u32,
     /// The paths the frame budget chose for it (`None`: `--paths` a batch).
     budget_paths: Option<u32>,
+    /// It was timed pass by pass for the budget's split (`budget_wants_timed_frame`).
+    budget_timed: bool,
     /// Its render size.
     size: (u32, u32),
     method: Method,
