@@ -204,7 +204,7 @@ pub fn run(bench: &MotionBench) -> anyhow::Result<()> {
             r.set_spatial_reuse(filter);
             r.set_progressive(true);
             r.set_advance_seed(true);
-            r.set_reuse_history_frames((0.5 * bench.fps).round().max(1.0) as u32);
+            r.set_reuse_history_rate(bench.fps as f64);
             Ok(r)
         };
         let mut figures: Vec<Figures> = Vec::new();

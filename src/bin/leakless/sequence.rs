@@ -29,11 +29,6 @@ impl Sequence {
     pub fn time(&self, k: u32) -> f32 {
         self.start + k as f32 / self.fps
     }
-
-    /// Frames in about half a second: what a pixel's history holds.
-    pub fn history_frames(&self) -> u32 {
-        (0.5 * self.fps).round().max(1.0) as u32
-    }
 }
 
 pub fn parse_sequence(s: &str) -> Result<Sequence, String> {
@@ -121,7 +116,7 @@ pub fn run(
     std::fs::create_dir_all(dir).with_context(|| format!("making {}", dir.display()))?;
     renderer.set_progressive(true);
     renderer.set_advance_seed(true);
-    renderer.set_reuse_history_frames(sequence.history_frames());
+    renderer.set_reuse_history_rate(sequence.fps as f64);
     let mut entries = Vec::new();
     let mut whole_run: Option<RenderedFrame> = None;
     let count = sequence.frame_count();
@@ -198,7 +193,6 @@ mod tests {
         let s = parse_sequence("0:2:30").unwrap();
         assert_eq!(s.frame_count(), 61);
         assert_eq!(s.time(60), 2.0);
-        assert_eq!(s.history_frames(), 15);
         assert_eq!(parse_sequence("1.5:1.5:24").unwrap().frame_count(), 1);
         for bad in ["0:2", "2:1:30", "0:1:0", "0:1:-5", "a:1:30", "0:1:inf", "0:1e9:60"] {
             assert!(parse_sequence(bad).is_err(), "{bad}");

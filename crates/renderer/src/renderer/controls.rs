@@ -122,10 +122,16 @@ impl Renderer {
         }
     }
 
-    /// Frames a pixel's temporal history holds at most (about half a second of frames: the
-    /// app sets it from its frame rate, a sequence from its own).
+    /// Frames a pixel's temporal history holds at most.
     pub fn set_reuse_history_frames(&mut self, frames: u32) {
         self.reuse.history_frames = frames.clamp(1, reuse::MAX_HISTORY_FRAMES);
+    }
+
+    /// A pixel's temporal history holds about `HISTORY_SECONDS` of frames at `frames_per_second`
+    /// (two at least: the app sets it from the rate its frames come at, a sequence from its own).
+    pub fn set_reuse_history_rate(&mut self, frames_per_second: f64) {
+        let frames = (reuse::HISTORY_SECONDS * frames_per_second).round();
+        self.set_reuse_history_frames(if frames.is_finite() { (frames as u32).max(2) } else { 2 });
     }
 
     /// Whether moving frames filter their own estimate spatially before the history weighs in

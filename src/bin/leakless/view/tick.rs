@@ -131,9 +131,7 @@ impl Running {
         }
         if let Some(last) = self.last_shown {
             self.frame_ms = (now - last).as_secs_f64() * 1e3;
-            // A pixel's history holds about half a second of frames at the rate they come.
-            let frames = (500.0 / self.frame_ms.max(1.0)).round() as u32;
-            self.renderer.set_reuse_history_frames(frames.max(2));
+            self.renderer.set_reuse_history_rate(1e3 / self.frame_ms.max(1.0));
         }
         self.last_shown = Some(now);
         // A frame that started an accumulation (every frame while anything moves) is what the
