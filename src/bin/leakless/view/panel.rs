@@ -132,7 +132,7 @@ fn contents(ui: &mut egui::Ui, info: &PanelInfo<'_>, sliders: &mut Sliders) {
     if let Some(b) = info.budget {
         let radius =
             info.report.and_then(|r| r.splat.as_ref()).map_or(String::new(), |s| format!(", radius {:.4}", s.radius));
-        let warm_up = if b.warm_up { " (the first: it compiled the pipelines, not counted)" } else { "" };
+        let warm_up = if b.warm_up { " (a pass ran for the first time: not counted)" } else { "" };
         ui.label(format!(
             "budget {:.1} ms: moving frame {:.1} ms{warm_up} with {} paths{radius}; next {} paths",
             b.target_ms, b.measured_ms, b.paths, b.next_paths
