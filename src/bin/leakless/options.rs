@@ -69,7 +69,8 @@ pub struct RenderOptions {
     /// How view samples are found: `raster` (the G-buffer rasterised), `rays` (a closest-hit ray
     /// per pixel on the trace backend, whose cost follows the pixels, not the triangles), or
     /// `auto` (rays on a CPU device where the scene has more triangles than the image pixels;
-    /// `leakless info` says). Default: `raster` for `render`, `auto` for `view`
+    /// `leakless info` says). Default: `auto`, so that `render` finds a frame's samples as the
+    /// app does
     #[arg(long)]
     pub primary: Option<leakless::Primary>,
     /// Photon frames to average (progressive photon mapping: fresh photons further along one
@@ -217,7 +218,7 @@ impl RenderOptions {
             light_candidates: self.light_candidates,
             seed: self.seed,
             reuse: self.reuse == "on",
-            primary: self.primary.unwrap_or(Primary::Raster),
+            primary: self.primary.unwrap_or(Primary::Auto),
             frames: self.frames,
             max_batches: self.max_batches,
             splat: SplatSettings {

@@ -148,7 +148,7 @@ fn command(
             c.push(format!("--max-batches {}", s.max_batches));
         }
     }
-    if s.primary != leakless::Primary::Raster {
+    if s.primary != leakless::Primary::Auto {
         c.push(format!("--primary {}", s.primary.name()));
     }
     if time != 0.0 {

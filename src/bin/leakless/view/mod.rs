@@ -233,9 +233,7 @@ impl App {
         }
         // The reference accumulates while the view is still, as photon frames do, in batches
         // of one sample per pixel: its frames start short and grow as the batch fit allows.
-        // View samples as the device finds them fastest, unless --primary says.
-        let primary = options.primary.unwrap_or(leakless::Primary::Auto);
-        let settings = RenderSettings { spp: 1, primary, ..options.settings(render_size) };
+        let settings = RenderSettings { spp: 1, ..options.settings(render_size) };
         let mut renderer = Renderer::new(gpu, &self.scene, settings).context("setting up the renderer")?;
         options.apply_view(&mut renderer, &self.scene)?;
         renderer.set_frame_budget(match self.args.frame_ms {
