@@ -229,6 +229,33 @@ fn render_writes_exr_png_and_stats() {
     }
 }
 
+/// `render` finds its view samples as the app does (`--primary auto`): by a ray a pixel where
+/// the CPU tuning says a scene of more triangles than pixels rasterises slowly, rasterised on
+/// the GPU tuning and where told.
+#[test]
+fn render_finds_view_samples_as_the_app_does() {
+    if common::gpu().is_none() {
+        return;
+    }
+    // The sphere's 5120 triangles are more than 64×48 pixels.
+    for (tuning, primary, pass) in
+        [("cpu", None, "primary rays"), ("gpu", None, "gbuffer"), ("cpu", Some("raster"), "gbuffer")]
+    {
+        let stats = common::tmp_path(&format!("cli-primary-{tuning}-{}.json", primary.unwrap_or("auto")));
+        let stats_arg = stats.to_str().unwrap();
+        let mut args = vec!["render", "scenes/sphere.gltf", "--size", "64x48", "--method", "direct"];
+        args.extend(["--tuning", tuning, "--out", "/dev/null", "--stats", stats_arg]);
+        if let Some(p) = primary {
+            args.extend(["--primary", p]);
+        }
+        let out = leakless(&args, &[]);
+        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+        let json: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&stats).unwrap()).unwrap();
+        let passes: Vec<&str> = json["passes"].as_array().unwrap().iter().filter_map(|p| p["pass"].as_str()).collect();
+        assert!(passes.contains(&pass), "--tuning {tuning} --primary {primary:?}: {passes:?}");
+    }
+}
+
 #[test]
 fn info_reports_the_device() {
     if common::gpu().is_none() {
