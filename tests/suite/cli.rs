@@ -238,8 +238,9 @@ fn render_finds_view_samples_as_the_app_does() {
         return;
     }
     // The sphere's 5120 triangles are more than 64×48 pixels.
-    for (tuning, primary, pass) in
-        [("cpu", None, "primary rays"), ("gpu", None, "gbuffer"), ("cpu", Some("raster"), "gbuffer")]
+    let (rays, raster) = ("primary rays", "gbuffer");
+    for (tuning, primary, pass, not) in
+        [("cpu", None, rays, raster), ("gpu", None, raster, rays), ("cpu", Some("raster"), raster, rays)]
     {
         let stats = common::tmp_path(&format!("cli-primary-{tuning}-{}.json", primary.unwrap_or("auto")));
         let stats_arg = stats.to_str().unwrap();
@@ -248,11 +249,14 @@ fn render_finds_view_samples_as_the_app_does() {
         if let Some(p) = primary {
             args.extend(["--primary", p]);
         }
-        let out = leakless(&args, &[]);
-        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+        let out = leakless(&args, &[("LEAKLESS_VALIDATION", "1")]);
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(out.status.success(), "{stderr}");
+        assert!(!stderr.contains("validation error"), "{stderr}");
         let json: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&stats).unwrap()).unwrap();
         let passes: Vec<&str> = json["passes"].as_array().unwrap().iter().filter_map(|p| p["pass"].as_str()).collect();
-        assert!(passes.contains(&pass), "--tuning {tuning} --primary {primary:?}: {passes:?}");
+        let why = format!("--tuning {tuning} --primary {primary:?}: {passes:?}");
+        assert!(passes.contains(&pass) && !passes.contains(&not), "{why}");
     }
 }
 
