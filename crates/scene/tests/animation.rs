@@ -11,6 +11,8 @@ use glam::{Mat4, Quat, Vec3};
 use leakless_scene::{LightKind, Scene, SceneError, Vertex};
 use serde_json::{json, Value};
 
+mod scratch;
+
 // ---------------------------------------------------------------------------------
 // Building files.
 
@@ -110,16 +112,9 @@ fn channel(sampler: usize, node: usize, path: &str) -> Value {
     json!({"sampler": sampler, "target": {"node": node, "path": path}})
 }
 
-/// A fresh directory per test (tests run in parallel threads of one process).
-fn scratch(test: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("leakless-scene-anim-{}-{test}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
-
 fn try_load(test: &str, gltf: &str) -> Result<Scene, SceneError> {
-    let path = scratch(test).join(format!("{test}.gltf"));
+    let dir = scratch::scratch("anim-", test);
+    let path = dir.join(format!("{test}.gltf"));
     std::fs::write(&path, gltf).unwrap();
     Scene::load(&path)
 }

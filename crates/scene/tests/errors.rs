@@ -5,16 +5,15 @@ use std::path::{Path, PathBuf};
 use leakless_scene::{Scene, SceneError};
 use rand_core::{RngCore, SeedableRng};
 
+mod scratch;
+use scratch::Scratch;
+
 fn repo(rel: &str) -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../..").join(rel)
 }
 
-/// A fresh directory per test (tests run in parallel threads of one process).
-fn scratch(test: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("leakless-scene-{}-{test}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+fn scratch(test: &str) -> Scratch {
+    scratch::scratch("", test)
 }
 
 fn load_bytes(dir: &Path, name: &str, bytes: &[u8]) -> Result<Scene, SceneError> {

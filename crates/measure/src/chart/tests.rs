@@ -108,6 +108,8 @@ fn chart_smoke_compute_backend() {
     let svg = std::fs::read_to_string(prefix.with_file_name("cb-cornell-box-relmse.svg")).expect("the SVG");
     assert!(svg.starts_with("<svg") && svg.contains("width=\"400\"") && svg.contains("relMSE"), "{}", &svg[..200]);
     assert!(svg.contains(&format!("{} (compute)", method.name())), "the legend names the series");
+    // The outputs were read back: the run leaves nothing in the temporary directory.
+    std::fs::remove_dir_all(prefix.parent().unwrap()).expect("remove the outputs");
 }
 
 #[test]
