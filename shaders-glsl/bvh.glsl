@@ -70,8 +70,7 @@ layout(set = FRAME_SET, binding = BINDING_BVH_TRIANGLES, std430) readonly buffer
 #define BVH_TRIANGLE(I) bvh_triangles.triangles[I]
 #else
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
-ARRAY_AT(BvhNodeWordsAt, uint64_t, 16);
-ARRAY_AT(BvhTriangleWordsAt, uint64_t, 8);
+ARRAY_AT(BvhWordsAt, uint64_t, 8);
 #define BVH_NODE(I) bvh_node(I)
 #define BVH_TRIANGLE(I) bvh_triangle_at(I)
 // Nodes and triangles are read as 64-bit words: lavapipe gathers a struct across its lanes one
@@ -79,43 +78,30 @@ ARRAY_AT(BvhTriangleWordsAt, uint64_t, 8);
 // one (eight, five). A GPU reads the same bytes either way. Only the words of the fields a
 // caller uses are loaded: the others' loads are dead code. The words are the std430 layouts
 // above, which reflection checks against their Rust twins.
-BvhNode bvh_node(uint i) {
-    BvhNodeWordsAt words = BvhNodeWordsAt(trace_scale.bvh_nodes_address);
-    uint at = 8u * i;
-    uvec2 w0 = unpack32(words.values[at]);
-    uvec2 w1 = unpack32(words.values[at + 1u]);
-    uvec2 w2 = unpack32(words.values[at + 2u]);
-    uvec2 w3 = unpack32(words.values[at + 3u]);
-    uvec2 w4 = unpack32(words.values[at + 4u]);
-    uvec2 w5 = unpack32(words.values[at + 5u]);
-    uvec2 w6 = unpack32(words.values[at + 6u]);
-    uvec2 w7 = unpack32(words.values[at + 7u]);
-    BvhNode n;
-    n.min0 = uintBitsToFloat(uvec3(w0, w1.x));
-    n.child0 = w1.y;
-    n.max0 = uintBitsToFloat(uvec3(w2, w3.x));
-    n.child1 = w3.y;
-    n.min1 = uintBitsToFloat(uvec3(w4, w5.x));
-    n.pad0 = 0u;
-    n.max1 = uintBitsToFloat(uvec3(w6, w7.x));
-    n.pad1 = 0u;
-    return n;
+
+// Four 32-bit words from two 64-bit ones, the first at 64-bit word i of the buffer at `address`.
+uvec4 bvh_words(uvec2 address, uint i) {
+    BvhWordsAt words = BvhWordsAt(address);
+    return uvec4(unpack32(words.values[i]), unpack32(words.values[i + 1u]));
 }
-// Triangle i's 40 bytes (its stride keeps every triangle 8-byte aligned).
+BvhNode bvh_node(uint i) {
+    uvec4 q0 = bvh_words(trace_scale.bvh_nodes_address, 8u * i);
+    uvec4 q1 = bvh_words(trace_scale.bvh_nodes_address, 8u * i + 2u);
+    uvec4 q2 = bvh_words(trace_scale.bvh_nodes_address, 8u * i + 4u);
+    uvec4 q3 = bvh_words(trace_scale.bvh_nodes_address, 8u * i + 6u);
+    return BvhNode(uintBitsToFloat(q0.xyz), q0.w, uintBitsToFloat(q1.xyz), q1.w, uintBitsToFloat(q2.xyz), 0u,
+                   uintBitsToFloat(q3.xyz), 0u);
+}
+// Triangle i's 40 bytes (its stride keeps every triangle 8-byte aligned): v0 and the scene
+// triangle, v1 and v2's x, v2's y and z.
 BvhTriangle bvh_triangle_at(uint i) {
-    BvhTriangleWordsAt words = BvhTriangleWordsAt(trace_scale.bvh_triangles_address);
-    uint at = 5u * i;
-    uvec2 w0 = unpack32(words.values[at]);
-    uvec2 w1 = unpack32(words.values[at + 1u]);
-    uvec2 w2 = unpack32(words.values[at + 2u]);
-    uvec2 w3 = unpack32(words.values[at + 3u]);
-    uvec2 w4 = unpack32(words.values[at + 4u]);
-    BvhTriangle t;
-    t.v0 = float[3](uintBitsToFloat(w0.x), uintBitsToFloat(w0.y), uintBitsToFloat(w1.x));
-    t.triangle = w1.y;
-    t.v1 = float[3](uintBitsToFloat(w2.x), uintBitsToFloat(w2.y), uintBitsToFloat(w3.x));
-    t.v2 = float[3](uintBitsToFloat(w3.y), uintBitsToFloat(w4.x), uintBitsToFloat(w4.y));
-    return t;
+    uvec4 a = bvh_words(trace_scale.bvh_triangles_address, 5u * i);
+    uvec4 b = bvh_words(trace_scale.bvh_triangles_address, 5u * i + 2u);
+    uvec2 c = unpack32(BvhWordsAt(trace_scale.bvh_triangles_address).values[5u * i + 4u]);
+    vec3 v0 = uintBitsToFloat(a.xyz);
+    vec3 v1 = uintBitsToFloat(b.xyz);
+    vec3 v2 = uintBitsToFloat(uvec3(b.w, c));
+    return BvhTriangle(float[3](v0.x, v0.y, v0.z), a.w, float[3](v1.x, v1.y, v1.z), float[3](v2.x, v2.y, v2.z));
 }
 #endif
 
