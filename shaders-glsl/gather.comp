@@ -243,15 +243,44 @@ i64vec3 contribution_of(Photon ph, float d, float r) {
 #define subgroupExclusiveAdd(X) 0u
 #define subgroupBarrier()
 #define subgroupMemoryBarrierShared()
+#define WALK_CLUSTERED false
+#define SUBGROUP_WIDTH 1u
+#define SUBGROUP_LANE 0u
+#define SUBGROUP_READ(X, K) (X)
 #else
 #extension GL_KHR_shader_subgroup_shuffle : require
 layout(constant_id = 3) const bool SHARED_WALK = false;
-#define WALK_LANE (SHARED_WALK ? gl_SubgroupInvocationID : 0u)
-#define WALK_WIDTH (SHARED_WALK ? gl_SubgroupSize : 1u)
-#define WALK_READ(X, K) (SHARED_WALK ? subgroupShuffle(X, K) : (X))
+// Where a subgroup spans several leaves (a GPU's 32 lanes, leaves of 8), its lanes walk in
+// clusters of WALK_CLUSTER aligned lanes, a leaf's samples each, every cluster its own lists
+// side by side; 0: the whole subgroup is one cluster (a subgroup no wider than a leaf). The
+// clusters' reductions and shuffles stay within the cluster, in the subgroup's uniform control
+// flow: a cluster that has nothing to do this round takes part with values nobody uses.
+layout(constant_id = 11) const uint WALK_CLUSTER = 0u;
+#define WALK_CLUSTERED (SHARED_WALK && WALK_CLUSTER != 0u)
+#define WALK_WIDTH (WALK_CLUSTERED ? WALK_CLUSTER : SUBGROUP_WIDTH)
+#define WALK_LANE (WALK_CLUSTERED ? gl_SubgroupInvocationID & (WALK_CLUSTER - 1u) : SUBGROUP_LANE)
+#define WALK_READ(X, K) (WALK_CLUSTERED ? subgroupShuffle(X, (gl_SubgroupInvocationID & ~(WALK_CLUSTER - 1u)) + (K)) : SUBGROUP_READ(X, K))
+// The subgroup's, for the walk's loop and the pooled trace.
+#define SUBGROUP_WIDTH (SHARED_WALK ? gl_SubgroupSize : 1u)
+#define SUBGROUP_LANE (SHARED_WALK ? gl_SubgroupInvocationID : 0u)
+#define SUBGROUP_READ(X, K) (SHARED_WALK ? subgroupShuffle(X, K) : (X))
 #endif
-#define WALK_MIN(X) (SHARED_WALK ? subgroupMin(X) : (X))
-#define WALK_ANY(X) (SHARED_WALK ? subgroupMax(uint(X)) != 0u : (X))
+#define SUBGROUP_ANY(X) (SHARED_WALK ? subgroupMax(uint(X)) != 0u : (X))
+// Whether any cluster of the subgroup has X, X the same across each cluster: without clusters,
+// X itself (a reduction costs lavapipe more than the branch on it).
+#define CLUSTERS_ANY(X) (WALK_CLUSTERED ? SUBGROUP_ANY(X) : (X))
+#define WALK_MIN(X) (WALK_CLUSTERED ? cluster_min(X) : SHARED_WALK ? subgroupMin(X) : (X))
+#define WALK_ANY(X) (WALK_CLUSTERED ? cluster_min(uint(!(X))) == 0u : SUBGROUP_ANY(X))
+
+// The least of a cluster's values, by exchanges across halves, quarters, ... of the cluster.
+uint cluster_min(uint x) {
+#ifndef LEAKLESS_REFLECTION
+    for (uint m = 1u; m < WALK_CLUSTER; m <<= 1u) {
+        x = min(x, subgroupShuffleXor(x, m));
+    }
+#endif
+    return x;
+}
 
 // Segments the clearance cannot prove wait in a queue and are traced together once it is full
 // and after the walk. Traced where they arise, a SIMD group's lanes (the samples of one leaf,
@@ -351,18 +380,18 @@ void trace_queued(uint count, vec3 x, vec3 from, ivec2 tile, float r, inout i64v
     if (total == 0u) {
         return;
     }
-    uint per = (total + WALK_WIDTH - 1u) / WALK_WIDTH;
-    uint lanes_base = POOL_LANE - WALK_LANE;
+    uint per = (total + SUBGROUP_WIDTH - 1u) / SUBGROUP_WIDTH;
+    uint lanes_base = POOL_LANE - SUBGROUP_LANE;
     POOL_BARRIER();  // every lane's queue is written
     for (uint i = 0u; i < per; ++i) {
-        uint j = i * WALK_WIDTH + WALK_LANE;
+        uint j = i * SUBGROUP_WIDTH + SUBGROUP_LANE;
         uint owner = 0u;  // the lane whose queue holds segment j: the last whose run starts at or before it
-        for (uint k = 1u; k < WALK_WIDTH; ++k) {
-            owner += j >= WALK_READ(start, k) ? 1u : 0u;
+        for (uint k = 1u; k < SUBGROUP_WIDTH; ++k) {
+            owner += j >= SUBGROUP_READ(start, k) ? 1u : 0u;
         }
-        vec3 owner_from = WALK_READ(from, owner);
-        ivec2 owner_tile = WALK_READ(tile, owner);
-        uint owner_start = WALK_READ(start, owner);
+        vec3 owner_from = SUBGROUP_READ(from, owner);
+        ivec2 owner_tile = SUBGROUP_READ(tile, owner);
+        uint owner_start = SUBGROUP_READ(start, owner);
         if (j < total) {
             uint slot = (lanes_base + owner) * RAY_QUEUE + (j - owner_start);
             uint index = pool[slot];
@@ -448,45 +477,58 @@ void main() {
     // twice, it made the pass slower than tracing where segments arise). A list is a run of
     // photon indices: the next entry's address does not wait on this one's load.
     //
-    // With SHARED_WALK the lanes of a subgroup walk together: each round takes the lowest node
-    // any lane still has to walk at this level, and the list is read a subgroup's width at a
-    // time, each lane reading one entry and its photon (one coalesced read on a GPU; on a CPU
-    // driver, where a load whose address differs between lanes costs a branch per lane, a
-    // subgroup-wide chunk is read once instead of once per lane), which every lane then takes
-    // in turn from the lane that read it (a shuffle: one permute on lavapipe). The lanes of
-    // that node test them. The samples of a leaf are consecutive, so a subgroup no wider than
-    // the leaf walks one list a level; a wider one walks its leaves in turn. Without it each
-    // lane walks its own lists, an entry at a time. Either way each lane tests the same
-    // photons in the same order, and a chunk is taken only while every lane's queue has room
-    // for all of it.
+    // With SHARED_WALK the lanes of a cluster (the subgroup, or WALK_CLUSTER lanes of it) walk
+    // together: each round takes the lowest node any lane of the cluster still has to walk at
+    // this level, and the list is read a cluster's width at a time, each lane reading one entry
+    // and its photon (one coalesced read on a GPU; on a CPU driver, where a load whose address
+    // differs between lanes costs a branch per lane, a chunk is read once instead of once per
+    // lane), which every lane then takes in turn from the lane that read it (a shuffle: one
+    // permute on lavapipe). The lanes of that node test them. The samples of a leaf are
+    // consecutive, so a cluster no wider than the leaf walks one list a level; a wider one
+    // walks its leaves in turn. Without it each lane walks its own lists, an entry at a time.
+    // Either way each lane tests the same photons in the same order, and a chunk is taken only
+    // while every lane's queue has room for all of it (the subgroup traces its queues as one).
     uint level = 0u;
     uint e = 0u;
     uint end = 0u;
     uint my_node = 0u;
     bool to_walk = false;  // this lane's node at this level is not walked yet
     bool mine = false;     // the list walked is this lane's
-    bool walked = false;
+    bool walked = false;          // every lane of the subgroup has walked all its lists
+    bool cluster_walked = false;  // this lane's cluster has
     while (true) {
         while (true) {
-            if (e == end) {
-                if (!WALK_ANY(to_walk)) {
-                    if (level == params.level_count || !WALK_ANY(!done)) {
-                        walked = true;
-                        break;
+            // A cluster at the end of a list takes its next node, or its next level, in a round
+            // of its own: every lane (the clusters walking on too) runs the round's reductions,
+            // so that they stay in the subgroup's uniform control flow.
+            bool at_end = e == end && !cluster_walked;
+            if (CLUSTERS_ANY(at_end)) {
+                bool to_walk_here = WALK_ANY(to_walk);
+                bool live = WALK_ANY(!done);
+                if (at_end && !to_walk_here) {
+                    if (level == params.level_count || !live) {
+                        cluster_walked = true;
+                    } else {
+                        Level lv = levels.levels[level++];
+                        my_node = lv.offset + s / lv.span;
+                        to_walk = !done;
                     }
-                    Level lv = levels.levels[level++];
-                    my_node = lv.offset + s / lv.span;
-                    to_walk = !done;
                 }
                 uint node = WALK_MIN(to_walk ? my_node : 0xffffffffu);
-                mine = to_walk && my_node == node;
-                to_walk = to_walk && !mine;
-                e = node == 0u ? 0u : node_ends.ends[node - 1u];
-                end = node_ends.ends[node];
+                if (at_end && !cluster_walked) {
+                    mine = to_walk && my_node == node;
+                    to_walk = to_walk && !mine;
+                    e = node == 0u ? 0u : node_ends.ends[node - 1u];
+                    end = node_ends.ends[node];
+                }
+                if (!CLUSTERS_ANY(!cluster_walked)) {
+                    walked = true;
+                    break;
+                }
                 continue;
             }
-            uint count = min(min(end - e, WALK_WIDTH), RAY_QUEUE);
-            if (WALK_ANY(queued + count > RAY_QUEUE)) {
+            uint count = min(min(end - e, WALK_WIDTH), RAY_QUEUE);  // 0 where the cluster is done
+            if (SUBGROUP_ANY(queued + count > RAY_QUEUE)) {
                 break;
             }
             // Lane k reads entry e + k of the list and what is tested of its photon; the lanes
@@ -507,7 +549,9 @@ void main() {
                 }
             }
             e += count;
-            for (uint k = 0u; k < count; ++k) {
+            // Clusters read chunks of different lengths: each round shuffles in every cluster.
+            uint rounds = WALK_CLUSTERED ? subgroupMax(count) : count;
+            for (uint k = 0u; k < rounds; ++k) {
                 uint index = WALK_READ(lane_photon, k);
                 Photon ph;
                 ph.position = WALK_READ(lane_position, k);
@@ -521,7 +565,7 @@ void main() {
                         photon_clearance.radius = WALK_READ(lane_clearance.radius, k);
                     }
                 }
-                if (mine && !done) {
+                if (mine && !done && (!WALK_CLUSTERED || k < count)) {
                     candidates += 1u;
                     // Most candidates fail on distance alone: read the rest of the photon after it.
                     float d = distance(x, ph.position);

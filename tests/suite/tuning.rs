@@ -90,8 +90,21 @@ fn every_tuning_renders_the_cpu_presets_image() {
                 assert_same(&base, &other, &what);
                 assert_traversal_counted(&base, &other, tuning.count_work && backend == BackendChoice::Compute, &what);
             }
+            // Clusters narrower than the subgroup (a GPU's 32 lanes walk four leaves of 8 so;
+            // here halves and quarters of a leaf) walk side by side and test what the whole
+            // subgroup's walk does.
+            for cluster in [2, 4].into_iter().filter(|&c| report.subgroup_arithmetic && c < report.subgroup_size) {
+                let clustered = DeviceTuning { shared_walk: true, walk_cluster: cluster, ..cpu.clone() };
+                let other = frame("scenes/doorway.gltf", &settings, clustered).unwrap();
+                assert_same(
+                    &base,
+                    &other,
+                    &format!("walk clusters of {cluster}, {} on {}", method.name(), backend.name()),
+                );
+            }
             // A shared walk over leaves narrower than the subgroup: its rounds walk one leaf after
-            // another, and test what each lane's own walk does.
+            // another, or (in clusters of a leaf) every leaf at once, and test what each lane's
+            // own walk does.
             if report.subgroup_arithmetic && report.subgroup_size > 2 {
                 let narrow = RenderSettings {
                     splat: SplatSettings { branching: Some(2), ..settings.splat.clone() },
@@ -106,6 +119,13 @@ fn every_tuning_renders_the_cpu_presets_image() {
                     &shared,
                     &format!("shared walk, branching 2, {} on {}", method.name(), backend.name()),
                 );
+                let leaves = DeviceTuning { shared_walk: true, walk_cluster: 2, ..cpu.clone() };
+                let clustered = frame("scenes/doorway.gltf", &narrow, leaves).unwrap();
+                assert_same(
+                    &alone,
+                    &clustered,
+                    &format!("walk clusters of a leaf, branching 2, {} on {}", method.name(), backend.name()),
+                );
             }
         }
     }
@@ -115,7 +135,7 @@ fn every_tuning_renders_the_cpu_presets_image() {
 /// those that see no surface included, to read its share of each chunk: an image whose pixel
 /// count is no multiple of the subgroup (47 × 35 = 1645 samples, 5 in the last group of 8),
 /// with pixels outside the Cornell box, renders as each lane's own walk renders it, a one-entry
-/// ray queue clamping the chunks too.
+/// ray queue clamping the chunks too, and so does a walk in clusters of 4 lanes.
 #[test]
 fn the_shared_walk_renders_an_image_with_a_partial_last_subgroup_as_lanes_alone() {
     let Some(gpu) = common::gpu() else { return };
@@ -135,10 +155,14 @@ fn the_shared_walk_renders_an_image_with_a_partial_last_subgroup_as_lanes_alone(
         };
         let alone =
             frame("scenes/cornell-box.gltf", &settings, DeviceTuning { shared_walk: false, ..cpu.clone() }).unwrap();
-        for ray_queue in [cpu.ray_queue, 1] {
-            let shared = DeviceTuning { shared_walk: true, ray_queue, ..cpu.clone() };
+        for (ray_queue, walk_cluster) in [(cpu.ray_queue, 0), (1, 0), (cpu.ray_queue, 4), (1, 4)] {
+            if walk_cluster >= report.subgroup_size {
+                continue;
+            }
+            let shared = DeviceTuning { shared_walk: true, ray_queue, walk_cluster, ..cpu.clone() };
             let shared = frame("scenes/cornell-box.gltf", &settings, shared).unwrap();
-            assert_same(&alone, &shared, &format!("{}, ray queue {ray_queue}", method.name()));
+            let what = format!("{}, ray queue {ray_queue}, walk clusters {walk_cluster}", method.name());
+            assert_same(&alone, &shared, &what);
         }
         let stats = alone.splat.as_ref().unwrap();
         assert!(stats.candidate_tests > 0);
@@ -212,7 +236,7 @@ fn the_capped_methods_counts_do_not_depend_on_the_tuning() {
 fn the_tuning_specializes_the_modules_it_names() {
     use leakless::shaders;
     // Both variants also have the traversal's work counters' switch (ray queries count nothing),
-    // off unless the tuning counts.
+    // off unless the tuning counts, and the walk's clusters (0: the whole subgroup).
     // Then the estimator's, which each gather pass sets (gather.rs), and off by default.
     let tuned = [
         ("local_size_x", 0, 64),
@@ -224,7 +248,7 @@ fn the_tuning_specializes_the_modules_it_names() {
         ("RAY_POOL", 6, 1),
         ("POOL_WAIT", 7, 1),
     ];
-    let counting = [("TRACE_COUNT_WORK", 10, 0)];
+    let counting = [("TRACE_COUNT_WORK", 10, 0), ("WALK_CLUSTER", 11, 0)];
     for (module, extra) in
         [(&shaders::GATHER_COMP_COMPUTE, &counting[..]), (&shaders::GATHER_COMP_RAYQUERY, &counting[..])]
     {

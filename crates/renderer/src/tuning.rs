@@ -89,6 +89,12 @@ pub struct DeviceTuning {
     /// where the gather takes 0.53–0.66× the per-lane walk's time, docs/results.md); the GPU
     /// report's sweep measures it on a GPU. The same candidates in the same order either way.
     pub shared_walk: bool,
+    /// Where the walk is shared and a subgroup spans several leaves, its lanes walk in aligned
+    /// clusters of this many, each its own lists side by side (`WALK_CLUSTER`, gather.comp): a
+    /// leaf's width, the largest power of two dividing the branching (an H200's 32 lanes walk
+    /// four leaves of 8 at once, where one subgroup-wide walk would take them in turn). 0: the
+    /// subgroup is one cluster (lavapipe's 8 lanes, a leaf). The same candidates either way.
+    pub walk_cluster: u32,
     /// Where the walk is shared, a subgroup's lanes wait for each other (`subgroupBarrier`)
     /// between writing their ray queues to the pool and tracing it (`POOL_WAIT`, gather.comp):
     /// a GPU's lanes need not run in step. Chosen by the device, not the preset: off on a CPU
@@ -152,6 +158,7 @@ impl DeviceTuning {
         // A subgroup no wider than a leaf walks one list a level; a wider one would walk its
         // leaves one after the other, where its lanes walked them side by side.
         tuning.shared_walk = report.subgroup_arithmetic && report.subgroup_size <= tuning.branching;
+        tuning.walk_cluster = Self::leaf_cluster(report.subgroup_size, tuning.branching);
         tuning.pool_wait = report.device_type != DeviceType::Cpu;
         // Pooled, the queues share the workgroup's shared memory: a preset's length (the GPU's
         // 512 was measured in local memory) shrinks to what the device holds.
@@ -176,6 +183,7 @@ impl DeviceTuning {
             gather_workgroup: 64,
             subgroup_counters: false,
             shared_walk: false,
+            walk_cluster: 0,
             pool_wait: false,
             timing: Timing::PerPassSubmit,
             view_size: (320, 240),
@@ -215,7 +223,7 @@ impl DeviceTuning {
     pub fn summary(&self) -> String {
         format!(
             "{} preset: branching {}, {} paths/thread, emission order {}, photon order {}, ray queue {}, \
-             gather workgroup {}, subgroup counters {}, shared walk {} (pooled rays, lanes {}), timing {}, primary auto {}",
+             gather workgroup {}, subgroup counters {}, shared walk {}{} (pooled rays, lanes {}), timing {}, primary auto {}",
             match self.preset {
                 Preset::Cpu => "cpu",
                 Preset::Gpu => "gpu",
@@ -228,6 +236,10 @@ impl DeviceTuning {
             self.gather_workgroup,
             on(self.subgroup_counters),
             on(self.shared_walk),
+            match self.walk_cluster {
+                0 => String::new(),
+                c => format!(" in clusters of {c}"),
+            },
             if self.pool_wait { "waiting for each other" } else { "in step" },
             match self.timing {
                 Timing::Timestamps => "GPU timestamps in one submission",
@@ -240,6 +252,18 @@ impl DeviceTuning {
         )
     }
 
+    /// The clusters a shared walk takes on a subgroup of `subgroup_size` lanes over leaves of
+    /// `branching` samples: the largest power of two dividing the branching, where that is
+    /// narrower than the subgroup (0 where the whole subgroup is one cluster).
+    pub fn leaf_cluster(subgroup_size: u32, branching: u32) -> u32 {
+        let leaf = 1u32 << branching.max(1).trailing_zeros();
+        if leaf < subgroup_size {
+            leaf
+        } else {
+            0
+        }
+    }
+
     /// The gather's specialization constants.
     pub fn gather(&self) -> Specialization {
         Specialization::new()
@@ -247,6 +271,7 @@ impl DeviceTuning {
             .with("RAY_QUEUE", self.ray_queue)
             .with("SUBGROUP_COUNTERS", self.subgroup_counters as u32)
             .with("SHARED_WALK", self.shared_walk as u32)
+            .with("WALK_CLUSTER", self.walk_cluster)
             .with("RAY_POOL", self.ray_pool_words())
             .with("POOL_WAIT", self.pool_wait as u32)
             .with("TRACE_COUNT_WORK", self.count_work as u32)
@@ -293,6 +318,13 @@ impl DeviceTuning {
                 return bad(&format!(
                     "a shared walk needs the gather workgroup ({size}) to be a whole number of {}-lane subgroups",
                     report.subgroup_size
+                ));
+            }
+            let c = self.walk_cluster;
+            if c != 0 && (!c.is_power_of_two() || c >= report.subgroup_size) {
+                return bad(&format!(
+                    "walk clusters of {c} lanes must be a power of two narrower than {}'s {}-lane subgroups (0: the whole subgroup)",
+                    report.name, report.subgroup_size
                 ));
             }
             let bytes = 4 * self.ray_pool_words() as u64;
@@ -346,5 +378,17 @@ mod tests {
         let shared = DeviceTuning { shared_walk: true, ray_queue: 64, gather_workgroup: 128, ..DeviceTuning::cpu() };
         assert_eq!(shared.ray_pool_words(), 64 * 128);
         assert_eq!(DeviceTuning { shared_walk: false, ..shared }.ray_pool_words(), 1);
+    }
+
+    /// A subgroup wider than a leaf walks in clusters of a leaf; one no wider is one cluster.
+    #[test]
+    fn walk_clusters_are_a_leaf_where_the_subgroup_spans_several() {
+        assert_eq!(DeviceTuning::leaf_cluster(32, 8), 8);
+        assert_eq!(DeviceTuning::leaf_cluster(64, 8), 8);
+        assert_eq!(DeviceTuning::leaf_cluster(8, 8), 0);
+        assert_eq!(DeviceTuning::leaf_cluster(4, 8), 0);
+        assert_eq!(DeviceTuning::leaf_cluster(32, 12), 4);
+        assert_eq!(DeviceTuning::leaf_cluster(32, 64), 0);
+        assert_eq!(DeviceTuning::leaf_cluster(8, 2), 2);
     }
 }

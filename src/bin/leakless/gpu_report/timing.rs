@@ -214,7 +214,11 @@ fn variants(device: &DeviceTuning, subgroup_arithmetic: bool, shared_bytes: u32)
         }
         let queue =
             if t.ray_queue == device.ray_queue { String::new() } else { format!(" (ray queue {})", t.ray_queue) };
-        v.push((format!("shared walk {}{queue}", on(walk)), t));
+        let clusters = match t.walk_cluster {
+            c if walk && c != 0 => format!(" in clusters of {c}"),
+            _ => String::new(),
+        };
+        v.push((format!("shared walk {}{clusters}{queue}", on(walk)), t));
     }
     v
 }
