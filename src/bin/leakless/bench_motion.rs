@@ -124,7 +124,8 @@ pub fn run(bench: &MotionBench) -> anyhow::Result<()> {
         "{:<22} {:>10} {:>10} {:>9} {:>10}   {:>10} {:>10} {:>10} {:>10}",
         "scene", "relMSE on", "relMSE off", "FLIP on", "FLIP off", "flicker on", "flicker off", "ms on", "ms off"
     );
-    let mut csv = CsvTable::new(&["scene", "reuse", "frame", "time", "relmse", "flip", "relmse_less_noise"]);
+    let mut csv =
+        CsvTable::new(&["scene", "reuse", "frame", "time", "relmse", "flip", "relmse_less_noise", "paths", "ms"]);
     let (mut runs, mut device) = (Vec::new(), String::new());
     for path in &bench.scenes {
         let scene = Scene::load(path).with_context(|| format!("loading {}", path.display()))?;

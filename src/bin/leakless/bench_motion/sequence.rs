@@ -71,12 +71,14 @@ impl Sequence {
         place(r, judge.scene, k, bench, judge.start)?;
         let t = Instant::now();
         let frame = r.capture_frame()?;
-        self.ms += t.elapsed().as_secs_f64() * 1e3;
+        let ms = t.elapsed().as_secs_f64() * 1e3;
+        self.ms += ms;
         if k == 0 {
             self.first_ms = self.ms;
         }
         self.frames += 1;
-        self.paths.push(frame.splat.as_ref().map_or(0, |s| s.paths));
+        let paths = frame.splat.as_ref().map_or(0, |s| s.paths);
+        self.paths.push(paths);
         let (w, h) = bench.size;
         let truth = &judge.references[k as usize];
         let eps = metrics::epsilon(truth);
@@ -90,7 +92,8 @@ impl Sequence {
         self.less_noise += clean;
         let time = k as f32 / bench.fps;
         let fields = [judge.path.display().to_string(), self.label.into(), k.to_string(), time.to_string()];
-        csv.row(fields.into_iter().chain([e, f, clean].map(|v| v.to_string())))?;
+        let judged = [e, f, clean].map(|v| v.to_string());
+        csv.row(fields.into_iter().chain(judged).chain([paths.to_string(), format!("{ms:.2}")]))?;
         self.ratio += metrics::mean_value(&frame.radiance) / metrics::mean_value(truth).max(1e-30);
         self.change.add(k, &frame.radiance);
         self.surface_change.add(k, seen(r, &frame));
