@@ -404,7 +404,19 @@ fn bench_motion_compares_a_budgeted_run_at_the_fixed_runs_time() {
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     assert!(stdout.contains("budgeted beside a fixed run") && stdout.contains("×), paths "), "{stdout}");
     let mut reader = csv::Reader::from_path(&csv_path).expect("the CSV written");
-    let runs: Vec<String> = reader.records().map(|r| r.expect("a row")[1].to_string()).collect();
+    let headers = reader.headers().expect("a header").clone();
+    let column =
+        |name: &str| headers.iter().position(|h| h == name).unwrap_or_else(|| panic!("no {name}: {headers:?}"));
+    let (paths, ms) = (column("paths"), column("ms"));
+    let rows: Vec<csv::StringRecord> = reader.records().map(|r| r.expect("a row")).collect();
+    let runs: Vec<String> = rows.iter().map(|r| r[1].to_string()).collect();
+    // Each frame's paths and time: a fixed run's are `--paths` (10 000 by default) on every frame.
+    for row in &rows {
+        assert!(row[ms].parse::<f64>().is_ok_and(|t| t > 0.0), "{row:?}");
+        if row[1] != *"on-budgeted" {
+            assert_eq!(&row[paths], "10000", "{row:?}");
+        }
+    }
     // The budgeted run and the fixed one beside it alternate frame by frame.
     let beside: Vec<&str> = runs.iter().map(String::as_str).filter(|r| r.contains("budgeted")).collect();
     assert_eq!(beside[..4], ["on-beside-budgeted", "on-budgeted", "on-beside-budgeted", "on-budgeted"], "{runs:?}");
