@@ -46,7 +46,8 @@ fn primary_rays_find_the_surfaces_the_raster_finds() {
 }
 
 /// `--primary auto` casts rays where the CPU preset says a scene of more triangles than pixels
-/// rasterises slowly, and rasterises otherwise and on the GPU preset.
+/// rasterises slowly, and rasterises otherwise and on the GPU preset (lavapipe forced to it: a
+/// CPU device keeps its raster whatever its ray queries).
 #[test]
 fn auto_casts_rays_for_more_triangles_than_pixels_on_a_cpu() {
     if common::gpu().is_none() {
@@ -63,5 +64,24 @@ fn auto_casts_rays_for_more_triangles_than_pixels_on_a_cpu() {
         let settings = RenderSettings { width, height, tuning, primary: Primary::Auto, ..Default::default() };
         let renderer = leakless::Renderer::new(gpu, &scene, settings).expect("renderer");
         assert_eq!(renderer.primary(), expected, "{tuning:?} at {width}x{height}");
+    }
+}
+
+/// On a GPU the rule follows its ray queries: without them (a compute chip such as the H200,
+/// whose raster took 6.5 ms of a 1080p frame) every frame casts rays; with them it rasterises.
+/// The device report is lavapipe's, its type and ray queries set to a GPU's.
+#[test]
+fn auto_casts_rays_on_a_gpu_without_ray_queries_and_rasterises_on_one_with_them() {
+    use leakless::{DeviceTuning, PrimaryAuto, TuningChoice};
+    use leakless_device::DeviceType;
+    let Some(gpu) = common::gpu() else { return };
+    let mut report = gpu.report().clone();
+    drop(gpu);
+    assert_eq!(DeviceTuning::choose(&report, TuningChoice::Auto).primary_auto, PrimaryAuto::RaysOverDenseMeshes);
+    report.device_type = DeviceType::Discrete;
+    for (ray_query, expected) in [(false, PrimaryAuto::Rays), (true, PrimaryAuto::Raster)] {
+        report.ray_query = ray_query;
+        let tuning = DeviceTuning::choose(&report, TuningChoice::Auto);
+        assert_eq!(tuning.primary_auto, expected, "ray queries {ray_query}");
     }
 }

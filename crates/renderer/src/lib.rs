@@ -46,5 +46,5 @@ pub use passes::tonemap::ViewLayer;
 pub use renderer::{Capture, DisplayTarget, FrameReport, Overlay, RenderedFrame, Renderer};
 pub use settings::{Method, Primary, RenderSettings, SplatSettings};
 pub use trace::{Backend, BackendChoice, ResolvedBackend};
-pub use tuning::{DeviceTuning, TuningChoice};
+pub use tuning::{DeviceTuning, PrimaryAuto, TuningChoice};
 pub(crate) use value_enum;

@@ -50,7 +50,7 @@ pub struct RenderSettings {
 /// How a frame finds its view samples, the G-buffer (docs/architecture.md §1.1).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum Primary {
-    /// Rasterised (gbuffer.vert + gbuffer.frag): what a GPU does fastest.
+    /// Rasterised (gbuffer.vert + gbuffer.frag): what a GPU with graphics hardware does fastest.
     #[default]
     Raster,
     /// One closest-hit ray per pixel through its centre (primary_rays.comp), on the frame's
@@ -58,7 +58,8 @@ pub enum Primary {
     /// rasteriser pays for whatever the image size.
     Rays,
     /// Rays where the device tuning says they cost less: on a CPU device, a scene of more
-    /// triangles than the image has pixels ([`DeviceTuning::primary_rays`](crate::DeviceTuning)).
+    /// triangles than the image has pixels; on a GPU without ray queries, every scene
+    /// ([`DeviceTuning::primary_auto`](crate::DeviceTuning)).
     Auto,
 }
 

@@ -45,6 +45,19 @@ impl TuningChoice {
     }
 }
 
+/// How `--primary auto` finds a frame's view samples on a device ([`DeviceTuning::primary_auto`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum PrimaryAuto {
+    /// The G-buffer raster.
+    Raster,
+    /// A ray a pixel where the scene has more triangles than the image has pixels, else the
+    /// raster.
+    RaysOverDenseMeshes,
+    /// A ray a pixel.
+    Rays,
+}
+
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "lowercase")]
 pub enum Preset {
@@ -121,12 +134,18 @@ pub struct DeviceTuning {
     /// scene (the Cornell box) at the CPU view size with `--paths`' default and `--frame-ms
     /// off` (docs/results.md, "Frame budget").
     pub frame_ms: f64,
-    /// `--primary auto` finds view samples by a ray a pixel where the scene has more triangles
-    /// than the image has pixels. On a CPU, lavapipe's rasteriser costs about half a
-    /// microsecond a triangle whatever the image size (the basilica's 210k triangles: 110 ms at
-    /// 320×240 and at 160×120), a ray a pixel 0.6 µs (49 ms at 320×240); the two are even at
-    /// 640×480 (docs/results.md, "View samples"). On a GPU the raster always (unmeasured).
-    pub primary_rays: bool,
+    /// How `--primary auto` finds view samples ([`PrimaryAuto`]). On a CPU, lavapipe's
+    /// rasteriser costs about half a microsecond a triangle whatever the image size (the
+    /// basilica's 210k triangles: 110 ms at 320×240 and at 160×120), a ray a pixel 0.6 µs (49 ms
+    /// at 320×240); the two are even at 640×480 (docs/results.md, "View samples"): rays above a
+    /// triangle a pixel. On a GPU without ray queries, a chip without ray-tracing hardware such
+    /// as the H200, the compute BVH's ray a pixel: there the G-buffer raster of the atrium's few
+    /// thousand triangles took 6.5 ms of a 1080p frame, and the frame by rays 40.6 ms against
+    /// 47.1 (docs/gpu.md). On a GPU with ray queries the raster (unmeasured): such a chip has
+    /// the graphics hardware that the H200 gives little of its area. A GPU from before ray
+    /// tracing (no ray queries, a full rasteriser) is taken for the H200's kind, wrongly:
+    /// `--primary raster` asks for its raster.
+    pub primary_auto: PrimaryAuto,
     /// The gather counts its visibility rays' traversal work (`TRACE_COUNT_WORK`,
     /// trace_compute.glsl; `render --count-work`): off by default on every device, since the
     /// counts cost two additions a step. Ray queries count nothing.
@@ -160,6 +179,11 @@ impl DeviceTuning {
         tuning.shared_walk = report.subgroup_arithmetic && report.subgroup_size <= tuning.branching;
         tuning.walk_cluster = Self::leaf_cluster(report.subgroup_size, tuning.branching);
         tuning.pool_wait = report.device_type != DeviceType::Cpu;
+        // A GPU without ray queries (by the device, not the preset: `--tuning gpu` on lavapipe
+        // keeps the raster that its images were made with).
+        if report.device_type != DeviceType::Cpu && !report.ray_query {
+            tuning.primary_auto = PrimaryAuto::Rays;
+        }
         // Pooled, the queues share the workgroup's shared memory: a preset's length (the GPU's
         // 512 was measured in local memory) shrinks to what the device holds.
         if tuning.shared_walk {
@@ -190,7 +214,7 @@ impl DeviceTuning {
             view_render_scale: 0.5,
             view_profile_every: 30,
             frame_ms: 150.0,
-            primary_rays: true,
+            primary_auto: PrimaryAuto::RaysOverDenseMeshes,
             count_work: false,
         }
     }
@@ -214,7 +238,7 @@ impl DeviceTuning {
             view_render_scale: 1.0,
             view_profile_every: 0,
             frame_ms: 16.7,
-            primary_rays: false,
+            primary_auto: PrimaryAuto::Raster,
             ..Self::cpu()
         }
     }
@@ -245,9 +269,10 @@ impl DeviceTuning {
                 Timing::Timestamps => "GPU timestamps in one submission",
                 Timing::PerPassSubmit => "one submission per pass, host-timed",
             },
-            match self.primary_rays {
-                true => "rays above a triangle a pixel",
-                false => "raster",
+            match self.primary_auto {
+                PrimaryAuto::Raster => "raster",
+                PrimaryAuto::RaysOverDenseMeshes => "rays above a triangle a pixel",
+                PrimaryAuto::Rays => "rays",
             }
         )
     }

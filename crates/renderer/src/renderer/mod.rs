@@ -264,13 +264,14 @@ impl Renderer {
     /// How this frame finds its view samples: `--primary`, with `auto` resolved for this
     /// device, scene and size (never `Auto`).
     pub fn primary(&self) -> crate::Primary {
-        use crate::Primary;
+        use crate::{tuning::PrimaryAuto, Primary};
         match self.settings.primary {
             Primary::Auto => {
                 let pixels = self.settings.width as usize * self.settings.height as usize;
-                match self.tuning().primary_rays && self.scene.triangle_count() > pixels {
-                    true => Primary::Rays,
-                    false => Primary::Raster,
+                match self.tuning().primary_auto {
+                    PrimaryAuto::Rays => Primary::Rays,
+                    PrimaryAuto::RaysOverDenseMeshes if self.scene.triangle_count() > pixels => Primary::Rays,
+                    PrimaryAuto::RaysOverDenseMeshes | PrimaryAuto::Raster => Primary::Raster,
                 }
             }
             chosen => chosen,
