@@ -10,7 +10,7 @@ layout(local_size_x = 1) in;
 
 layout(push_constant) uniform PhotonDispatchParams {
     uint capacity;    // items the buffer holds: a count beyond it is clamped to it
-    uint group_size;  // threads per workgroup of the pass dispatched
+    uint group_size;  // items per workgroup of the pass dispatched (a thread or a cluster each)
     uint max_groups;  // workgroups at most; a pass over more items loops (list_scatter.comp)
     uint pad1;
 } params;

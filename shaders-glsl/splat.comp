@@ -15,6 +15,14 @@
 // node counts it, so every range is filled. The photon's position is copied to a compact
 // array beside: the distance test that rejects most of the gather's candidates reads 16 bytes
 // of it, not a 64-byte photon.
+//
+// With SPLAT_LANES > 1 (the device tuning's), a cluster of that many aligned lanes of a
+// subgroup walks each photon's hierarchy together, each lane testing one child of the node
+// being expanded: children are consecutive, so the cluster reads them in one contiguous load,
+// and a frame of few photons (a budgeted frame on a GPU traces a few thousand paths) keeps
+// SPLAT_LANES times as many threads busy. The walk tests the same nodes, takes the same
+// (node, photon) records and counts the same visits; only the records' order differs, which
+// the list scatter's atomics already leave open.
 #include "common.glsl"
 #include "hierarchy.glsl"
 #include "photon.glsl"
@@ -56,6 +64,45 @@ ARRAY_AT(NodesAt, Node, 16);
 
 // Deep enough for levels·(B−1)+1 pending nodes; the Rust side checks the hierarchy fits.
 #define SPLAT_STACK 192
+
+// The lanes that walk one photon (see above). naga parses no subgroup operation
+// (counters.glsl): the reflection twin walks a photon a thread.
+#ifdef LEAKLESS_REFLECTION
+#define SPLAT_LANES 1u
+#define CLUSTER_LANE 0u
+#define CLUSTER_BASE 0u
+#define subgroupShuffle(X, K) (X)
+#define subgroupShuffleXor(X, M) (X)
+#define subgroupMax(X) (X)
+#define SUBGROUP_CLUSTERS 1u
+#define FIRST_CLUSTER 0u
+#define SUBGROUP_CLUSTER 0u
+#define CLUSTER_COUNT (gl_NumWorkGroups.x * gl_WorkGroupSize.x)
+#else
+#extension GL_KHR_shader_subgroup_shuffle : require
+layout(constant_id = 12) const uint SPLAT_LANES = 1u;
+#define CLUSTER_LANE (gl_SubgroupInvocationID & (SPLAT_LANES - 1u))
+#define CLUSTER_BASE (gl_SubgroupInvocationID & ~(SPLAT_LANES - 1u))
+#define SUBGROUP_CLUSTERS (gl_SubgroupSize / SPLAT_LANES)
+// The subgroup's first cluster among all the dispatch's (by subgroup, not by invocation index,
+// whose mapping to subgroups Vulkan leaves open), and this lane's cluster within its subgroup.
+#define FIRST_CLUSTER ((gl_WorkGroupID.x * gl_NumSubgroups + gl_SubgroupID) * SUBGROUP_CLUSTERS)
+#define SUBGROUP_CLUSTER (gl_SubgroupInvocationID / SPLAT_LANES)
+#define CLUSTER_COUNT (gl_NumWorkGroups.x * gl_NumSubgroups * SUBGROUP_CLUSTERS)
+#endif
+
+// A pending node of the shared walk: its level above its index, so that the cluster can take
+// the deepest (bits 27 and up: the Rust side holds nodes below 2^27 and levels below 32).
+#define PENDING_LEVEL_SHIFT 27u
+#define PENDING_NODE_MASK ((1u << PENDING_LEVEL_SHIFT) - 1u)
+
+// The least of a cluster's values, by exchanges across halves, quarters, ... of the cluster.
+uint cluster_min(uint x) {
+    for (uint m = 1u; m < SPLAT_LANES; m <<= 1u) {
+        x = min(x, subgroupShuffleXor(x, m));
+    }
+    return x;
+}
 
 // The angle between the node's cone axis and the direction toward the photon's source side.
 float cone_gap(Node node, vec3 toward_light) {
@@ -110,7 +157,84 @@ uint classify(uint index, Node node, Photon ph, float r, vec3 toward_light) {
     return node.level == 0u ? TAKE : DESCEND;
 }
 
+// A photon a cluster (SPLAT_LANES > 1): the cluster expands its deepest pending node, each lane
+// testing the children first_child + lane, + lane + SPLAT_LANES, ..., and keeping on a stack of
+// its own the ones to descend. Expanding the deepest first, as the thread's stack does, leaves
+// at most ⌈B / SPLAT_LANES⌉ nodes of each level on a lane's stack: within SPLAT_STACK wherever
+// the thread's walk fits. Clusters loop over the photons (the dispatch may hold fewer than a
+// cluster each), and a subgroup loops while any of its clusters has a photon or a node left,
+// so that the shuffles stay in its uniform control flow.
+void splat_shared() {
+    uint stored = min(photon_counters.stored, params.photon_capacity);
+    uint lane = CLUSTER_LANE;
+    uint clusters = CLUSTER_COUNT;
+    uint visited = 0u;
+    uint listed_count = 0u;
+    for (uint photon_index = FIRST_CLUSTER + SUBGROUP_CLUSTER; subgroupMax(uint(photon_index < stored)) != 0u;
+         photon_index += clusters) {
+        bool has_photon = photon_index < stored;
+        Photon ph = photons.photons[has_photon ? photon_index : 0u];
+        float r = params.radius;
+        vec3 toward_light = -ph.direction;
+        uint stack[SPLAT_STACK];
+        uint top = 0u;
+        bool listed = false;
+        if (has_photon && lane == 0u) {
+            photon_positions.positions[photon_index] = PhotonPosition(ph.position, 0u);
+            visited += 1u;
+            Node root = NODE(params.root);
+            uint k = classify(params.root, root, ph, r, toward_light);
+            if (k == TAKE) {
+                append(params.root, photon_index);
+                listed = true;
+            } else if (k == DESCEND) {
+                stack[top++] = (root.level << PENDING_LEVEL_SHIFT) | params.root;
+            }
+        }
+        while (true) {
+            uint key = top > 0u ? ((stack[top - 1u] >> PENDING_LEVEL_SHIFT) << 8u) | lane : 0xffffffffu;
+            key = cluster_min(key);
+            if (subgroupMax(uint(key != 0xffffffffu)) == 0u) {
+                break;
+            }
+            bool pending = key != 0xffffffffu;
+            uint from = pending ? key & 0xffu : lane;
+            uint node = 0u;
+            if (pending && from == lane) {
+                node = stack[--top] & PENDING_NODE_MASK;
+            }
+            node = subgroupShuffle(node, CLUSTER_BASE + from);
+            if (pending) {
+                Node parent = NODE(node);
+                uint below = (parent.level - 1u) << PENDING_LEVEL_SHIFT;
+                for (uint c = parent.first_child + lane; c < parent.first_child + parent.child_count; c += SPLAT_LANES) {
+                    visited += 1u;
+                    uint k = classify(c, NODE(c), ph, r, toward_light);
+                    if (k == TAKE) {
+                        append(c, photon_index);
+                        listed = true;
+                    } else if (k == DESCEND && top < SPLAT_STACK) {
+                        stack[top++] = below | c;
+                    }
+                }
+            }
+        }
+        // Whether any lane's list took the photon.
+        uint any = 1u - cluster_min(listed ? 0u : 1u);
+        if (has_photon && lane == 0u) {
+            photon_listed.listed[photon_index] = any;
+            listed_count += any;
+        }
+    }
+    ADD_COUNT(splat_counters.nodes_visited, visited);
+    ADD_COUNT(splat_counters.photons_listed, listed_count);
+}
+
 void main() {
+    if (SPLAT_LANES > 1u) {
+        splat_shared();
+        return;
+    }
     uint photon_index = gl_GlobalInvocationID.x;
     if (photon_index >= min(photon_counters.stored, params.photon_capacity)) {
         return;

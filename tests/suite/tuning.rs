@@ -1,6 +1,6 @@
 //! The device tuning changes speed, never the image: every choice it makes (paths per thread,
 //! the ray queue's length, the gather's workgroup size, counters combined per subgroup, the
-//! subgroup's shared walk of the lists, the two orders) renders the CPU preset's image bit for bit, on both backends. The GPU preset runs
+//! subgroup's shared walk of the lists, the splat's lanes a photon, the two orders) renders the CPU preset's image bit for bit, on both backends. The GPU preset runs
 //! here as it would on a GPU, subgroup operations included.
 
 use leakless::{BackendChoice, DeviceTuning, Method, RenderSettings, Renderer, SplatSettings, TuningChoice};
@@ -70,6 +70,8 @@ fn every_tuning_renders_the_cpu_presets_image() {
         subgroup_counters: report.subgroup_arithmetic,
         shared_walk: !cpu.shared_walk,
         count_work: true,
+        // Clusters of 4 lanes: several a subgroup where the subgroup is 8 lanes or more.
+        splat_lanes: if report.subgroup_arithmetic && report.subgroup_size >= 4 { 4 } else { 1 },
         ..cpu.clone()
     };
     for backend in common::choices() {

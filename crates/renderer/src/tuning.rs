@@ -18,6 +18,7 @@ use leakless_graph::Timing;
 use serde::Serialize;
 
 use crate::error::{RenderError, Result};
+use crate::passes::photon_dispatch::PHOTON_WORKGROUP;
 
 /// Which preset a renderer uses: the device's own (`auto`), or one forced to test the other's
 /// code paths (`--tuning gpu` on lavapipe runs the subgroup counters and the GPU's queue and
@@ -134,6 +135,12 @@ pub struct DeviceTuning {
     /// scene (the Cornell box) at the CPU view size with `--paths`' default and `--frame-ms
     /// off` (docs/results.md, "Frame budget").
     pub frame_ms: f64,
+    /// Lanes that walk one photon's hierarchy together in the splat (1: a thread a photon;
+    /// splat.comp). A power of two, at most the subgroup's width. Where a frame has few
+    /// photons, a thread each leaves a GPU nearly idle: on the H200 at 1080p the splat took
+    /// 8.3 ms at 10k paths and 3.1 ms at 200k (docs/gpu.md), each photon's walk a chain of
+    /// dependent node loads. A cluster tests a node's children side by side, one contiguous read.
+    pub splat_lanes: u32,
     /// How `--primary auto` finds view samples ([`PrimaryAuto`]). On a CPU, lavapipe's
     /// rasteriser costs about half a microsecond a triangle whatever the image size (the
     /// basilica's 210k triangles: 110 ms at 320×240 and at 160×120), a ray a pixel 0.6 µs (49 ms
@@ -184,6 +191,10 @@ impl DeviceTuning {
         if report.device_type != DeviceType::Cpu && !report.ray_query {
             tuning.primary_auto = PrimaryAuto::Rays;
         }
+        // The splat's clusters need subgroups at least as wide, a whole number of them a workgroup.
+        if !Self::splat_lanes_fit(tuning.splat_lanes, report) {
+            tuning.splat_lanes = 1;
+        }
         // Pooled, the queues share the workgroup's shared memory: a preset's length (the GPU's
         // 512 was measured in local memory) shrinks to what the device holds.
         if tuning.shared_walk {
@@ -208,6 +219,7 @@ impl DeviceTuning {
             subgroup_counters: false,
             shared_walk: false,
             walk_cluster: 0,
+            splat_lanes: 1,
             pool_wait: false,
             timing: Timing::PerPassSubmit,
             view_size: (320, 240),
@@ -239,6 +251,7 @@ impl DeviceTuning {
             view_profile_every: 0,
             frame_ms: 16.7,
             primary_auto: PrimaryAuto::Raster,
+            splat_lanes: 8,
             ..Self::cpu()
         }
     }
@@ -247,7 +260,7 @@ impl DeviceTuning {
     pub fn summary(&self) -> String {
         format!(
             "{} preset: branching {}, {} paths/thread, emission order {}, photon order {}, ray queue {}, \
-             gather workgroup {}, subgroup counters {}, shared walk {}{} (pooled rays, lanes {}), timing {}, primary auto {}",
+             gather workgroup {}, subgroup counters {}, shared walk {}{} (pooled rays, lanes {}), splat lanes {}, timing {}, primary auto {}",
             match self.preset {
                 Preset::Cpu => "cpu",
                 Preset::Gpu => "gpu",
@@ -265,6 +278,7 @@ impl DeviceTuning {
                 c => format!(" in clusters of {c}"),
             },
             if self.pool_wait { "waiting for each other" } else { "in step" },
+            self.splat_lanes,
             match self.timing {
                 Timing::Timestamps => "GPU timestamps in one submission",
                 Timing::PerPassSubmit => "one submission per pass, host-timed",
@@ -312,9 +326,23 @@ impl DeviceTuning {
         }
     }
 
-    /// The splat's and the photon pass's.
+    /// The photon pass's, and others' that count with the subgroup counters.
     pub fn counters(&self) -> Specialization {
         Specialization::new().with("SUBGROUP_COUNTERS", self.subgroup_counters as u32)
+    }
+
+    /// Whether the splat can walk a photon with `lanes` lanes on the device: one lane, or
+    /// subgroup shuffles on subgroups at least that wide, a whole number of them in a workgroup.
+    fn splat_lanes_fit(lanes: u32, report: &DeviceReport) -> bool {
+        lanes == 1
+            || (report.subgroup_arithmetic
+                && lanes <= report.subgroup_size
+                && PHOTON_WORKGROUP % report.subgroup_size.max(1) == 0)
+    }
+
+    /// The splat's.
+    pub fn splat(&self) -> Specialization {
+        self.counters().with("SPLAT_LANES", self.splat_lanes)
     }
 
     /// Checks values a user or a test set by hand against each other and the device.
@@ -322,6 +350,18 @@ impl DeviceTuning {
         let bad = |what: &str| Err(RenderError::Settings(format!("tuning: {what}")));
         if self.subgroup_counters && !report.subgroup_arithmetic {
             return bad(&format!("subgroup counters need subgroup ballot and arithmetic, which {} lacks", report.name));
+        }
+        let lanes = self.splat_lanes;
+        if !lanes.is_power_of_two() || lanes > PHOTON_WORKGROUP {
+            return bad(&format!("splat lanes {lanes} must be a power of two within 1..={PHOTON_WORKGROUP}"));
+        }
+        if !Self::splat_lanes_fit(lanes, report) {
+            return bad(&format!(
+                "splat lanes {lanes} need subgroup shuffles, subgroups of at least {lanes} lanes and a whole number of them in {PHOTON_WORKGROUP} threads: {} has {}-lane subgroups{}",
+                report.name,
+                report.subgroup_size,
+                if report.subgroup_arithmetic { "" } else { " without arithmetic" }
+            ));
         }
         if self.shared_walk && !report.subgroup_arithmetic {
             return bad(&format!("a shared walk needs subgroup arithmetic, which {} lacks", report.name));

@@ -62,7 +62,7 @@ pub fn add<'r>(graph: &mut Graph<'r>, lists: &mut NodeListHandles, max_groups: u
         (LIST_DISPATCH, "list dispatch"),
         &lists.counters,
         lists.capacity,
-        max_groups,
+        (PHOTON_WORKGROUP, max_groups),
     )?;
     let params = ListScatterParams { capacity: lists.capacity, ..Default::default() };
     let resources = ListScatterResources {

@@ -55,6 +55,9 @@ pub struct PhotonDispatch {
     pub capacity: u32,
     /// Workgroups the command asks for at most.
     pub max_groups: u32,
+    /// Items a workgroup of [`PHOTON_WORKGROUP`] threads takes: all of them one each, or
+    /// fewer, each a cluster of threads (the splat's shared walk).
+    pub items_per_group: u32,
 }
 
 impl PhotonDispatch {
@@ -64,10 +67,11 @@ impl PhotonDispatch {
         (pass.read(&self.args, Access::IndirectCommandRead), 0)
     }
 
-    /// The threads the command asks for at most: one per item the buffer holds, within
-    /// `max_groups` workgroups.
+    /// The threads the command asks for at most: the workgroups of the items the buffer
+    /// holds, within `max_groups` of them.
     pub fn most_threads(&self) -> [u32; 3] {
-        [self.capacity.min(self.max_groups.saturating_mul(PHOTON_WORKGROUP)), 1, 1]
+        let groups = self.capacity.div_ceil(self.items_per_group.max(1)).min(self.max_groups);
+        [groups.saturating_mul(PHOTON_WORKGROUP), 1, 1]
     }
 }
 
@@ -79,18 +83,19 @@ compute_pass! {
 /// Adds the pass that turns `photon_counters` (of a buffer of `capacity` photons) into the
 /// per-photon passes' dispatch. `limits::check` holds the photons within the workgroup limit.
 pub fn add<'r>(graph: &mut Graph<'r>, photon_counters: &BufferHandle, capacity: u32) -> Result<PhotonDispatch> {
-    add_over(graph, (PHOTON_DISPATCH.name, "photon dispatch"), photon_counters, capacity, u32::MAX)
+    add_over(graph, (PHOTON_DISPATCH.name, "photon dispatch"), photon_counters, capacity, (PHOTON_WORKGROUP, u32::MAX))
 }
 
 /// Adds a pass named `name` that turns the first word of `counters`, at most `capacity` items,
-/// into a dispatch of one thread per item in groups of [`PHOTON_WORKGROUP`], at most
-/// `max_groups` groups (a pass over more items loops), written to a buffer named `args`.
+/// into a dispatch of groups of [`PHOTON_WORKGROUP`] threads, `items_per_group` items each (one
+/// thread an item, or a cluster of threads), at most `max_groups` groups (a pass over more
+/// items loops), written to a buffer named `args`.
 pub fn add_over<'r>(
     graph: &mut Graph<'r>,
     (name, args): (PassName, &'static str),
     counters: &BufferHandle,
     capacity: u32,
-    max_groups: u32,
+    (items_per_group, max_groups): (u32, u32),
 ) -> Result<PhotonDispatch> {
     let mut args = graph.buffer(&BufferDesc {
         name: args,
@@ -98,8 +103,9 @@ pub fn add_over<'r>(
         usage: vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::INDIRECT_BUFFER,
         location: MemoryLocation::GpuOnly,
     })?;
-    let params = PhotonDispatchParams { capacity, group_size: PHOTON_WORKGROUP, max_groups, ..Default::default() };
+    let items_per_group = items_per_group.clamp(1, PHOTON_WORKGROUP);
+    let params = PhotonDispatchParams { capacity, group_size: items_per_group, max_groups, ..Default::default() };
     let resources = PhotonDispatchResources { counters, photon_dispatch: &mut args };
     PHOTON_DISPATCH.add_as(graph, (name, None), resources, |_| (), params, Threads::Fixed([1, 1, 1]));
-    Ok(PhotonDispatch { args, capacity, max_groups })
+    Ok(PhotonDispatch { args, capacity, max_groups, items_per_group })
 }

@@ -149,7 +149,7 @@ impl NodeListHandles {
 pub struct SplatInputs<'a> {
     pub photons: &'a BufferHandle,
     pub photon_counters: &'a BufferHandle,
-    /// One thread per stored photon.
+    /// One thread per stored photon, or a cluster of the tuning's `splat_lanes` threads.
     pub dispatch: &'a PhotonDispatch,
     /// The largest radius any sample gathers within.
     pub radius: f32,
@@ -160,13 +160,15 @@ pub struct SplatInputs<'a> {
 }
 
 const SPLAT_CLEAR: PassName = PassName::new("splat clear", group::SPLAT);
+/// The dispatch of a splat that walks each photon with a cluster of lanes.
+pub const SPLAT_DISPATCH: PassName = PassName::new("splat dispatch", group::SPLAT);
 
 compute_pass! {
-    /// The splat: one thread per stored photon.
+    /// The splat: one thread per stored photon, or a cluster of threads (`DeviceTuning::splat_lanes`).
     pub static SPLAT in FRAME_PASSES: ComputePass<SplatBindings, SplatParams> =
         ComputePass::any(PassName::new("splat", group::SPLAT), &shaders::SPLAT_COMP, &[])
             .workgroup([PHOTON_WORKGROUP, 1, 1])
-            .specialize(crate::tuning::DeviceTuning::counters);
+            .specialize(crate::tuning::DeviceTuning::splat);
 }
 
 pub fn add<'r>(

@@ -34,13 +34,14 @@ use crate::passes::hierarchy::{self, HierarchyHandles, Shape};
 use crate::passes::list_scatter;
 use crate::passes::photon_clearance::{self, Needed};
 use crate::passes::photon_dispatch;
+use crate::passes::photon_dispatch::PHOTON_WORKGROUP;
 use crate::passes::photon_order::{self, ORDERED_PHOTONS};
 use crate::passes::photons::{
     self, photon_buffer_size, PhotonCounters, PhotonParams, COUNTER_BUFFER_USAGE, PHOTON_BUFFER_USAGE,
 };
 use crate::passes::sample_clearance;
 use crate::passes::segment_entries;
-use crate::passes::splat::{self, NodeListHandles, SplatInputs};
+use crate::passes::splat::{self, NodeListHandles, SplatInputs, SPLAT_DISPATCH};
 use crate::passes::visible_disk::{self, VisibleDiskParams};
 use crate::passes::ViewInputs;
 use crate::photon_lights::LightHandles;
@@ -188,10 +189,21 @@ pub fn add<'r>(
     hierarchy::add(graph, input.frame, input.gbuffer, &disk_mass, &shape, &mut h)?;
 
     let mut lists = NodeListHandles::new(graph, shape.node_count(), frame.list_capacity, capacity)?;
+    // A splat that walks each photon with a cluster of lanes dispatches a cluster a photon.
+    let clusters = match frame.tuning.splat_lanes {
+        lanes if lanes > 1 => Some(photon_dispatch::add_over(
+            graph,
+            (SPLAT_DISPATCH, "splat dispatch"),
+            &photon_counters,
+            capacity,
+            (PHOTON_WORKGROUP / lanes, frame.max_workgroups),
+        )?),
+        _ => None,
+    };
     let splat = SplatInputs {
         photons: &photons,
         photon_counters: &photon_counters,
-        dispatch: &dispatch,
+        dispatch: clusters.as_ref().unwrap_or(&dispatch),
         radius: largest_radius,
         node_radius: frame.settings.node_radius && largest_radius > frame.radius,
         trivial_accept: frame.settings.trivial_accept,

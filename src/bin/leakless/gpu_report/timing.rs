@@ -205,6 +205,10 @@ fn variants(device: &DeviceTuning, subgroup_arithmetic: bool, shared_bytes: u32)
         }
     }
     if subgroup_arithmetic {
+        let lanes = if device.splat_lanes == 1 { 8.min(device.subgroup_size) } else { 1 };
+        if lanes != device.splat_lanes {
+            v.push((format!("splat lanes {lanes}"), with(&|t| t.splat_lanes = lanes)));
+        }
         let counters = !device.subgroup_counters;
         v.push((format!("subgroup counters {}", on(counters)), with(&|t| t.subgroup_counters = counters)));
         let walk = !device.shared_walk;
