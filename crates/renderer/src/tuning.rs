@@ -232,9 +232,10 @@ impl DeviceTuning {
     }
 
     /// A GPU's values: one path per thread, counters combined per subgroup where the device
-    /// can, passes timed inside one submission. The rest is what the GPU report measured best
-    /// on an H200 (docs/gpu.md): both orders on, and a 512-entry ray queue, whose longer batches
-    /// of visibility rays outweigh its 2 KiB of local memory a thread there. Branching is 8 on
+    /// can, passes timed inside one submission, the splat's photons walked by clusters of 8
+    /// lanes (unmeasured on a GPU; see `splat_lanes`). The rest is what the GPU report measured
+    /// on an H200 (docs/gpu.md): both orders on (photon order off: the 1080p frame 9% slower),
+    /// and a 512-entry ray queue (64 to 1024 entries within 1% of each other there). Branching is 8 on
     /// every device, whatever is fastest on one: it decides which photons the capped method
     /// keeps and the hierarchy's counts, which no tuning choice may change
     /// (`tests/suite/tuning.rs`; the branching sweep is in docs/gpu.md).
