@@ -20,6 +20,9 @@
 #define subgroupElect() false
 #define subgroupBroadcastFirst(X) (X)
 #define subgroupAdd(X) (X)
+#ifndef subgroupMax
+#define subgroupMax(X) (X)
+#endif
 #else
 #extension GL_KHR_shader_subgroup_ballot : require
 #extension GL_KHR_shader_subgroup_arithmetic : require
@@ -41,6 +44,17 @@ layout(constant_id = 1) const bool SUBGROUP_COUNTERS = false;
         SLOT = subgroupBroadcastFirst(base_) + subgroupBallotExclusiveBitCount(ballot_);     \
     } else {                                                                                 \
         SLOT = atomicAdd(COUNTER, 1u);                                                       \
+    }
+
+// COUNTER = max(COUNTER, VALUE), one atomic a subgroup where the subgroup combines.
+#define MAX_COUNT(COUNTER, VALUE)                                                            \
+    if (SUBGROUP_COUNTERS) {                                                                 \
+        uint most_ = subgroupMax(VALUE);                                                     \
+        if (subgroupElect()) {                                                               \
+            atomicMax(COUNTER, most_);                                                       \
+        }                                                                                    \
+    } else {                                                                                 \
+        atomicMax(COUNTER, VALUE);                                                           \
     }
 
 // COUNTER += VALUE (32-bit, wrapping alike either way); nothing is added where nothing counts.

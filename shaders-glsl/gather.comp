@@ -63,7 +63,7 @@ layout(set = 1, binding = 9, std430) buffer GatherCounters {
     uint ray_nodes_hi;
     uint ray_triangles_lo;
     uint ray_triangles_hi;
-    uint pad0;
+    uint candidates_most;  // the most photons one sample examined: a GPU waits for its longest
     uint pad1;
 } gather_counters;
 layout(set = 1, binding = 10, rgba32f) uniform writeonly image2D indirect_sum;
@@ -628,4 +628,5 @@ void main() {
     ADD64(gather_counters.accepted_lo, gather_counters.accepted_hi, accepted);
     ADD64(gather_counters.occluded_lo, gather_counters.occluded_hi, occluded);
     ADD64(gather_counters.proven_lo, gather_counters.proven_hi, proven);
+    MAX_COUNT(gather_counters.candidates_most, candidates);
 }

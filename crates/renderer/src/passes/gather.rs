@@ -69,7 +69,7 @@ gpu_struct! {
         pub ray_nodes_hi: u32,
         pub ray_triangles_lo: u32,
         pub ray_triangles_hi: u32,
-        pub pad0: u32,
+        pub candidates_most: u32,
         pub pad1: u32,
     }
 }

@@ -27,6 +27,9 @@ pub struct SplatStats {
     pub photons_listed: u32,
     /// Photons the gather examined.
     pub candidate_tests: u64,
+    /// The most photons one view sample examined: where a GPU's gather waits for its longest
+    /// samples, this against the mean (`candidate_tests` over `valid_samples`) says so.
+    pub candidates_most: u32,
     /// Of those, within the radius and facing the sample (gathered).
     pub accepted: u64,
     /// View samples the gather estimated (those on a surface).
@@ -84,6 +87,7 @@ impl SplatStats {
             nodes_visited: lists.nodes_visited,
             photons_listed: lists.photons_listed,
             candidate_tests: gather.candidates(),
+            candidates_most: gather.candidates_most,
             accepted: gather.accepted(),
             valid_samples: gather.valid_samples,
             photons_per_kernel: gather.accepted() as f64 / gather.valid_samples.max(1) as f64,
