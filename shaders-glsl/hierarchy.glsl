@@ -28,6 +28,13 @@ struct Level {
     uint pad0;
 };
 
+// A sorted sample's position, copied from the G-buffer by the leaves' build so that the splat
+// reads a leaf's samples in one contiguous run; `valid` 0 where the pixel has no surface.
+struct SamplePosition {
+    vec3 position;
+    uint valid;
+};
+
 const uint INVALID_SAMPLE_KEY = 0xffffffffu;
 
 #endif

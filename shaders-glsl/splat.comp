@@ -45,6 +45,7 @@ layout(set = 1, binding = 6, std430) buffer SplatCounters {
 } splat_counters;
 layout(set = 1, binding = 7, std430) writeonly buffer PhotonListed { uint listed[]; } photon_listed;
 layout(set = 1, binding = 8, std430) writeonly buffer PhotonPositions { PhotonPosition positions[]; } photon_positions;
+layout(set = 1, binding = 9, std430) readonly buffer SamplePositions { SamplePosition positions[]; } sample_positions;
 layout(push_constant) uniform SplatParams {
     float radius;           // the largest radius any sample gathers within
     uint trivial_accept;
@@ -68,6 +69,7 @@ ARRAY_AT(NodesAt, Node, 16);
 // The lanes that walk one photon (see above). naga parses no subgroup operation
 // (counters.glsl): the reflection twin walks a photon a thread.
 #ifdef LEAKLESS_REFLECTION
+#define LEAF_SAMPLES true
 #define SPLAT_LANES 1u
 #define CLUSTER_LANE 0u
 #define CLUSTER_BASE 0u
@@ -81,6 +83,7 @@ ARRAY_AT(NodesAt, Node, 16);
 #else
 #extension GL_KHR_shader_subgroup_shuffle : require
 layout(constant_id = 12) const uint SPLAT_LANES = 1u;
+layout(constant_id = 13) const bool LEAF_SAMPLES = false;
 #define CLUSTER_LANE (gl_SubgroupInvocationID & (SPLAT_LANES - 1u))
 #define CLUSTER_BASE (gl_SubgroupInvocationID & ~(SPLAT_LANES - 1u))
 #define SUBGROUP_CLUSTERS (gl_SubgroupSize / SPLAT_LANES)
@@ -120,6 +123,20 @@ void append(uint node, uint photon) {
     atomicAdd(node_counts.counts[node], 1u);
 }
 
+
+// Whether some sample of `leaf` stands within r of the photon at p: the distance the gather
+// tests, from the same G-buffer position (copied by the hierarchy's build), so that no photon
+// a sample gathers is left out.
+bool near_a_sample(Node leaf, vec3 p, float r) {
+    for (uint s = leaf.first_child; s < leaf.first_child + leaf.child_count; ++s) {
+        SamplePosition x = sample_positions.positions[s];
+        if (x.valid != 0u && distance(x.position, p) < r) {
+            return true;
+        }
+    }
+    return false;
+}
+
 const uint CULL = 0u;     // the photon reaches no sample of the node
 const uint TAKE = 1u;     // the node's list takes the photon
 const uint DESCEND = 2u;  // the node's children decide
@@ -154,7 +171,20 @@ uint classify(uint index, Node node, Photon ph, float r, vec3 toward_light) {
             return TAKE;
         }
     }
-    return node.level == 0u ? TAKE : DESCEND;
+    if (node.level != 0u) {
+        return DESCEND;
+    }
+    // A leaf's box bounds its samples however far apart they stand: where the Morton order
+    // jumps, a leaf's 8 consecutive samples can lie across the scene, and its box then meets
+    // a large share of all photons (40% of them in the atrium), every one a candidate of each
+    // of its samples, which a GPU's gather waits for. With LEAF_SAMPLES (the device tuning's),
+    // where the box is wider than the radius, the leaf takes only the photons some sample of
+    // it can gather; the same work then runs across the photons instead of in a few samples.
+    vec3 extent = node.bounds_max - node.bounds_min;
+    if (LEAF_SAMPLES && dot(extent, extent) > r * r && !near_a_sample(node, ph.position, r)) {
+        return CULL;
+    }
+    return TAKE;
 }
 
 // A photon a cluster (SPLAT_LANES > 1): the cluster expands its deepest pending node, each lane

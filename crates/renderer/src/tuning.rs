@@ -141,6 +141,15 @@ pub struct DeviceTuning {
     /// 8.3 ms at 10k paths and 3.1 ms at 200k (docs/gpu.md), each photon's walk a chain of
     /// dependent node loads. A cluster tests a node's children side by side, one contiguous read.
     pub splat_lanes: u32,
+    /// The splat takes a photon onto a leaf wider than the radius only where one of its
+    /// samples can gather it (`LEAF_SAMPLES`, splat.comp): where the Morton order jumps, a
+    /// leaf's samples lie far apart and its list met about 40% of all photons, each a
+    /// candidate of all 8 samples, a chain a GPU's gather waits for (on the H200 the gather
+    /// took as long at 720p as at 1080p, and 14 times longer at twenty times the photons). The
+    /// images are the same either way. On lavapipe the tests cost the splat more than the
+    /// gather saves (320×240, best of 3: frames 0.67–1.16× as fast, docs/results.md), so the CPU
+    /// preset leaves them out.
+    pub leaf_samples: bool,
     /// How `--primary auto` finds view samples ([`PrimaryAuto`]). On a CPU, lavapipe's
     /// rasteriser costs about half a microsecond a triangle whatever the image size (the
     /// basilica's 210k triangles: 110 ms at 320×240 and at 160×120), a ray a pixel 0.6 µs (49 ms
@@ -220,6 +229,7 @@ impl DeviceTuning {
             shared_walk: false,
             walk_cluster: 0,
             splat_lanes: 1,
+            leaf_samples: false,
             pool_wait: false,
             timing: Timing::PerPassSubmit,
             view_size: (320, 240),
@@ -253,6 +263,7 @@ impl DeviceTuning {
             frame_ms: 16.7,
             primary_auto: PrimaryAuto::Raster,
             splat_lanes: 8,
+            leaf_samples: true,
             ..Self::cpu()
         }
     }
@@ -261,7 +272,7 @@ impl DeviceTuning {
     pub fn summary(&self) -> String {
         format!(
             "{} preset: branching {}, {} paths/thread, emission order {}, photon order {}, ray queue {}, \
-             gather workgroup {}, subgroup counters {}, shared walk {}{} (pooled rays, lanes {}), splat lanes {}, timing {}, primary auto {}",
+             gather workgroup {}, subgroup counters {}, shared walk {}{} (pooled rays, lanes {}), splat lanes {}, leaf samples tested {}, timing {}, primary auto {}",
             match self.preset {
                 Preset::Cpu => "cpu",
                 Preset::Gpu => "gpu",
@@ -280,6 +291,7 @@ impl DeviceTuning {
             },
             if self.pool_wait { "waiting for each other" } else { "in step" },
             self.splat_lanes,
+            on(self.leaf_samples),
             match self.timing {
                 Timing::Timestamps => "GPU timestamps in one submission",
                 Timing::PerPassSubmit => "one submission per pass, host-timed",
@@ -343,7 +355,7 @@ impl DeviceTuning {
 
     /// The splat's.
     pub fn splat(&self) -> Specialization {
-        self.counters().with("SPLAT_LANES", self.splat_lanes)
+        self.counters().with("SPLAT_LANES", self.splat_lanes).with("LEAF_SAMPLES", self.leaf_samples as u32)
     }
 
     /// Checks values a user or a test set by hand against each other and the device.

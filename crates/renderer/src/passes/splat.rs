@@ -10,7 +10,7 @@ use leakless_graph::{shader_bindings, BufferHandle, Fill, Graph, PassName};
 
 use crate::device_address::address_words;
 use crate::error::Result;
-use crate::passes::hierarchy::{HierarchyHandles, Level, Node, Shape};
+use crate::passes::hierarchy::{HierarchyHandles, Level, Node, SamplePosition, Shape};
 use crate::passes::names::group;
 use crate::passes::photon_dispatch::{PhotonDispatch, PHOTON_WORKGROUP};
 use crate::passes::photons::{Photon, PhotonCounters};
@@ -80,6 +80,7 @@ shader_bindings! {
         splat_counters: read_write block(SplatCounters::LAYOUT),
         photon_listed: write words,
         photon_positions: write array(PhotonPosition::LAYOUT),
+        sample_positions: read array(SamplePosition::LAYOUT),
     }
     pub struct SplatResources;
 }
@@ -199,6 +200,7 @@ pub fn add<'r>(
         splat_counters: &mut lists.counters,
         photon_listed: &mut lists.listed,
         photon_positions: &mut lists.positions,
+        sample_positions: &hierarchy.positions,
     };
     SPLAT.add_with(graph, resources, |_| (), params, Threads::Indirect(input.dispatch));
 }

@@ -31,6 +31,8 @@ pub struct FrameRow {
     pub photons_stored: u64,
     pub list_entries: u64,
     pub candidate_tests: u64,
+    /// The most candidates one sample tested: a GPU's gather waits for its longest samples.
+    pub candidates_most: u64,
     pub visibility_rays: u64,
     pub proven_clear: u64,
 }
@@ -78,6 +80,7 @@ fn row(scene: &Scene, m: &Measured, variant: &str) -> FrameRow {
         photons_stored: count(|s| s.photons_stored as u64),
         list_entries: count(|s| s.list_entries as u64),
         candidate_tests: count(|s| s.candidate_tests),
+        candidates_most: count(|s| s.candidates_most as u64),
         visibility_rays: count(|s| s.visibility_rays),
         proven_clear: count(|s| s.proven_clear),
     }
@@ -167,16 +170,25 @@ pub fn sweeps(report: &mut Report, root: &Path, matrix: &Matrix) -> anyhow::Resu
         report.tuning_sweep.push(r);
     }
     // No choice of the tuning may change what is stored and listed: on a driver where the
-    // subgroup counters' lanes did not reconverge, slots would be handed out twice.
-    let counts =
-        |r: &FrameRow| (r.photons_stored, r.list_entries, r.candidate_tests, r.visibility_rays, r.proven_clear);
+    // subgroup counters' lanes did not reconverge, slots would be handed out twice. Testing a
+    // wide leaf's samples lists fewer photons (none that a sample gathers): the rays stay.
+    let counts = |r: &FrameRow| (r.photons_stored, r.visibility_rays, r.proven_clear);
+    let lists = |r: &FrameRow| (r.list_entries, r.candidate_tests);
+    let leaf = |r: &FrameRow| r.variant.starts_with(LEAF_SAMPLES_VARIANT);
     if let Some(first) = report.tuning_sweep.first() {
-        let differ: Vec<&str> =
-            report.tuning_sweep.iter().filter(|r| counts(r) != counts(first)).map(|r| r.variant.as_str()).collect();
+        let differ: Vec<&str> = report
+            .tuning_sweep
+            .iter()
+            .filter(|r| counts(r) != counts(first) || (!leaf(r) && lists(r) != lists(first)))
+            .map(|r| r.variant.as_str())
+            .collect();
         anyhow::ensure!(differ.is_empty(), "these tuning variants change the counters: {}", differ.join(", "));
     }
     Ok(())
 }
+
+/// The sweep's variant that toggles the splat's test of a wide leaf's samples.
+const LEAF_SAMPLES_VARIANT: &str = "leaf samples tested";
 
 /// The device's tuning, then each of its choices changed alone. Where the walk is shared, the
 /// ray queues are pooled in shared memory (`shared_bytes` of it): the queue sweep stops where
@@ -194,6 +206,7 @@ fn variants(device: &DeviceTuning, subgroup_arithmetic: bool, shared_bytes: u32)
         (format!("emission order {}", on(!device.emission_order)), with(&|t| t.emission_order ^= true)),
         (format!("photon order {}", on(!device.photon_order)), with(&|t| t.photon_order ^= true)),
         (format!("{other_paths} paths/thread"), with(&|t| t.paths_per_thread = other_paths)),
+        (format!("{LEAF_SAMPLES_VARIANT} {}", on(!device.leaf_samples)), with(&|t| t.leaf_samples ^= true)),
         ("gather workgroup 32".to_string(), with(&|t| t.gather_workgroup = 32)),
         ("gather workgroup 128".to_string(), with(&|t| t.gather_workgroup = 128)),
     ];

@@ -150,8 +150,8 @@ fn frame_table(md: &mut String, rows: &[FrameRow], sweep: bool) -> anyhow::Resul
     for g in SHOWN_GROUPS {
         write!(md, " {g} |")?;
     }
-    writeln!(md, " rest | photons | list entries | candidates | vis. rays | proven clear |")?;
-    let columns = first.matches('|').count() + 1 + 1 + SHOWN_GROUPS.len() + 6;
+    writeln!(md, " rest | photons | list entries | candidates | most a sample | vis. rays | proven clear |")?;
+    let columns = first.matches('|').count() + 1 + 1 + SHOWN_GROUPS.len() + 7;
     writeln!(md, "|{}", "---|".repeat(columns))?;
     for x in rows {
         if sweep {
@@ -168,11 +168,12 @@ fn frame_table(md: &mut String, rows: &[FrameRow], sweep: bool) -> anyhow::Resul
         }
         writeln!(
             md,
-            " {:.2} | {} | {} | {} | {} | {} |",
+            " {:.2} | {} | {} | {} | {} | {} | {} |",
             (x.frame_ms - shown).max(0.0),
             x.photons_stored,
             x.list_entries,
             x.candidate_tests,
+            x.candidates_most,
             x.visibility_rays,
             x.proven_clear
         )?;

@@ -5,7 +5,7 @@ use bytemuck::{Pod, Zeroable};
 use leakless_device::{gpu_struct, GpuStruct};
 use leakless_graph::{shader_bindings, Graph, ImageHandle, PassName};
 
-use super::{HierarchyHandles, Level, Node, Shape};
+use super::{HierarchyHandles, Level, Node, SamplePosition, Shape};
 use crate::passes::gbuffer::{GBufferBindings, GBufferHandles};
 use crate::passes::names::group;
 use crate::pipelines::{compute_pass, ComputePass, Threads};
@@ -29,6 +29,7 @@ shader_bindings! {
         levels: read array(Level::LAYOUT),
         nodes: read_write array(Node::LAYOUT),
         disk_mass: read image,
+        sample_positions: write array(SamplePosition::LAYOUT),
     }
     pub struct BuildResources;
 }
@@ -63,6 +64,7 @@ pub fn add<'r>(
             levels: &h.levels,
             nodes: &mut h.nodes,
             disk_mass,
+            sample_positions: &mut h.positions,
         };
         let (label, threads) = ((HIERARCHY_LEVEL.name, Some(index as u32)), Threads::Fixed([info.count, 1, 1]));
         HIERARCHY_LEVEL.add_as(graph, label, resources, |pass| gbuffer.declare(pass), params, threads);

@@ -18,6 +18,16 @@ use crate::passes::gbuffer::GBufferHandles;
 use crate::passes::sort;
 
 gpu_struct! {
+    /// `struct SamplePosition` of hierarchy.glsl: a sorted sample's position, `valid` 0 where
+    /// its pixel has no surface.
+    #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+    pub struct SamplePosition {
+        pub position: [f32; 3],
+        pub valid: u32,
+    }
+}
+
+gpu_struct! {
     /// `struct Node` of hierarchy.glsl.
     #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
     pub struct Node {
@@ -101,6 +111,8 @@ pub struct HierarchyHandles {
     pub keys: BufferHandle,
     /// Pixel index of each sorted sample.
     pub samples: BufferHandle,
+    /// Position of each sorted sample ([`SamplePosition`]), written by the leaves' build.
+    pub positions: BufferHandle,
     pub bounds: BufferHandle,
     pub levels: BufferHandle,
     pub nodes: BufferHandle,
@@ -127,6 +139,7 @@ impl HierarchyHandles {
         };
         let keys = storage("morton keys", 4 * n)?;
         let samples = storage("sorted samples", 4 * n)?;
+        let positions = storage("sorted sample positions", std::mem::size_of::<SamplePosition>() as u64 * n)?;
         let nodes = storage("hierarchy nodes", shape.node_count() as u64 * std::mem::size_of::<Node>() as u64)?;
         let bounds = graph.buffer(&Self::sample_bounds_desc())?;
         let levels = graph.upload(
@@ -134,7 +147,7 @@ impl HierarchyHandles {
             vk::BufferUsageFlags::STORAGE_BUFFER,
             bytemuck::cast_slice(&shape.levels),
         )?;
-        Ok(HierarchyHandles { keys, samples, bounds, levels, nodes })
+        Ok(HierarchyHandles { keys, samples, positions, bounds, levels, nodes })
     }
 }
 
