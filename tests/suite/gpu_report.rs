@@ -104,7 +104,8 @@ fn the_quick_gpu_report_runs_end_to_end() {
 
 /// `tools/gpu-benches --quick` runs end to end here too, so the benches that follow the report
 /// in a GPU session's one call cannot rot: every step runs and exits 0, the reuse passes' share
-/// is printed for both sequences, and the scale figures come back as a CSV and a chart. What it
+/// is printed for both sequences, the frame budget's summary for its walk, and the scale figures
+/// come back as a CSV and a chart. What it
 /// checks is what the steps produce, never how fast: `--quick` runs them with no time cap (the
 /// caps are for the GPU run, where one slow step must not take the others' results with it), so
 /// a slow or busy machine passes as a fast one does.
@@ -118,9 +119,10 @@ fn the_quick_gpu_benches_run_end_to_end() {
     assert!(run.status.success(), "tools/gpu-benches failed:\n{log}\n{}", String::from_utf8_lossy(&run.stderr));
     let steps = log.lines().filter(|l| l.starts_with("$ ")).count();
     let passed = log.lines().filter(|l| l.starts_with("[rc 0 in ")).count();
-    assert_eq!((steps, passed), (6, 6), "every step runs and exits 0:\n{log}");
-    assert_eq!(log.matches(", no cap (--quick)]").count(), 6, "--quick caps no step:\n{log}");
+    assert_eq!((steps, passed), (7, 7), "every step runs and exits 0:\n{log}");
+    assert_eq!(log.matches(", no cap (--quick)]").count(), 7, "--quick caps no step:\n{log}");
     assert_eq!(log.matches("% of the rest").count(), 2, "{log}");
+    assert_eq!(log.matches("frame budget 16.7 ms: ").count(), 1, "{log}");
     let csv = std::fs::read_to_string(out.join("scale.csv")).expect("scale.csv");
     assert_eq!(csv.lines().count(), 1 + 2 * common::choices().len(), "{csv}");
     assert!(out.join("scale.svg").is_file() && out.join("scale.png").is_file());
