@@ -138,7 +138,7 @@ pub struct DeviceTuning {
     /// Lanes that walk one photon's hierarchy together in the splat (1: a thread a photon;
     /// splat.comp). A power of two, at most the subgroup's width. Where a frame has few
     /// photons, a thread each leaves a GPU nearly idle: on the H200 at 1080p the splat took
-    /// 8.3 ms at 10k paths and 3.1 ms at 200k (docs/gpu.md), each photon's walk a chain of
+    /// 8.7 ms at 10k paths and 3.6 ms at 200k (docs/gpu.md), each photon's walk a chain of
     /// dependent node loads. A cluster tests a node's children side by side, one contiguous read.
     pub splat_lanes: u32,
     /// The splat takes a photon onto a leaf wider than the radius only where one of its
