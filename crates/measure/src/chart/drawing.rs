@@ -143,10 +143,34 @@ pub(super) fn log_ticks(range: &std::ops::Range<f64>, max: usize) -> (Vec<f64>, 
     let candidates =
         [at(&[1.0, 2.0, 3.0, 5.0], 1), at(&[1.0, 2.0, 5.0], 1), at(&[1.0], 1), at(&[1.0], 2), at(&[1.0], 3)];
     let bold = candidates.iter().find(|c| c.len() <= max).cloned().unwrap_or_else(|| candidates[4].clone());
-    // Short ranges: the densest set, however many, rather than fewer than two labels.
-    let bold = if bold.len() < 2 { candidates[0].clone() } else { bold };
+    // Short ranges: the densest set, however many, rather than fewer than two labels; where
+    // even that has fewer (1032–1570 MiB: no 1-2-3-5 value inside), evenly spaced values.
+    let bold = match bold.len() {
+        0 | 1 if candidates[0].len() >= 2 => candidates[0].clone(),
+        0 | 1 => linear_ticks(lo, hi, max),
+        _ => bold,
+    };
     let light = if k1 - k0 <= 8 { at(&[1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0, 9.0], 1) } else { at(&[1.0], 1) };
     (bold, light)
+}
+
+/// Multiples of the smallest 1-2-5 step that puts at most `max` (and at least two, where the
+/// range is not empty) within `lo..=hi`.
+fn linear_ticks(lo: f64, hi: f64, max: usize) -> Vec<f64> {
+    if !(hi > lo && lo.is_finite() && hi.is_finite()) {
+        return Vec::new();
+    }
+    let mut k = ((hi - lo) / max.max(2) as f64).log10().floor() as i32 - 1;
+    loop {
+        for m in [1.0, 2.0, 5.0] {
+            let step = m * 10f64.powi(k);
+            let (first, last) = ((lo / step).ceil() as i64, (hi / step).floor() as i64);
+            if last - first < max.max(2) as i64 {
+                return (first..=last).map(|i| i as f64 * step).collect();
+            }
+        }
+        k += 1;
+    }
 }
 
 /// How text and marks scale with a chart's size, against the size it was designed at.
@@ -287,9 +311,14 @@ mod tests {
                                     // Less than a decade: 1-2-3-5.
         let (bold, _) = log_ticks(&(15.0..120.0), 7);
         assert_eq!(bold, [20.0, 30.0, 50.0, 100.0]);
-        // Nothing labelled in range at 1-2-3-5: the densest set anyway, never panics.
+        // Nothing in range at 1-2-3-5 (the H200's memory chart, 1032–1570 MiB, had no label):
+        // evenly spaced labels, at most `max`, at least two.
         let (bold, _) = log_ticks(&(6.0..9.0), 7);
-        assert!(bold.is_empty());
+        assert_eq!(bold, [6.0, 6.5, 7.0, 7.5, 8.0, 8.5, 9.0]);
+        let (bold, _) = log_ticks(&(1032.0..1570.0), 9);
+        assert_eq!(bold, [1100.0, 1200.0, 1300.0, 1400.0, 1500.0]);
+        let (bold, _) = log_ticks(&(1032.0..1570.0), 3);
+        assert_eq!(bold, [1200.0, 1400.0]);
         // Twelve decades: every other or third power.
         let (bold, _) = log_ticks(&(1e-6..1e6), 7);
         assert!(bold.len() <= 7 && bold.len() >= 4, "{bold:?}");
