@@ -244,6 +244,7 @@ i64vec3 contribution_of(Photon ph, float d, float r) {
 #define subgroupBarrier()
 #define subgroupMemoryBarrierShared()
 #define WALK_CLUSTERED false
+#define WALK_CLUSTER 1u
 #define SUBGROUP_WIDTH 1u
 #define SUBGROUP_LANE 0u
 #define SUBGROUP_READ(X, K) (X)
@@ -269,18 +270,10 @@ layout(constant_id = 11) const uint WALK_CLUSTER = 0u;
 // Whether any cluster of the subgroup has X, X the same across each cluster: without clusters,
 // X itself (a reduction costs lavapipe more than the branch on it).
 #define CLUSTERS_ANY(X) (WALK_CLUSTERED ? SUBGROUP_ANY(X) : (X))
-#define WALK_MIN(X) (WALK_CLUSTERED ? cluster_min(X) : SHARED_WALK ? subgroupMin(X) : (X))
-#define WALK_ANY(X) (WALK_CLUSTERED ? cluster_min(uint(!(X))) == 0u : SUBGROUP_ANY(X))
+#define WALK_MIN(X) (WALK_CLUSTERED ? cluster_min(X, WALK_CLUSTER) : SHARED_WALK ? subgroupMin(X) : (X))
+#define WALK_ANY(X) (WALK_CLUSTERED ? cluster_min(uint(!(X)), WALK_CLUSTER) == 0u : SUBGROUP_ANY(X))
 
-// The least of a cluster's values, by exchanges across halves, quarters, ... of the cluster.
-uint cluster_min(uint x) {
-#ifndef LEAKLESS_REFLECTION
-    for (uint m = 1u; m < WALK_CLUSTER; m <<= 1u) {
-        x = min(x, subgroupShuffleXor(x, m));
-    }
-#endif
-    return x;
-}
+#include "cluster.glsl"
 
 // Segments the clearance cannot prove wait in a queue and are traced together once it is full
 // and after the walk. Traced where they arise, a SIMD group's lanes (the samples of one leaf,

@@ -74,7 +74,6 @@ ARRAY_AT(NodesAt, Node, 16);
 #define CLUSTER_LANE 0u
 #define CLUSTER_BASE 0u
 #define subgroupShuffle(X, K) (X)
-#define subgroupShuffleXor(X, M) (X)
 #define subgroupMax(X) (X)
 #define SUBGROUP_CLUSTERS 1u
 #define FIRST_CLUSTER 0u
@@ -99,13 +98,7 @@ layout(constant_id = 13) const bool LEAF_SAMPLES = false;
 #define PENDING_LEVEL_SHIFT 27u
 #define PENDING_NODE_MASK ((1u << PENDING_LEVEL_SHIFT) - 1u)
 
-// The least of a cluster's values, by exchanges across halves, quarters, ... of the cluster.
-uint cluster_min(uint x) {
-    for (uint m = 1u; m < SPLAT_LANES; m <<= 1u) {
-        x = min(x, subgroupShuffleXor(x, m));
-    }
-    return x;
-}
+#include "cluster.glsl"
 
 // The angle between the node's cone axis and the direction toward the photon's source side.
 float cone_gap(Node node, vec3 toward_light) {
@@ -223,7 +216,7 @@ void splat_shared() {
         }
         while (true) {
             uint key = top > 0u ? ((stack[top - 1u] >> PENDING_LEVEL_SHIFT) << 8u) | lane : 0xffffffffu;
-            key = cluster_min(key);
+            key = cluster_min(key, SPLAT_LANES);
             if (subgroupMax(uint(key != 0xffffffffu)) == 0u) {
                 break;
             }
@@ -250,7 +243,7 @@ void splat_shared() {
             }
         }
         // Whether any lane's list took the photon.
-        uint any = 1u - cluster_min(listed ? 0u : 1u);
+        uint any = 1u - cluster_min(listed ? 0u : 1u, SPLAT_LANES);
         if (has_photon && lane == 0u) {
             photon_listed.listed[photon_index] = any;
             listed_count += any;
