@@ -18,8 +18,9 @@ layout(set = 1, binding = 6, std430) buffer Nodes { Node nodes[]; } nodes;
 // .g: each sample's gather radius (visible_disk.comp writes it for every pixel).
 layout(set = 1, binding = 7, rgba32f) uniform readonly image2D disk_mass;
 // Each sorted sample's position (written by the leaves' level): what the splat's test of a wide
-// leaf reads.
+// leaf reads, written only where the splat makes that test (the device tuning's, splat.comp).
 layout(set = 1, binding = 8, std430) writeonly buffer SamplePositions { SamplePosition positions[]; } sample_positions;
+layout(constant_id = 13) const bool LEAF_SAMPLES = false;
 layout(push_constant) uniform BuildParams {
     uint level;
     uint branching;
@@ -48,13 +49,17 @@ void main() {
         node.child_count = min(params.branching, params.sample_count - node.first_child);
         for (uint s = node.first_child; s < node.first_child + node.child_count; ++s) {
             if (sorted_keys.keys[s] == INVALID_SAMPLE_KEY) {
-                sample_positions.positions[s] = SamplePosition(vec3(0.0), 0u);
+                if (LEAF_SAMPLES) {
+                    sample_positions.positions[s] = SamplePosition(vec3(0.0), 0u);
+                }
                 continue;
             }
             uint pixel = sorted_samples.pixels[s];
             ivec2 xy = ivec2(pixel % params.image_width, pixel / params.image_width);
             vec3 p = imageLoad(gbuffer_position, xy).xyz;
-            sample_positions.positions[s] = SamplePosition(p, 1u);
+            if (LEAF_SAMPLES) {
+                sample_positions.positions[s] = SamplePosition(p, 1u);
+            }
             node.bounds_min = min(node.bounds_min, p);
             node.bounds_max = max(node.bounds_max, p);
             node.radius_max = max(node.radius_max, imageLoad(disk_mass, xy).y);

@@ -358,6 +358,12 @@ impl DeviceTuning {
         self.counters().with("SPLAT_LANES", self.splat_lanes).with("LEAF_SAMPLES", self.leaf_samples as u32)
     }
 
+    /// The hierarchy build's: it writes the sorted samples' positions only for the splat's
+    /// test of a wide leaf (`leaf_samples`), which alone reads them.
+    pub fn hierarchy_build(&self) -> Specialization {
+        Specialization::new().with("LEAF_SAMPLES", self.leaf_samples as u32)
+    }
+
     /// Checks values a user or a test set by hand against each other and the device.
     pub fn validate(&self, report: &DeviceReport) -> Result<()> {
         let bad = |what: &str| Err(RenderError::Settings(format!("tuning: {what}")));

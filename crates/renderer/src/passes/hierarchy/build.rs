@@ -40,7 +40,8 @@ compute_pass! {
             PassName::new("hierarchy level", group::HIERARCHY),
             &shaders::HIERARCHY_BUILD_COMP,
             &[GBufferBindings::DECLS],
-        );
+        )
+        .specialize(crate::tuning::DeviceTuning::hierarchy_build);
 }
 
 pub fn add<'r>(

@@ -111,7 +111,8 @@ pub struct HierarchyHandles {
     pub keys: BufferHandle,
     /// Pixel index of each sorted sample.
     pub samples: BufferHandle,
-    /// Position of each sorted sample ([`SamplePosition`]), written by the leaves' build.
+    /// Position of each sorted sample ([`SamplePosition`]), written by the leaves' build where the
+    /// splat tests a wide leaf's samples (`DeviceTuning::leaf_samples`); unwritten otherwise.
     pub positions: BufferHandle,
     pub bounds: BufferHandle,
     pub levels: BufferHandle,
