@@ -46,7 +46,7 @@ fn each_method_makes_its_passes_pipelines_when_it_first_runs() {
     assert!(made(&r).is_empty(), "made with the renderer: {:?}", made(&r));
     r.render().expect("render");
     assert!(made(&r).is_empty(), "made by a direct frame: {:?}", made(&r));
-    let mut expect = |r: &mut Renderer, settings: RenderSettings, labels: &[&str]| {
+    let expect = |r: &mut Renderer, settings: RenderSettings, labels: &[&str]| {
         r.set_settings(settings).expect("settings");
         r.render().expect("render");
         assert_eq!(made(r), labels);

@@ -72,6 +72,8 @@ fn every_tuning_renders_the_cpu_presets_image() {
         count_work: true,
         // Clusters of 4 lanes: several a subgroup where the subgroup is 8 lanes or more.
         splat_lanes: if report.subgroup_arithmetic && report.subgroup_size >= 4 { 4 } else { 1 },
+        // Three workgroups: the clustered splat and the list scatter loop over the rest.
+        dispatch_groups: 3,
         ..cpu.clone()
     };
     for backend in common::choices() {

@@ -166,6 +166,11 @@ pub struct DeviceTuning {
     /// trace_compute.glsl; `render --count-work`): off by default on every device, since the
     /// counts cost two additions a step. Ray queries count nothing.
     pub count_work: bool,
+    /// The most workgroups a dispatch over the frame's photons or list records takes before
+    /// its threads loop over the rest (the clustered splat, the list scatter; 0: the device's
+    /// `maxComputeWorkGroupCount[0]`, on every device). A smaller cap makes those loops run
+    /// at the sizes tests render (`tests/suite/tuning.rs`); the images are the same.
+    pub dispatch_groups: u32,
 }
 
 fn timing_name<S: serde::Serializer>(timing: &Timing, s: S) -> std::result::Result<S::Ok, S::Error> {
@@ -238,6 +243,7 @@ impl DeviceTuning {
             frame_ms: 150.0,
             primary_auto: PrimaryAuto::RaysOverDenseMeshes,
             count_work: false,
+            dispatch_groups: 0,
         }
     }
 
@@ -356,6 +362,14 @@ impl DeviceTuning {
     /// The splat's.
     pub fn splat(&self) -> Specialization {
         self.counters().with("SPLAT_LANES", self.splat_lanes).with("LEAF_SAMPLES", self.leaf_samples as u32)
+    }
+
+    /// The most workgroups a looping dispatch takes on a device whose limit is `device_max`.
+    pub fn max_workgroups(&self, device_max: u32) -> u32 {
+        match self.dispatch_groups {
+            0 => device_max,
+            cap => cap.min(device_max),
+        }
     }
 
     /// The hierarchy build's: it writes the sorted samples' positions only for the splat's

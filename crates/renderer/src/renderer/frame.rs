@@ -267,6 +267,7 @@ impl Renderer {
         settings.paths = budget_paths.unwrap_or(batch_paths.saturating_mul(frame_batches));
         // The node lists hold a batch's entries per `batch_paths` paths.
         let list_batches = settings.paths.div_ceil(batch_paths.max(1)).max(1);
+        let max_workgroups = tuning.max_workgroups(self.gpu.report().limits.max_compute_work_group_count[0]);
         Ok(Some(SplatFrame {
             radius: self.batch_radius(first_batch, settings.paths),
             path_offset: self.path_offset(first_batch, batch_paths),
@@ -285,7 +286,7 @@ impl Renderer {
             batches: list_batches,
             bounds: self.scene.bounds(),
             tuning,
-            max_workgroups: self.gpu.report().limits.max_compute_work_group_count[0],
+            max_workgroups,
             compute_trace: self.backend() == crate::trace::Backend::Compute,
         }))
     }
