@@ -339,6 +339,13 @@ fn a_sequence_writes_its_frames_and_their_times() {
     assert!(budget(0)["warm_up"].as_bool().unwrap() && budget(1)["warm_up"].as_bool().unwrap(), "{}", frames[1]);
     assert_eq!(budget(2)["warm_up"].as_bool(), Some(false), "{}", frames[2]);
     assert!(share(2).is_some_and(|s| s > 0.0 && s < 1.0), "the first measured frame timed: {}", frames[2]);
+    // Timed pass by pass among frames submitted at once, its time is not a budgeted frame's:
+    // it gives the split only, and the frame after it is the budget's first estimate.
+    let split_only = |k: usize| budget(k)["split_only"].as_bool();
+    assert_eq!(split_only(2), Some(share(0).is_none()), "{}", frames[2]);
+    for k in (0..frames.len()).filter(|&k| k != 2 && frames[k].get("budget").is_some()) {
+        assert_eq!(split_only(k), Some(false), "{}", frames[k]);
+    }
     // Where the first frame was not timed (a device whose passes are timed only when asked),
     // the frames after the split are submitted at once again, as the caller asked.
     if share(0).is_none() {

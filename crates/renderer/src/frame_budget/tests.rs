@@ -124,6 +124,28 @@ fn a_budget_the_starting_paths_meet_keeps_them() {
     }
 }
 
+/// A frame timed pass by pass among frames submitted at once costs more than they do: it gives
+/// the split, and the paths stay where the frames submitted at once meet the target.
+#[test]
+fn a_frame_timed_pass_by_pass_gives_the_split_and_not_its_time() {
+    // 50 ms fixed, 10 µs a path: 10 000 paths take 150 ms; the timed frame 15% longer.
+    let (mut device, mut budget) = at_150_ms(50.0, 0.01, 10_000);
+    let timed = device.frame(10_000);
+    budget.observe_split(FrameTime { ms: timed.ms * 1.15, ..timed });
+    assert!(budget.knows_split() && !budget.wants_timed_frame());
+    assert_eq!(budget.paths(), 10_000, "a split moves no path");
+    let untimed = |t: FrameTime| FrameTime { photon_share: None, ..t };
+    for _ in 0..8 {
+        let frame = untimed(device.frame(budget.paths()));
+        assert!((frame.ms / 150.0 - 1.0).abs() < 1e-9);
+        assert_eq!(budget.observe(frame), 10_000);
+    }
+    // Taken for a frame's time, the same frame moves the paths off the step that meets the target.
+    let (mut device, mut budget) = at_150_ms(50.0, 0.01, 10_000);
+    let timed = device.frame(10_000);
+    assert!(budget.observe(FrameTime { ms: timed.ms * 1.15, ..timed }) < 10_000);
+}
+
 /// A moved target keeps what was measured: the frame after the next measured one fits it.
 #[test]
 fn a_moved_target_is_met_from_the_next_measured_frame() {

@@ -43,6 +43,11 @@ pub struct BudgetReport {
     /// frame after it, whose reuse passes run for the first time): it compiled pipelines and
     /// made images, and the budget did not take its time for what frames cost.
     pub warm_up: bool,
+    /// The frame was submitted pass by pass among frames submitted at once (timed for the
+    /// budget's split, or the app's profiled frame): its passes gave the split, and its time,
+    /// each pass a submission and a wait, was not taken for what frames cost
+    /// ([`FrameBudget::observe_split`]).
+    pub split_only: bool,
 }
 
 /// Who picks the paths of an accumulation's first frame.
@@ -72,6 +77,9 @@ pub(super) struct BudgetState {
     /// A budgeted frame was submitted: the first is the warm-up, whose pass times are its
     /// compilations, and is not timed for the budget's split.
     submitted: bool,
+    /// A budgeted frame submitted at once completed: a frame submitted pass by pass after it
+    /// is not one of the frames the budget holds.
+    seen_at_once: bool,
 }
 
 impl Renderer {
@@ -94,6 +102,7 @@ impl Renderer {
                     last_completion: None,
                     passes_run: HashSet::new(),
                     submitted: false,
+                    seen_at_once: false,
                 })
             }
         };
@@ -116,6 +125,7 @@ impl Renderer {
             last_completion: None,
             passes_run: HashSet::new(),
             submitted: false,
+            seen_at_once: false,
         });
         Ok(())
     }
@@ -232,13 +242,15 @@ impl Renderer {
         for t in &done.timings {
             warming_up |= budget.passes_run.insert(t.name.clone());
         }
+        let per_pass = done.timings.iter().any(|t| t.wall_ms.is_some());
+        let split_only = per_pass && budget.seen_at_once && !warming_up;
+        budget.seen_at_once |= !per_pass;
         let FirstPaths::Budget(controller) = &mut budget.choice else { return None };
         if pending.budget_timed {
             controller.timed_frame_completed();
         }
         // Timestamps measure passes only where the tuning trusts them; host times always.
-        let timed =
-            self.pipelines.tuning().timing == Timing::Timestamps || done.timings.iter().any(|t| t.wall_ms.is_some());
+        let timed = self.pipelines.tuning().timing == Timing::Timestamps || per_pass;
         // Below `--paths` the radius stays (kernel_radius.rs), and the gather follows the paths.
         let follows_count = self.settings.splat.radius.is_none() && paths >= self.settings.splat.paths;
         let share = if timed { photon_share(&done.timings, follows_count) } else { None };
@@ -247,7 +259,14 @@ impl Renderer {
         // guess: the renderer times the next budgeted frame (`budget_wants_timed_frame`), or
         // every frame is timed.
         let unsplit = share.is_none() && !controller.knows_split();
-        let next_paths = if warming_up || unsplit { controller.paths() } else { controller.observe(frame) };
+        let next_paths = if warming_up || unsplit {
+            controller.paths()
+        } else if split_only {
+            controller.observe_split(frame);
+            controller.paths()
+        } else {
+            controller.observe(frame)
+        };
         Some(BudgetReport {
             target_ms: controller.target_ms(),
             measured_ms,
@@ -259,6 +278,7 @@ impl Renderer {
             fixed_ms: controller.fixed_ms(),
             resolution_factor: controller.resolution_factor(),
             warm_up: warming_up,
+            split_only,
         })
     }
 

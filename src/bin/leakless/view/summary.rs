@@ -80,6 +80,7 @@ impl Summary {
             "warm_up",
             "photon_share",
             "fixed_ms",
+            "split_only",
         ]);
         for (i, (b, (w, h))) in self.budget_frames.iter().enumerate() {
             let row = [
@@ -94,6 +95,7 @@ impl Summary {
                 b.warm_up.to_string(),
                 b.photon_share.map_or(String::new(), |s| format!("{s:.3}")),
                 format!("{:.3}", b.fixed_ms),
+                b.split_only.to_string(),
             ];
             table.row(row)?;
         }
